@@ -1,0 +1,47 @@
+/*
+ * Sliding-mode disturbance observer (SMDO) with embedded complex-coefficient
+ * filter, discrete form of yang2018 eq. (34)-(39).
+ *
+ * Model (15): L_hat di/dt = u_s + u_d - R_hat i, with u_d rotating at w_r (17).
+ * One step takes the sample i_s^k and the applied u_s^k and returns the
+ * predictions i_hat^{k+1}, u_d_hat^{k+1} used by the robust DBPC (42).
+ */
+#ifndef SMD_SMDO_H
+#define SMD_SMDO_H
+
+#include "smd_types.h"
+
+typedef struct smd_smdo_params {
+    smd_real T_sp;       /* sampling period, s */
+    smd_real L_s_hat;    /* H */
+    smd_real R_s_hat;    /* ohm */
+    smd_real lambda_min; /* minimum switching gain, A/s, eq. (37) */
+    smd_real l;          /* proportional reaching gain, 1/s, eq. (21) */
+    smd_real w_c;        /* complex-filter adaption gain omega_c, rad/s, eq. (19) */
+    smd_real rho;        /* smoothing of sgn(), A, eq. (39) */
+} smd_smdo_params;
+
+typedef struct smd_smdo_state {
+    smd_cplx i_s_hat;    /* i_hat^k (before step), i_hat^{k+1} (after) */
+    smd_cplx u_d_hat;    /* u_d_hat^k (before step), u_d_hat^{k+1} (after) */
+    smd_cplx e_i_prev;   /* e_i^{k-1} */
+    smd_cplx u_smo_prev; /* u_smo^{k-1} */
+    smd_cplx u_smo;      /* u_smo^k (read-only view) */
+    smd_real lambda;     /* adapted gain used at k, eq. (37) */
+} smd_smdo_state;
+
+/* Rejects a parameter set whose discrete current-error loop is unstable:
+ * the linear part of (34)-(35) gives e_i^{k+1} = (1 - l T_sp) e_i^k, so
+ * l T_sp must be below 2 (SMD_ERR_STABILITY). */
+smd_status smd_smdo_init(smd_smdo_params *p, smd_real T_sp, smd_real L_s_hat, smd_real R_s_hat,
+                         smd_real lambda_min, smd_real l, smd_real w_c, smd_real rho);
+
+void smd_smdo_reset(smd_smdo_state *s, smd_cplx i_s_hat0, smd_cplx u_d_hat0);
+
+/* One sample: i_s_ab = i_s^k (measured), u_s_ab = u_s^k (applied during
+ * [k, k+1)), w_r = electrical speed used to rotate u_d (measured or estimated).
+ * Returns SMD_ERR_NONFINITE (and resets the state) if NaN/Inf appeared. */
+smd_status smd_smdo_step(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i_s_ab,
+                         smd_cplx u_s_ab, smd_real w_r);
+
+#endif

@@ -1,0 +1,31 @@
+/*
+ * Clarke and Park transforms (amplitude-invariant), yang2018 Sec. II-A.
+ */
+#ifndef SMD_TRANSFORMS_H
+#define SMD_TRANSFORMS_H
+
+#include "smd_types.h"
+
+/* Phase quantities a, b, c to the stationary vector x_ab (amplitude invariant,
+ * the zero-sequence part is rejected). */
+smd_cplx smd_abc_to_ab(const smd_real x_abc[3]);
+
+/* Two measured phases a, b to x_ab, assuming a + b + c = 0. */
+smd_cplx smd_ab2_to_ab(smd_real x_a, smd_real x_b);
+
+/* Stationary vector to phase quantities (no zero sequence). */
+void smd_ab_to_abc(smd_cplx x_ab, smd_real x_abc[3]);
+
+/* Park: x_dq = x_ab e^{-j theta}. */
+static inline smd_cplx smd_ab_to_dq(smd_cplx x_ab, smd_real theta)
+{
+    return smd_cmul(x_ab, smd_cconj(smd_cexpj(theta)));
+}
+
+/* Inverse Park: x_ab = x_dq e^{j theta}. */
+static inline smd_cplx smd_dq_to_ab(smd_cplx x_dq, smd_real theta)
+{
+    return smd_cmul(x_dq, smd_cexpj(theta));
+}
+
+#endif

@@ -1,0 +1,106 @@
+/*
+ * smodrive real-time core: scalar type, complex space vectors, status codes.
+ *
+ * C99, no allocation, no stdio, no globals. The real type is float unless the
+ * build defines SMD_REAL_DOUBLE (analysis builds); every literal goes through
+ * SMD_R() so that the float build is free of implicit double promotion.
+ */
+#ifndef SMD_TYPES_H
+#define SMD_TYPES_H
+
+#include <math.h>
+
+#ifdef SMD_REAL_DOUBLE
+typedef double smd_real;
+#define SMD_R(x) ((smd_real)(x))
+#define SMD_SIN sin
+#define SMD_COS cos
+#define SMD_SQRT sqrt
+#define SMD_ATAN2 atan2
+#define SMD_FABS fabs
+#define SMD_EXP exp
+#define SMD_FLOOR floor
+#else
+typedef float smd_real;
+#define SMD_R(x) ((smd_real)(x))
+#define SMD_SIN sinf
+#define SMD_COS cosf
+#define SMD_SQRT sqrtf
+#define SMD_ATAN2 atan2f
+#define SMD_FABS fabsf
+#define SMD_EXP expf
+#define SMD_FLOOR floorf
+#endif
+
+#define SMD_PI SMD_R(3.14159265358979323846)
+#define SMD_TWO_PI SMD_R(6.28318530717958647692)
+#define SMD_SQRT3 SMD_R(1.73205080756887729353)
+#define SMD_INV_SQRT3 SMD_R(0.57735026918962576451)
+
+/* Status returned by every init and setter. Each parameter error names the
+ * offending field so that a caller (or the Python binding) can report it. */
+typedef enum smd_status {
+    SMD_OK = 0,
+    SMD_ERR_NULL = 1,          /* a pointer argument is NULL */
+    SMD_ERR_TS = 2,            /* sampling period T_sp not in (0, 1] s */
+    SMD_ERR_L = 3,             /* inductance estimate not in (0, 10] H */
+    SMD_ERR_R = 4,             /* resistance estimate not in [0, 1000] ohm */
+    SMD_ERR_PSI = 5,           /* PM flux estimate not in [0, 100] Wb */
+    SMD_ERR_LAMBDA = 6,        /* SMDO lambda_min not in [0, 1e7] A/s */
+    SMD_ERR_L_GAIN = 7,        /* SMDO proportional gain l not in (0, 1e7] 1/s */
+    SMD_ERR_WC = 8,            /* SMDO filter gain omega_c not in (0, 1e7] rad/s */
+    SMD_ERR_RHO = 9,           /* SMDO boundary layer rho not in (0, 1e3] A */
+    SMD_ERR_KP = 10,           /* PI proportional gain not in [0, 1e6] */
+    SMD_ERR_KI = 11,           /* PI integral gain not in [0, 1e9] */
+    SMD_ERR_LIMIT = 12,        /* a limit is not positive and finite */
+    SMD_ERR_MODE = 13,         /* unknown mode or enumeration value */
+    SMD_ERR_STABILITY = 14,    /* the discrete loop would be unstable */
+    SMD_ERR_WLPF = 15,         /* speed low-pass bandwidth not in (0, pi/T_sp) */
+    SMD_ERR_NONFINITE = 16,    /* a step produced NaN or Inf; outputs were zeroed */
+    SMD_ERR_DECIMATION = 17    /* speed-loop decimation not in [1, 1000] */
+} smd_status;
+
+/* Human-readable text for a status, e.g. for a debugger or a binding. */
+const char *smd_status_str(smd_status s);
+
+/* A complex space vector x = x_alpha + j x_beta (or x_d + j x_q). */
+typedef struct smd_cplx {
+    smd_real re;
+    smd_real im;
+} smd_cplx;
+
+static inline smd_cplx smd_c(smd_real re, smd_real im)
+{
+    smd_cplx z;
+    z.re = re;
+    z.im = im;
+    return z;
+}
+static inline smd_cplx smd_cadd(smd_cplx a, smd_cplx b) { return smd_c(a.re + b.re, a.im + b.im); }
+static inline smd_cplx smd_csub(smd_cplx a, smd_cplx b) { return smd_c(a.re - b.re, a.im - b.im); }
+static inline smd_cplx smd_cscale(smd_cplx a, smd_real k) { return smd_c(k * a.re, k * a.im); }
+static inline smd_cplx smd_cmul(smd_cplx a, smd_cplx b)
+{
+    return smd_c(a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re);
+}
+static inline smd_cplx smd_cconj(smd_cplx a) { return smd_c(a.re, -a.im); }
+/* j * a */
+static inline smd_cplx smd_cj(smd_cplx a) { return smd_c(-a.im, a.re); }
+static inline smd_real smd_cabs(smd_cplx a) { return SMD_SQRT(a.re * a.re + a.im * a.im); }
+/* e^{j theta} */
+static inline smd_cplx smd_cexpj(smd_real theta) { return smd_c(SMD_COS(theta), SMD_SIN(theta)); }
+static inline int smd_cfinite(smd_cplx a) { return isfinite(a.re) && isfinite(a.im); }
+
+/* Wrap an angle to [-pi, pi). */
+static inline smd_real smd_wrap_pi(smd_real x)
+{
+    return x - SMD_TWO_PI * SMD_FLOOR((x + SMD_PI) / SMD_TWO_PI);
+}
+
+/* Range check helper: lo <= x <= hi and finite. */
+static inline int smd_in_range(smd_real x, smd_real lo, smd_real hi)
+{
+    return isfinite(x) && x >= lo && x <= hi;
+}
+
+#endif /* SMD_TYPES_H */

@@ -1,0 +1,56 @@
+#include "smodrive/smd_emf_pos.h"
+
+smd_status smd_emf_pos_init(smd_emf_pos_params *p, smd_real T_sp, smd_real w_lpf, smd_real w_hys)
+{
+    if (p == 0) {
+        return SMD_ERR_NULL;
+    }
+    if (!(smd_in_range(T_sp, SMD_R(0.0), SMD_R(1.0)) && T_sp > SMD_R(0.0))) {
+        return SMD_ERR_TS;
+    }
+    if (!(smd_in_range(w_lpf, SMD_R(0.0), SMD_PI / T_sp) && w_lpf > SMD_R(0.0))) {
+        return SMD_ERR_WLPF;
+    }
+    if (!smd_in_range(w_hys, SMD_R(0.0), SMD_R(1e5))) {
+        return SMD_ERR_LIMIT;
+    }
+    p->T_sp = T_sp;
+    p->w_lpf = w_lpf;
+    p->a_lpf = SMD_R(1.0) - SMD_EXP(-w_lpf * T_sp);
+    p->w_hys = w_hys;
+    return SMD_OK;
+}
+
+void smd_emf_pos_reset(smd_emf_pos_state *s, smd_real w_r0)
+{
+    s->phi_prev = SMD_R(0.0);
+    s->w_r_raw = w_r0;
+    s->w_r_hat = w_r0;
+    s->theta_r_hat = SMD_R(0.0);
+    s->dir = w_r0 < SMD_R(0.0) ? -1 : 1;
+    s->primed = 0;
+}
+
+void smd_emf_pos_step(const smd_emf_pos_params *p, smd_emf_pos_state *s, smd_cplx u_d_hat)
+{
+    smd_real phi = SMD_ATAN2(u_d_hat.im, u_d_hat.re);
+    smd_real d_sign;
+    if (!isfinite(phi)) {
+        return; /* keep the previous estimates */
+    }
+    if (s->primed) {
+        /* eq. (45) on the EMF angle (same increments as theta_r) */
+        s->w_r_raw = smd_wrap_pi(phi - s->phi_prev) / p->T_sp;
+        s->w_r_hat += p->a_lpf * (s->w_r_raw - s->w_r_hat);
+    }
+    s->phi_prev = phi;
+    s->primed = 1;
+    if (s->w_r_hat > p->w_hys) {
+        s->dir = 1;
+    } else if (s->w_r_hat < -p->w_hys) {
+        s->dir = -1;
+    }
+    d_sign = s->dir > 0 ? SMD_R(1.0) : SMD_R(-1.0);
+    /* eq. (44), sign-corrected: theta = atan2(s u_alpha, -s u_beta) */
+    s->theta_r_hat = SMD_ATAN2(d_sign * u_d_hat.re, -d_sign * u_d_hat.im);
+}

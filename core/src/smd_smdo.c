@@ -1,0 +1,94 @@
+#include "smodrive/smd_smdo.h"
+
+smd_status smd_smdo_init(smd_smdo_params *p, smd_real T_sp, smd_real L_s_hat, smd_real R_s_hat,
+                         smd_real lambda_min, smd_real l, smd_real w_c, smd_real rho)
+{
+    if (p == 0) {
+        return SMD_ERR_NULL;
+    }
+    if (!(smd_in_range(T_sp, SMD_R(0.0), SMD_R(1.0)) && T_sp > SMD_R(0.0))) {
+        return SMD_ERR_TS;
+    }
+    if (!(smd_in_range(L_s_hat, SMD_R(0.0), SMD_R(10.0)) && L_s_hat > SMD_R(0.0))) {
+        return SMD_ERR_L;
+    }
+    if (!smd_in_range(R_s_hat, SMD_R(0.0), SMD_R(1000.0))) {
+        return SMD_ERR_R;
+    }
+    if (!smd_in_range(lambda_min, SMD_R(0.0), SMD_R(1e7))) {
+        return SMD_ERR_LAMBDA;
+    }
+    if (!(smd_in_range(l, SMD_R(0.0), SMD_R(1e7)) && l > SMD_R(0.0))) {
+        return SMD_ERR_L_GAIN;
+    }
+    if (!(smd_in_range(w_c, SMD_R(0.0), SMD_R(1e7)) && w_c > SMD_R(0.0))) {
+        return SMD_ERR_WC;
+    }
+    if (!(smd_in_range(rho, SMD_R(0.0), SMD_R(1000.0)) && rho > SMD_R(0.0))) {
+        return SMD_ERR_RHO;
+    }
+    /* Linear part of the error loop: e^{k+1} = (1 - (l + lambda/rho) T) e^k at
+     * small errors; both the proportional and the smoothed switching terms
+     * must keep the factor inside (-1, 1). */
+    if ((l + lambda_min / rho) * T_sp >= SMD_R(2.0) || w_c * T_sp >= SMD_R(1.0)) {
+        return SMD_ERR_STABILITY;
+    }
+    p->T_sp = T_sp;
+    p->L_s_hat = L_s_hat;
+    p->R_s_hat = R_s_hat;
+    p->lambda_min = lambda_min;
+    p->l = l;
+    p->w_c = w_c;
+    p->rho = rho;
+    return SMD_OK;
+}
+
+void smd_smdo_reset(smd_smdo_state *s, smd_cplx i_s_hat0, smd_cplx u_d_hat0)
+{
+    smd_cplx zero = smd_c(SMD_R(0.0), SMD_R(0.0));
+    s->i_s_hat = i_s_hat0;
+    s->u_d_hat = u_d_hat0;
+    s->e_i_prev = zero;
+    s->u_smo_prev = zero;
+    s->u_smo = zero;
+    s->lambda = SMD_R(0.0);
+}
+
+smd_status smd_smdo_step(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i_s_ab,
+                         smd_cplx u_s_ab, smd_real w_r)
+{
+    const smd_real T = p->T_sp;
+    const smd_real L = p->L_s_hat;
+    const smd_real R = p->R_s_hat;
+    smd_cplx e_i = smd_csub(i_s_ab, s->i_s_hat); /* eq. (20) */
+    smd_cplx e_u, sgn, u_smo, di, du;
+    smd_real lambda;
+
+    /* eq. (38): e_u from the discrete error dynamics (23) */
+    e_u = smd_cscale(smd_csub(e_i, s->e_i_prev), L / T);
+    e_u = smd_cadd(e_u, s->u_smo_prev);
+    e_u = smd_cadd(e_u, smd_cscale(s->e_i_prev, R));
+    /* eq. (37): adaptive switching gain */
+    lambda = p->lambda_min + smd_cabs(e_u) / L;
+    /* eq. (39): smoothed sign */
+    sgn = smd_cscale(e_i, SMD_R(1.0) / (smd_cabs(e_i) + p->rho));
+    /* eq. (34) */
+    u_smo = smd_cadd(smd_cscale(sgn, L * lambda), smd_cscale(e_i, L * p->l - R));
+    /* eq. (35), with R_hat (the paper prints R_s; see docs/errata.md) */
+    di = smd_cadd(smd_cadd(u_s_ab, s->u_d_hat), u_smo);
+    di = smd_csub(di, smd_cscale(s->i_s_hat, R));
+    /* eq. (36): forward-Euler complex-coefficient filter */
+    du = smd_cadd(smd_cscale(smd_cj(s->u_d_hat), w_r), smd_cscale(u_smo, p->w_c));
+
+    s->i_s_hat = smd_cadd(s->i_s_hat, smd_cscale(di, T / L));
+    s->u_d_hat = smd_cadd(s->u_d_hat, smd_cscale(du, T));
+    s->e_i_prev = e_i;
+    s->u_smo_prev = u_smo;
+    s->u_smo = u_smo;
+    s->lambda = lambda;
+    if (!smd_cfinite(s->i_s_hat) || !smd_cfinite(s->u_d_hat) || !isfinite(lambda)) {
+        smd_smdo_reset(s, i_s_ab, smd_c(SMD_R(0.0), SMD_R(0.0)));
+        return SMD_ERR_NONFINITE;
+    }
+    return SMD_OK;
+}

@@ -1,0 +1,26 @@
+#include "smodrive/smd_types.h"
+
+const char *smd_status_str(smd_status s)
+{
+    switch (s) {
+    case SMD_OK: return "ok";
+    case SMD_ERR_NULL: return "NULL pointer argument";
+    case SMD_ERR_TS: return "T_sp: sampling period must be in (0, 1] s";
+    case SMD_ERR_L: return "L_s_hat: inductance estimate must be in (0, 10] H";
+    case SMD_ERR_R: return "R_s_hat: resistance estimate must be in [0, 1000] ohm";
+    case SMD_ERR_PSI: return "psi_r_hat: PM flux estimate must be in [0, 100] Wb";
+    case SMD_ERR_LAMBDA: return "lambda_min: must be in [0, 1e7] A/s";
+    case SMD_ERR_L_GAIN: return "l: SMDO proportional gain must be in (0, 1e7] 1/s";
+    case SMD_ERR_WC: return "omega_c: SMDO filter gain must be in (0, 1e7] rad/s";
+    case SMD_ERR_RHO: return "rho: boundary layer must be in (0, 1000] A";
+    case SMD_ERR_KP: return "k_p: proportional gain must be in [0, 1e6]";
+    case SMD_ERR_KI: return "k_i: integral gain must be in [0, 1e9]";
+    case SMD_ERR_LIMIT: return "limit: must be positive and finite";
+    case SMD_ERR_MODE: return "mode: unknown value";
+    case SMD_ERR_STABILITY: return "gains make the discrete loop unstable";
+    case SMD_ERR_WLPF: return "w_lpf: low-pass bandwidth must be in (0, pi/T_sp) rad/s";
+    case SMD_ERR_NONFINITE: return "a step produced NaN or Inf; outputs were zeroed";
+    case SMD_ERR_DECIMATION: return "speed_decimation: must be in [1, 1000]";
+    default: return "unknown status";
+    }
+}

@@ -1,0 +1,76 @@
+#include "smodrive/smd_svm.h"
+#include "smodrive/smd_transforms.h"
+
+smd_status smd_svm_init(smd_svm_params *p, int limit, smd_real d_min)
+{
+    if (p == 0) {
+        return SMD_ERR_NULL;
+    }
+    if (limit != SMD_SVM_LIMIT_CIRCLE && limit != SMD_SVM_LIMIT_HEXAGON) {
+        return SMD_ERR_MODE;
+    }
+    if (!smd_in_range(d_min, SMD_R(0.0), SMD_R(0.49))) {
+        return SMD_ERR_LIMIT;
+    }
+    p->limit = limit;
+    p->d_min = d_min;
+    return SMD_OK;
+}
+
+static smd_real max3(const smd_real x[3])
+{
+    smd_real m = x[0] > x[1] ? x[0] : x[1];
+    return m > x[2] ? m : x[2];
+}
+
+static smd_real min3(const smd_real x[3])
+{
+    smd_real m = x[0] < x[1] ? x[0] : x[1];
+    return m < x[2] ? m : x[2];
+}
+
+void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
+                  smd_real d_abc[3], smd_cplx *u_s_ab_applied)
+{
+    smd_real u_abc[3];
+    smd_real span;
+    smd_real u_avail = (SMD_R(1.0) - SMD_R(2.0) * p->d_min) * u_dc;
+    smd_real u_0;
+    int k;
+
+    if (!(u_dc > SMD_R(0.0)) || !smd_cfinite(u_s_ab_ref)) {
+        /* No DC link or a non-finite reference: apply the zero vector. */
+        d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
+        *u_s_ab_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+        return;
+    }
+    if (p->limit == SMD_SVM_LIMIT_CIRCLE) {
+        smd_real mag = smd_cabs(u_s_ab_ref);
+        smd_real u_max = SMD_INV_SQRT3 * u_avail;
+        if (mag > u_max) {
+            u_s_ab_ref = smd_cscale(u_s_ab_ref, u_max / mag);
+        }
+    }
+    smd_ab_to_abc(u_s_ab_ref, u_abc);
+    span = max3(u_abc) - min3(u_abc);
+    if (span > u_avail) {
+        /* Hexagon limit: shrink along the reference direction. */
+        smd_real k_lim = u_avail / span;
+        u_s_ab_ref = smd_cscale(u_s_ab_ref, k_lim);
+        for (k = 0; k < 3; k++) {
+            u_abc[k] *= k_lim;
+        }
+    }
+    u_0 = SMD_R(-0.5) * (max3(u_abc) + min3(u_abc));
+    for (k = 0; k < 3; k++) {
+        smd_real d = SMD_R(0.5) + (u_abc[k] + u_0) / u_dc;
+        if (d < p->d_min) {
+            d = p->d_min; /* only by rounding */
+        }
+        if (d > SMD_R(1.0) - p->d_min) {
+            d = SMD_R(1.0) - p->d_min;
+        }
+        d_abc[k] = d;
+    }
+    *u_s_ab_applied = u_s_ab_ref;
+}

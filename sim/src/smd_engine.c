@@ -1,0 +1,146 @@
+#include "smdsim/smd_engine.h"
+
+#include <math.h>
+
+static const char *CHANNELS[SMD_LOG_N] = {
+    "t", "w_M", "theta_r", "i_alpha", "i_beta", "i_d", "i_q", "T_e", "T_L", "w_M_ref",
+    "i_d_ref", "i_q_ref", "theta_hat", "w_hat", "u_d_hat_alpha", "u_d_hat_beta", "u_alpha",
+    "u_beta", "u_ref_alpha", "u_ref_beta", "i_a_meas", "i_b_meas", "i_hat_alpha",
+    "i_hat_beta", "lambda", "status"};
+
+const char *smd_log_channel_name(int ch)
+{
+    return (ch >= 0 && ch < SMD_LOG_N) ? CHANNELS[ch] : "";
+}
+
+unsigned long smd_sizeof_engine(void) { return sizeof(smd_engine); }
+unsigned long smd_sizeof_plant_config(void) { return sizeof(smd_plant_config); }
+unsigned long smd_sizeof_drive_config(void) { return sizeof(smd_drive_config); }
+unsigned long smd_sizeof_profiles(void) { return sizeof(smd_profiles); }
+
+double smd_pwl_eval(const smd_pwl *p, double t)
+{
+    int lo = 0, hi;
+    if (p->n <= 0) return 0.0;
+    if (t <= p->t[0] || p->n == 1) return p->y[0];
+    if (t >= p->t[p->n - 1]) return p->y[p->n - 1];
+    hi = p->n - 1;
+    while (hi - lo > 1) {
+        int mid = (lo + hi) / 2;
+        if (p->t[mid] <= t) lo = mid; else hi = mid;
+    }
+    if (p->t[hi] == p->t[lo]) return p->y[hi];
+    return p->y[lo] + (p->y[hi] - p->y[lo]) * (t - p->t[lo]) / (p->t[hi] - p->t[lo]);
+}
+
+static int pwl_ok(const smd_pwl *p)
+{
+    int k;
+    if (p->n < 0 || p->n > SMD_PWL_MAX) return 0;
+    for (k = 0; k < p->n; k++) {
+        if (!isfinite(p->t[k]) || !isfinite(p->y[k])) return 0;
+        if (k > 0 && p->t[k] < p->t[k - 1]) return 0;
+    }
+    return 1;
+}
+
+int smd_engine_init(smd_engine *e, const smd_plant_config *plant, const smd_drive_config *ctrl,
+                    const smd_profiles *prof)
+{
+    int rc = smd_plant_init(&e->plant, plant);
+    smd_status st;
+    if (rc != 0) return 1000 + rc;
+    st = smd_drive_init(&e->ctrl_p, ctrl);
+    if (st != SMD_OK) return 2000 + (int)st;
+    if (!pwl_ok(&prof->w_M_ref) || !pwl_ok(&prof->T_ext) || !pwl_ok(&prof->T_brake) ||
+        !pwl_ok(&prof->i_d_ref) || !pwl_ok(&prof->i_q_ref)) {
+        return 3000;
+    }
+    e->prof = *prof;
+    /* The controller starts from what a flying start (or a stopped drive)
+     * knows: the actual speed and angle at t = 0. */
+    smd_drive_reset(&e->ctrl_p, &e->ctrl_s, (smd_real)e->plant.theta_r,
+                    (smd_real)(plant->n_p * plant->w_M0));
+    e->d_abc[0] = e->d_abc[1] = e->d_abc[2] = 0.5;
+    e->k = 0;
+    e->T_sp = plant->T_sw;
+    e->last_status = 0;
+    return 0;
+}
+
+long smd_engine_run(smd_engine *e, long n, double *log, long stride)
+{
+    long j, rows = 0;
+    if (stride < 1) stride = 1;
+    for (j = 0; j < n; j++) {
+        const double t = (double)e->k * e->T_sp;
+        double i_meas[3];
+        smd_drive_in in;
+        smd_drive_out out;
+        smd_status st;
+        double w_ref = smd_pwl_eval(&e->prof.w_M_ref, t);
+        double T_ext = smd_pwl_eval(&e->prof.T_ext, t);
+        double T_brake = smd_pwl_eval(&e->prof.T_brake, t);
+        double d_now[3];
+        int x;
+
+        /* 1. measurements at t_k */
+        smd_plant_sample(&e->plant, i_meas);
+        in.i_a = (smd_real)i_meas[0];
+        in.i_b = (smd_real)i_meas[1];
+        in.theta_r = (smd_real)e->plant.theta_r;
+        in.w_r = (smd_real)(e->plant.c.n_p * e->plant.w_M);
+        in.u_dc = (smd_real)e->plant.c.u_dc;
+        in.w_r_ref = (smd_real)(e->plant.c.n_p * w_ref);
+        in.i_dq_ref.re = (smd_real)smd_pwl_eval(&e->prof.i_d_ref, t);
+        in.i_dq_ref.im = (smd_real)smd_pwl_eval(&e->prof.i_q_ref, t);
+
+        /* 2. controller: duties for the next period */
+        st = smd_drive_step(&e->ctrl_p, &e->ctrl_s, &in, &out);
+        if (st != SMD_OK) e->last_status = (int)st;
+
+        /* 3. plant over [t_k, t_k+1) with the duties computed at k-1 */
+        for (x = 0; x < 3; x++) {
+            d_now[x] = e->d_abc[x];
+            e->d_abc[x] = (double)out.d_abc[x];
+        }
+        if (log != 0 && (j % stride) == 0) {
+            double *r = log + rows * SMD_LOG_N;
+            double c = cos(e->plant.theta_r), s = sin(e->plant.theta_r);
+            smd_drive_view v = smd_drive_get_view(&e->ctrl_s);
+            r[SMD_LOG_T] = t;
+            r[SMD_LOG_W_M] = e->plant.w_M;
+            r[SMD_LOG_THETA_R] = e->plant.theta_r;
+            r[SMD_LOG_I_ALPHA] = e->plant.i_re;
+            r[SMD_LOG_I_BETA] = e->plant.i_im;
+            r[SMD_LOG_I_D] = c * e->plant.i_re + s * e->plant.i_im;
+            r[SMD_LOG_I_Q] = -s * e->plant.i_re + c * e->plant.i_im;
+            r[SMD_LOG_W_M_REF] = w_ref;
+            r[SMD_LOG_I_D_REF] = (double)v.i_dq_ref.re;
+            r[SMD_LOG_I_Q_REF] = (double)v.i_dq_ref.im;
+            r[SMD_LOG_THETA_HAT] = (double)v.theta_r;
+            r[SMD_LOG_W_HAT] = (double)v.w_r;
+            r[SMD_LOG_UD_ALPHA] = (double)v.u_d_hat.re;
+            r[SMD_LOG_UD_BETA] = (double)v.u_d_hat.im;
+            r[SMD_LOG_UREF_ALPHA] = (double)v.u_s_ab.re;
+            r[SMD_LOG_UREF_BETA] = (double)v.u_s_ab.im;
+            r[SMD_LOG_I_A_MEAS] = i_meas[0];
+            r[SMD_LOG_I_B_MEAS] = i_meas[1];
+            r[SMD_LOG_IHAT_ALPHA] = (double)v.i_s_hat.re;
+            r[SMD_LOG_IHAT_BETA] = (double)v.i_s_hat.im;
+            r[SMD_LOG_LAMBDA] = (double)v.lambda;
+            r[SMD_LOG_STATUS] = (double)st;
+        }
+        smd_plant_step(&e->plant, d_now, T_ext, T_brake);
+        if (log != 0 && (j % stride) == 0) {
+            double *r = log + rows * SMD_LOG_N;
+            r[SMD_LOG_T_E] = e->plant.T_e_mean;
+            r[SMD_LOG_T_L] = e->plant.T_L_mean;
+            r[SMD_LOG_U_ALPHA] = e->plant.u_re;
+            r[SMD_LOG_U_BETA] = e->plant.u_im;
+            rows++;
+        }
+        e->k++;
+    }
+    return rows;
+}

@@ -1,0 +1,296 @@
+#include "smdsim/smd_plant.h"
+
+#include <complex.h>
+#include <math.h>
+
+#define TWO_PI 6.283185307179586476925
+#define PI 3.141592653589793238463
+
+/* a = e^{j 2 pi / 3}: phase b and c unit vectors */
+static const double A_RE = -0.5;
+static const double A_IM = 0.86602540378443864676;
+
+/* phi1(x) = (1 - e^{-x}) / x, accurate for small |x| (complex) */
+static double complex phi1(double complex x)
+{
+    if (cabs(x) < 1e-4) {
+        return 1.0 - x / 2.0 + x * x / 6.0 - x * x * x / 24.0;
+    }
+    return (1.0 - cexp(-x)) / x;
+}
+
+/* phi2(x) = (x - 1 + e^{-x}) / x^2 (real) */
+static double phi2r(double x)
+{
+    if (fabs(x) < 1e-3) {
+        return 0.5 - x / 6.0 + x * x / 24.0 - x * x * x / 120.0 + x * x * x * x / 720.0;
+    }
+    return (x + expm1(-x)) / (x * x);
+}
+
+static double wrap_pi(double x)
+{
+    return x - TWO_PI * floor((x + PI) / TWO_PI);
+}
+
+static uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+
+/* xoshiro256** */
+static uint64_t rng_next(uint64_t s[4])
+{
+    uint64_t result = rotl(s[1] * 5, 7) * 9;
+    uint64_t t = s[1] << 17;
+    s[2] ^= s[0];
+    s[3] ^= s[1];
+    s[1] ^= s[2];
+    s[0] ^= s[3];
+    s[2] ^= t;
+    s[3] = rotl(s[3], 45);
+    return result;
+}
+
+static double rng_uniform(uint64_t s[4])
+{
+    return (double)(rng_next(s) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* Standard normal by the polar method. */
+static double rng_normal(smd_plant *p)
+{
+    double u, v, r2, f;
+    if (p->have_spare) {
+        p->have_spare = 0;
+        return p->spare;
+    }
+    do {
+        u = 2.0 * rng_uniform(p->rng) - 1.0;
+        v = 2.0 * rng_uniform(p->rng) - 1.0;
+        r2 = u * u + v * v;
+    } while (r2 >= 1.0 || r2 == 0.0);
+    f = sqrt(-2.0 * log(r2) / r2);
+    p->spare = v * f;
+    p->have_spare = 1;
+    return u * f;
+}
+
+static uint64_t splitmix(uint64_t *x)
+{
+    uint64_t z = (*x += 0x9E3779B97F4A7C15ULL);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return z ^ (z >> 31);
+}
+
+static int bad(double x, double lo, double hi) { return !(isfinite(x) && x >= lo && x <= hi); }
+
+static const char *FIELDS[] = {
+    "ok", "R_s", "L_s", "psi_r", "n_p", "J", "B", "u_dc", "T_sw", "pwm_mode", "t_dead",
+    "adc_gain", "adc_offset", "adc_noise", "adc_bits", "adc_full_scale", "w_brake_eps",
+    "k_fan", "w_M0", "theta_r0"};
+
+const char *smd_plant_field(int code)
+{
+    if (code < 0 || code >= (int)(sizeof(FIELDS) / sizeof(FIELDS[0]))) {
+        return "unknown";
+    }
+    return FIELDS[code];
+}
+
+int smd_plant_init(smd_plant *p, const smd_plant_config *c)
+{
+    int k;
+    uint64_t seed;
+    if (bad(c->R_s, 1e-6, 1e3)) return 1;
+    if (bad(c->L_s, 1e-7, 10.0)) return 2;
+    if (bad(c->psi_r, 0.0, 100.0)) return 3;
+    if (bad(c->n_p, 1.0, 100.0)) return 4;
+    if (bad(c->J, 1e-9, 1e4)) return 5;
+    if (bad(c->B, 0.0, 1e3)) return 6;
+    if (bad(c->u_dc, 0.0, 1e5)) return 7;
+    if (bad(c->T_sw, 1e-7, 1.0)) return 8;
+    if (c->pwm_mode != SMD_PWM_AVERAGED && c->pwm_mode != SMD_PWM_CARRIER) return 9;
+    if (bad(c->t_dead, 0.0, 0.25 * c->T_sw)) return 10;
+    for (k = 0; k < 3; k++) {
+        if (bad(c->adc_gain[k], 0.5, 2.0)) return 11;
+        if (bad(c->adc_offset[k], -1e3, 1e3)) return 12;
+    }
+    if (bad(c->adc_noise, 0.0, 1e3)) return 13;
+    if (c->adc_bits < 0 || c->adc_bits > 24) return 14;
+    if (bad(c->adc_full_scale, 1e-6, 1e6)) return 15;
+    if (bad(c->w_brake_eps, 1e-9, 1e3)) return 16;
+    if (bad(c->k_fan, 0.0, 1e3)) return 17;
+    if (bad(c->w_M0, -1e5, 1e5)) return 18;
+    if (bad(c->theta_r0, -1e3, 1e3)) return 19;
+    p->c = *c;
+    p->a = c->R_s / c->L_s;
+    p->i_re = 0.0;
+    p->i_im = 0.0;
+    p->theta_r = wrap_pi(c->theta_r0);
+    p->w_M = c->w_M0;
+    p->T_e_mean = 0.0;
+    p->T_L_mean = 0.0;
+    p->u_re = 0.0;
+    p->u_im = 0.0;
+    seed = c->seed;
+    for (k = 0; k < 4; k++) {
+        p->rng[k] = splitmix(&seed);
+    }
+    p->have_spare = 0;
+    p->spare = 0.0;
+    return 0;
+}
+
+void smd_plant_phase_currents(const smd_plant *p, double i_abc[3])
+{
+    /* amplitude-invariant: i_x = Re(i_s e^{-j 2 pi x / 3}) */
+    i_abc[0] = p->i_re;
+    i_abc[1] = A_RE * p->i_re + A_IM * p->i_im;
+    i_abc[2] = A_RE * p->i_re - A_IM * p->i_im;
+}
+
+/* Integral over [0, tau] of the unit step response g(s) = (1 - e^{-a s}) / R
+ * weighted by e^{-j w s}:  (1/R) [E(jw) - E(a + jw)],  E(z) = tau phi1(z tau). */
+static double complex step_weighted_integral(double a, double R, double w, double tau)
+{
+    double complex z1 = I * w * tau;
+    double complex z2 = (a + I * w) * tau;
+    return tau * (phi1(z1) - phi1(z2)) / R;
+}
+
+void smd_plant_step(smd_plant *p, const double d_abc[3], double T_ext, double T_brake)
+{
+    const smd_plant_config *c = &p->c;
+    const double T = c->T_sw;
+    const double R = c->R_s;
+    const double L = c->L_s;
+    const double a = p->a;
+    const double Kt = 1.5 * c->n_p * c->psi_r;
+    double complex i0 = p->i_re + I * p->i_im;
+    double complex leg_dir[3];
+    double complex i1, i_int, u_mean, C, Ap;
+    double i_abc[3];
+    double T_e0, T_L, T_e_mean, w_mid, w_e, acc, b, alpha, w1, th_int;
+    double complex ejth0 = cexp(I * p->theta_r);
+    int x;
+
+    leg_dir[0] = 2.0 / 3.0 * c->u_dc;
+    leg_dir[1] = 2.0 / 3.0 * c->u_dc * (A_RE + I * A_IM);
+    leg_dir[2] = 2.0 / 3.0 * c->u_dc * (A_RE - I * A_IM);
+
+    /* Load torque over this period: external + brake (opposes rotation,
+     * linear taper inside +-w_brake_eps) + fan. Held over the period. */
+    {
+        double s = p->w_M / c->w_brake_eps;
+        if (s > 1.0) s = 1.0;
+        if (s < -1.0) s = -1.0;
+        T_L = T_ext + T_brake * s + c->k_fan * p->w_M * fabs(p->w_M);
+    }
+
+    /* Mid-period speed prediction for the electrical solution. */
+    T_e0 = Kt * cimag(i0 * conj(ejth0));
+    w_mid = p->w_M + 0.5 * T * (T_e0 - T_L - c->B * p->w_M) / c->J;
+    w_e = c->n_p * w_mid;
+
+    /* Rotating-EMF particular solution i_p(t) = C e^{j theta(t)}, yang2018 eq. (1):
+     * L di/dt = u - R i - j w psi e^{j theta}. */
+    C = -I * w_e * c->psi_r / (R + I * w_e * L);
+    Ap = i0 - C * ejth0; /* homogeneous amplitude */
+    /* i(T) and the frame-weighted integral of i over the period (for torque). */
+    i1 = Ap * cexp(-a * T) + C * ejth0 * cexp(I * w_e * T);
+    /* int_0^T i(t) e^{-j theta(t)} dt, homogeneous + particular parts */
+    i_int = Ap * conj(ejth0) * T * phi1((a + I * w_e) * T) + C * T;
+    u_mean = 0.0;
+
+    smd_plant_phase_currents(p, i_abc);
+    for (x = 0; x < 3; x++) {
+        double d = d_abc[x];
+        double t_on, t_off;
+        if (!(d >= 0.0)) d = 0.0; /* also catches NaN */
+        if (d > 1.0) d = 1.0;
+        if (c->pwm_mode == SMD_PWM_CARRIER) {
+            /* Regular sampling at the carrier peak: the leg is high while the
+             * held duty exceeds the triangle, i.e. on [(1-d)T/2, (1+d)T/2). */
+            t_on = 0.5 * (1.0 - d) * T;
+            t_off = 0.5 * (1.0 + d) * T;
+            if (c->t_dead > 0.0) {
+                /* During the dead time the diode of the current's direction
+                 * conducts: a positive phase current delays the rising edge,
+                 * a negative one the falling edge (sign at the period start). */
+                if (i_abc[x] > 0.0) {
+                    t_on += c->t_dead;
+                } else if (i_abc[x] < 0.0) {
+                    t_off += c->t_dead;
+                }
+                if (t_off > T) t_off = T;
+                if (t_on > t_off) t_on = t_off;
+            }
+            if (t_off > t_on) {
+                double tau_on = T - t_on;
+                double tau_off = T - t_off;
+                /* exact step responses at T of a pulse on [t_on, t_off) */
+                double g_on = tau_on * creal(phi1(a * tau_on)) / L;
+                double g_off = tau_off * creal(phi1(a * tau_off)) / L;
+                i1 += leg_dir[x] * (g_on - g_off);
+                /* their frame-weighted integrals, shifted to the edge instants */
+                i_int += leg_dir[x] * conj(ejth0) *
+                         (cexp(-I * w_e * t_on) * step_weighted_integral(a, R, w_e, tau_on) -
+                          cexp(-I * w_e * t_off) * step_weighted_integral(a, R, w_e, tau_off));
+                u_mean += leg_dir[x] * (t_off - t_on) / T;
+            }
+        } else {
+            /* Switching-cycle average: leg voltage d u_dc over the whole period
+             * (dead time as the average volt-second loss). */
+            double de = d;
+            if (c->t_dead > 0.0) {
+                if (i_abc[x] > 0.0) de -= c->t_dead / T;
+                else if (i_abc[x] < 0.0) de += c->t_dead / T;
+                if (de < 0.0) de = 0.0;
+                if (de > 1.0) de = 1.0;
+            }
+            i1 += leg_dir[x] * de * T * creal(phi1(a * T)) / L;
+            i_int += leg_dir[x] * de * conj(ejth0) * step_weighted_integral(a, R, w_e, T);
+            u_mean += leg_dir[x] * de;
+        }
+    }
+
+    /* Mean torque over the period, 1.5 n_p psi Im{i e^{-j theta}}. */
+    T_e_mean = Kt * cimag(i_int) / T;
+
+    /* Mechanics, exact for constant torque: J dw/dt = T_e - T_L - B w. */
+    b = c->B / c->J;
+    alpha = (T_e_mean - T_L) / c->J;
+    acc = (alpha - b * p->w_M);
+    w1 = p->w_M + acc * T * creal(phi1(b * T));
+    th_int = p->w_M * T + acc * T * T * phi2r(b * T);
+
+    p->i_re = creal(i1);
+    p->i_im = cimag(i1);
+    p->theta_r = wrap_pi(p->theta_r + c->n_p * th_int);
+    p->w_M = w1;
+    p->T_e_mean = T_e_mean;
+    p->T_L_mean = T_L;
+    p->u_re = creal(u_mean);
+    p->u_im = cimag(u_mean);
+}
+
+void smd_plant_sample(smd_plant *p, double i_abc_meas[3])
+{
+    const smd_plant_config *c = &p->c;
+    double i_abc[3];
+    int x;
+    smd_plant_phase_currents(p, i_abc);
+    for (x = 0; x < 3; x++) {
+        double v = c->adc_gain[x] * i_abc[x] + c->adc_offset[x];
+        if (c->adc_noise > 0.0) {
+            v += c->adc_noise * rng_normal(p);
+        }
+        if (c->adc_bits > 0) {
+            double lsb = 2.0 * c->adc_full_scale / ldexp(1.0, c->adc_bits);
+            double q = floor(v / lsb + 0.5) * lsb; /* mid-tread */
+            if (q > c->adc_full_scale - lsb) q = c->adc_full_scale - lsb;
+            if (q < -c->adc_full_scale) q = -c->adc_full_scale;
+            v = q;
+        }
+        i_abc_meas[x] = v;
+    }
+}
