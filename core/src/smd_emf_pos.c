@@ -1,6 +1,7 @@
 #include "smodrive/smd_emf_pos.h"
 
-smd_status smd_emf_pos_init(smd_emf_pos_params *p, smd_real T_sp, smd_real w_lpf, smd_real w_hys)
+smd_status smd_emf_pos_init(smd_emf_pos_params *p, smd_real T_sp, smd_real w_lpf, smd_real w_hys,
+                            smd_real w_max)
 {
     if (p == 0) {
         return SMD_ERR_NULL;
@@ -14,6 +15,10 @@ smd_status smd_emf_pos_init(smd_emf_pos_params *p, smd_real T_sp, smd_real w_lpf
     if (!smd_in_range(w_hys, SMD_R(0.0), SMD_R(1e5))) {
         return SMD_ERR_LIMIT;
     }
+    if (!(smd_in_range(w_max, SMD_R(0.0), SMD_PI / T_sp) && w_max > w_hys)) {
+        return SMD_ERR_LIMIT;
+    }
+    p->w_max = w_max;
     p->T_sp = T_sp;
     p->w_lpf = w_lpf;
     p->a_lpf = SMD_R(1.0) - SMD_EXP(-w_lpf * T_sp);
@@ -42,6 +47,13 @@ void smd_emf_pos_step(const smd_emf_pos_params *p, smd_emf_pos_state *s, smd_cpl
         /* eq. (45) on the EMF angle (same increments as theta_r) */
         s->w_r_raw = smd_wrap_pi(phi - s->phi_prev) / p->T_sp;
         s->w_r_hat += p->a_lpf * (s->w_r_raw - s->w_r_hat);
+        /* Limit: a speed estimate beyond the drive's range is noise, and it
+         * would feed the rotation of the observer's filter (36). */
+        if (s->w_r_hat > p->w_max) {
+            s->w_r_hat = p->w_max;
+        } else if (s->w_r_hat < -p->w_max) {
+            s->w_r_hat = -p->w_max;
+        }
     }
     s->phi_prev = phi;
     s->primed = 1;
@@ -53,4 +65,8 @@ void smd_emf_pos_step(const smd_emf_pos_params *p, smd_emf_pos_state *s, smd_cpl
     d_sign = s->dir > 0 ? SMD_R(1.0) : SMD_R(-1.0);
     /* eq. (44), sign-corrected: theta = atan2(s u_alpha, -s u_beta) */
     s->theta_r_hat = SMD_ATAN2(d_sign * u_d_hat.re, -d_sign * u_d_hat.im);
+    /* The Euler model (35) identifies the disturbance averaged over
+     * [t_k, t_k+1), i.e. at t_k + T_sp/2: step back half a sample so that the
+     * angle belongs to the sampling instant (docs/errata.md, yang2018 E4). */
+    s->theta_r_hat = smd_wrap_pi(s->theta_r_hat - SMD_R(0.5) * s->w_r_hat * p->T_sp);
 }

@@ -74,3 +74,20 @@ void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
     }
     *u_s_ab_applied = u_s_ab_ref;
 }
+
+void smd_svm_deadtime_comp(smd_real d_abc[3], const smd_real i_abc[3], smd_real t_ratio,
+                           smd_real i_lin)
+{
+    int k;
+    for (k = 0; k < 3; k++) {
+        smd_real s = i_abc[k] / i_lin;
+        smd_real d;
+        if (s > SMD_R(1.0)) {
+            s = SMD_R(1.0);
+        } else if (s < SMD_R(-1.0)) {
+            s = SMD_R(-1.0);
+        }
+        d = d_abc[k] + t_ratio * s;
+        d_abc[k] = d < SMD_R(0.0) ? SMD_R(0.0) : (d > SMD_R(1.0) ? SMD_R(1.0) : d);
+    }
+}

@@ -14,6 +14,7 @@ const char *smd_log_channel_name(int ch)
 }
 
 unsigned long smd_sizeof_engine(void) { return sizeof(smd_engine); }
+unsigned long smd_sizeof_plant(void) { return sizeof(smd_plant); }
 unsigned long smd_sizeof_plant_config(void) { return sizeof(smd_plant_config); }
 unsigned long smd_sizeof_drive_config(void) { return sizeof(smd_drive_config); }
 unsigned long smd_sizeof_profiles(void) { return sizeof(smd_profiles); }
@@ -56,11 +57,16 @@ int smd_engine_init(smd_engine *e, const smd_plant_config *plant, const smd_driv
         !pwl_ok(&prof->i_d_ref) || !pwl_ok(&prof->i_q_ref)) {
         return 3000;
     }
+    if (!isfinite(prof->i_d_sin_amp) || !isfinite(prof->i_d_sin_freq)) {
+        return 3000;
+    }
     e->prof = *prof;
     /* The controller starts from what a flying start (or a stopped drive)
      * knows: the actual speed and angle at t = 0. */
     smd_drive_reset(&e->ctrl_p, &e->ctrl_s, (smd_real)e->plant.theta_r,
                     (smd_real)(plant->n_p * plant->w_M0));
+    /* Warm start: the speed loop holds the current that carries the load. */
+    smd_drive_set_speed_integrator(&e->ctrl_s, (smd_real)plant->i_q0);
     e->d_abc[0] = e->d_abc[1] = e->d_abc[2] = 0.5;
     e->k = 0;
     e->T_sp = plant->T_sw;
@@ -92,7 +98,9 @@ long smd_engine_run(smd_engine *e, long n, double *log, long stride)
         in.w_r = (smd_real)(e->plant.c.n_p * e->plant.w_M);
         in.u_dc = (smd_real)e->plant.c.u_dc;
         in.w_r_ref = (smd_real)(e->plant.c.n_p * w_ref);
-        in.i_dq_ref.re = (smd_real)smd_pwl_eval(&e->prof.i_d_ref, t);
+        in.i_dq_ref.re = (smd_real)(smd_pwl_eval(&e->prof.i_d_ref, t) +
+                                    e->prof.i_d_sin_amp * sin(6.283185307179586 *
+                                                              e->prof.i_d_sin_freq * t));
         in.i_dq_ref.im = (smd_real)smd_pwl_eval(&e->prof.i_q_ref, t);
 
         /* 2. controller: duties for the next period */

@@ -81,12 +81,36 @@ static uint64_t splitmix(uint64_t *x)
     return z ^ (z >> 31);
 }
 
+void smd_pwm_leg_edges(const smd_plant_config *c, double d, double i_x, double *t_on,
+                       double *t_off)
+{
+    const double T = c->T_sw;
+    if (!(d >= 0.0)) d = 0.0; /* also catches NaN */
+    if (d > 1.0) d = 1.0;
+    /* Regular sampling at the carrier peak: the leg is high while the held
+     * duty exceeds the triangle, i.e. on [(1-d)T/2, (1+d)T/2). */
+    *t_on = 0.5 * (1.0 - d) * T;
+    *t_off = 0.5 * (1.0 + d) * T;
+    if (c->t_dead > 0.0) {
+        /* During the dead time the diode of the current's direction conducts:
+         * a positive phase current delays the rising edge, a negative one the
+         * falling edge (current sign at the period start). */
+        if (i_x > 0.0) {
+            *t_on += c->t_dead;
+        } else if (i_x < 0.0) {
+            *t_off += c->t_dead;
+        }
+        if (*t_off > T) *t_off = T;
+        if (*t_on > *t_off) *t_on = *t_off;
+    }
+}
+
 static int bad(double x, double lo, double hi) { return !(isfinite(x) && x >= lo && x <= hi); }
 
 static const char *FIELDS[] = {
     "ok", "R_s", "L_s", "psi_r", "n_p", "J", "B", "u_dc", "T_sw", "pwm_mode", "t_dead",
     "adc_gain", "adc_offset", "adc_noise", "adc_bits", "adc_full_scale", "w_brake_eps",
-    "k_fan", "w_M0", "theta_r0"};
+    "k_fan", "w_M0", "theta_r0", "i_d0", "i_q0"};
 
 const char *smd_plant_field(int code)
 {
@@ -121,11 +145,13 @@ int smd_plant_init(smd_plant *p, const smd_plant_config *c)
     if (bad(c->k_fan, 0.0, 1e3)) return 17;
     if (bad(c->w_M0, -1e5, 1e5)) return 18;
     if (bad(c->theta_r0, -1e3, 1e3)) return 19;
+    if (bad(c->i_d0, -1e5, 1e5)) return 20;
+    if (bad(c->i_q0, -1e5, 1e5)) return 21;
     p->c = *c;
     p->a = c->R_s / c->L_s;
-    p->i_re = 0.0;
-    p->i_im = 0.0;
     p->theta_r = wrap_pi(c->theta_r0);
+    p->i_re = c->i_d0 * cos(p->theta_r) - c->i_q0 * sin(p->theta_r);
+    p->i_im = c->i_d0 * sin(p->theta_r) + c->i_q0 * cos(p->theta_r);
     p->w_M = c->w_M0;
     p->T_e_mean = 0.0;
     p->T_L_mean = 0.0;
@@ -208,22 +234,7 @@ void smd_plant_step(smd_plant *p, const double d_abc[3], double T_ext, double T_
         if (!(d >= 0.0)) d = 0.0; /* also catches NaN */
         if (d > 1.0) d = 1.0;
         if (c->pwm_mode == SMD_PWM_CARRIER) {
-            /* Regular sampling at the carrier peak: the leg is high while the
-             * held duty exceeds the triangle, i.e. on [(1-d)T/2, (1+d)T/2). */
-            t_on = 0.5 * (1.0 - d) * T;
-            t_off = 0.5 * (1.0 + d) * T;
-            if (c->t_dead > 0.0) {
-                /* During the dead time the diode of the current's direction
-                 * conducts: a positive phase current delays the rising edge,
-                 * a negative one the falling edge (sign at the period start). */
-                if (i_abc[x] > 0.0) {
-                    t_on += c->t_dead;
-                } else if (i_abc[x] < 0.0) {
-                    t_off += c->t_dead;
-                }
-                if (t_off > T) t_off = T;
-                if (t_on > t_off) t_on = t_off;
-            }
+            smd_pwm_leg_edges(c, d, i_abc[x], &t_on, &t_off);
             if (t_off > t_on) {
                 double tau_on = T - t_on;
                 double tau_off = T - t_off;

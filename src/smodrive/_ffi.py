@@ -56,6 +56,10 @@ class DriveConfig(ct.Structure):
         ("w_lpf", real),
         ("w_hys", real),
         ("svm_limit", ct.c_int),
+        ("w_max", real),
+        ("handover", ct.c_int),
+        ("t_dead_comp", real),
+        ("i_dtc", real),
     ]
 
 
@@ -81,6 +85,8 @@ class PlantConfig(ct.Structure):
         ("k_fan", ct.c_double),
         ("w_M0", ct.c_double),
         ("theta_r0", ct.c_double),
+        ("i_d0", ct.c_double),
+        ("i_q0", ct.c_double),
     ]
 
 
@@ -98,6 +104,8 @@ class Profiles(ct.Structure):
         ("T_brake", Pwl),
         ("i_d_ref", Pwl),
         ("i_q_ref", Pwl),
+        ("i_d_sin_amp", ct.c_double),
+        ("i_d_sin_freq", ct.c_double),
     ]
 
 
@@ -142,7 +150,7 @@ class SvmParams(ct.Structure):
 
 
 class EmfPosParams(ct.Structure):
-    _fields_ = [("T_sp", real), ("w_lpf", real), ("a_lpf", real), ("w_hys", real)]
+    _fields_ = [("T_sp", real), ("w_lpf", real), ("a_lpf", real), ("w_hys", real), ("w_max", real)]
 
 
 class EmfPosState(ct.Structure):
@@ -170,6 +178,13 @@ for _n in ("engine", "plant_config", "drive_config", "profiles"):
     _sig(f"smd_sizeof_{_n}", ct.c_ulong)
 _sig("smd_engine_init", ct.c_int, ct.c_void_p, P(PlantConfig), P(DriveConfig), P(Profiles))
 _sig("smd_engine_run", ct.c_long, ct.c_void_p, ct.c_long, P(ct.c_double), ct.c_long)
+_sig("smd_sizeof_plant", ct.c_ulong)
+_sig("smd_plant_init", ct.c_int, ct.c_void_p, P(PlantConfig))
+_sig("smd_plant_step", None, ct.c_void_p, P(ct.c_double), ct.c_double, ct.c_double)
+_sig("smd_plant_sample", None, ct.c_void_p, P(ct.c_double))
+_sig("smd_plant_phase_currents", None, ct.c_void_p, P(ct.c_double))
+_sig("smd_pwm_leg_edges", None, P(PlantConfig), ct.c_double, ct.c_double, P(ct.c_double),
+     P(ct.c_double))
 _sig("smd_pwl_eval", ct.c_double, P(Pwl), ct.c_double)
 _sig("smd_dbpc_init", ct.c_int, P(DbpcParams), real, real, real, real)
 _sig("smd_dbpc_predict", Cplx, P(DbpcParams), Cplx, Cplx, real, real)
@@ -184,7 +199,7 @@ _sig("smd_pi_reset", None, P(PiState), real)
 _sig("smd_pi_step", real, P(PiParams), P(PiState), real)
 _sig("smd_svm_init", ct.c_int, P(SvmParams), ct.c_int, real)
 _sig("smd_svm_step", None, P(SvmParams), Cplx, real, P(real), P(Cplx))
-_sig("smd_emf_pos_init", ct.c_int, P(EmfPosParams), real, real, real)
+_sig("smd_emf_pos_init", ct.c_int, P(EmfPosParams), real, real, real, real)
 _sig("smd_emf_pos_reset", None, P(EmfPosState), real)
 _sig("smd_emf_pos_step", None, P(EmfPosParams), P(EmfPosState), Cplx)
 _sig("smd_abc_to_ab", Cplx, P(real))

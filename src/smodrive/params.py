@@ -139,6 +139,10 @@ class ControllerCfg(_Validated):
     w_lpf: float = num(200.0, 0.0, 1e6, "rad/s", "sensorless speed LPF bandwidth (assumed)",
                        lo_open=True)
     w_hys: float = num(5.0, 0.0, 1e5, "rad/s", "direction hysteresis (electrical)")
+    t_handover: float = num(0.0, 0.0, 1e3, "s", "sensorless: time run on the encoder first")
+    t_dead_comp: float = num(2e-6, 0.0, 1e-3, "s", "dead time compensated by the modulator")
+    i_dtc: float = num(0.3, 0.0, 1e5, "A", "linear zone of the compensation", lo_open=True)
+    n_max: float = num(3000.0, 0.0, 1e6, "r/min", "sensorless speed-estimate limit", lo_open=True)
     speed_loop: bool = True
 
     def pi_gains(self, n_p: int) -> tuple[float, float]:
@@ -207,7 +211,10 @@ class Scenario(_Validated):
     w_M_ref: Profile = field(default_factory=lambda: Profile.const(0.0))  # rad/s
     i_d_ref: Profile = field(default_factory=lambda: Profile.const(0.0))
     i_q_ref: Profile = field(default_factory=lambda: Profile.const(0.0))
+    i_d_sin_amp: float = num(0.0, 0.0, 1e4, "A", "sinusoid added to the i_d reference")
+    i_d_sin_freq: float = num(0.0, 0.0, 1e7, "Hz", "its frequency")
     log_stride: int = num(1, 1, 10**6, "", "log every N samples")
+    warm_start: bool = True  # start in steady state: current and speed PI carry the initial load
     motor: MotorPars = field(default_factory=MotorPars)
     controller: ControllerCfg = field(default_factory=ControllerCfg)
     inverter: InverterCfg = field(default_factory=InverterCfg)

@@ -59,6 +59,12 @@ def plant_config(s: Scenario) -> _ffi.PlantConfig:
     c.k_fan = s.load.k_fan
     c.w_M0 = s.n_M0 * RPM
     c.theta_r0 = s.theta_r0
+    if s.warm_start:
+        # steady state at t = 0: the current carries the initial load and friction
+        w_M0 = s.n_M0 * RPM
+        brake = s.load.T_brake(0.0) * max(-1.0, min(1.0, w_M0 / s.load.w_brake_eps))
+        T_L = s.load.T_ext(0.0) + brake + s.load.k_fan * w_M0 * abs(w_M0) + m.B * w_M0
+        c.i_q0 = T_L / m.k_t if m.k_t > 0 else 0.0
     return c
 
 
@@ -75,6 +81,10 @@ def drive_config(s: Scenario) -> _ffi.DriveConfig:
     c.speed_loop = 1 if k.speed_loop else 0
     c.w_lpf, c.w_hys = k.w_lpf, k.w_hys
     c.svm_limit = 1 if s.inverter.svm_limit == "hexagon" else 0
+    c.w_max = k.n_max * RPM * s.motor.n_p
+    c.handover = int(round(k.t_handover / s.T_sp))
+    c.t_dead_comp = k.t_dead_comp
+    c.i_dtc = k.i_dtc
     return c
 
 
@@ -85,6 +95,8 @@ def profiles(s: Scenario) -> _ffi.Profiles:
     p.T_brake = _pwl(s.load.T_brake)
     p.i_d_ref = _pwl(s.i_d_ref)
     p.i_q_ref = _pwl(s.i_q_ref)
+    p.i_d_sin_amp = s.i_d_sin_amp
+    p.i_d_sin_freq = s.i_d_sin_freq
     return p
 
 

@@ -47,12 +47,20 @@ typedef struct smd_drive_config {
     smd_real w_lpf;        /* sensorless speed LPF bandwidth, rad/s */
     smd_real w_hys;        /* sensorless direction hysteresis, rad/s */
     int svm_limit;         /* smd_svm_limit */
+    smd_real w_max;        /* sensorless: speed estimate limit, electrical rad/s (> 0) */
+    int handover;          /* sensorless: samples run on the encoder while the observer
+                              converges (0: sensorless from the first sample) */
+    smd_real t_dead_comp;  /* dead time to compensate in the modulator, s (0: off) */
+    smd_real i_dtc;        /* current below which the compensation is linear, A (> 0) */
 } smd_drive_config;
 
 typedef struct smd_drive_params {
     int mode;
     int speed_decimation;
     int speed_loop;
+    int handover;
+    smd_real dtc_ratio;    /* t_dead_comp / T_sp */
+    smd_real i_dtc;
     smd_dbpc_params dbpc;
     smd_smdo_params smdo;
     smd_pi_params pi;
@@ -82,6 +90,8 @@ typedef struct smd_drive_state {
     smd_real theta_r;     /* angle used at k (measured or estimated) */
     smd_real w_r;         /* speed used at k (measured or estimated) */
     int count;            /* sample counter for the speed-loop decimation */
+    int primed;           /* 0 until the first sample has initialised the SMDO */
+    int samples;          /* samples since reset, saturating at handover */
     smd_smdo_state smdo;
     smd_emf_pos_state pos;
     smd_pi_state pi;
@@ -105,6 +115,9 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *cfg);
  * w_r0 seeds the speed estimate (and the direction), theta_r0 the angle. */
 void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real theta_r0,
                      smd_real w_r0);
+/* Warm start of the speed loop: set the PI integrator (the q-axis current
+ * reference it holds), e.g. when taking over a drive running under load. */
+void smd_drive_set_speed_integrator(smd_drive_state *s, smd_real i_q0);
 smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
                           smd_drive_out *out);
 smd_drive_view smd_drive_get_view(const smd_drive_state *s);

@@ -20,6 +20,7 @@ typedef struct smd_emf_pos_params {
     smd_real w_lpf; /* speed low-pass bandwidth, rad/s */
     smd_real a_lpf; /* derived: 1 - exp(-w_lpf T_sp) */
     smd_real w_hys; /* sign hysteresis half-band, electrical rad/s, >= 0 */
+    smd_real w_max; /* the speed estimate is limited to +-w_max, rad/s */
 } smd_emf_pos_params;
 
 typedef struct smd_emf_pos_state {
@@ -31,7 +32,8 @@ typedef struct smd_emf_pos_state {
     int primed;        /* 0 until phi_prev holds a sample */
 } smd_emf_pos_state;
 
-smd_status smd_emf_pos_init(smd_emf_pos_params *p, smd_real T_sp, smd_real w_lpf, smd_real w_hys);
+smd_status smd_emf_pos_init(smd_emf_pos_params *p, smd_real T_sp, smd_real w_lpf, smd_real w_hys,
+                            smd_real w_max);
 /* w_r0: initial speed estimate (its sign sets the initial direction). */
 void smd_emf_pos_reset(smd_emf_pos_state *s, smd_real w_r0);
 void smd_emf_pos_step(const smd_emf_pos_params *p, smd_emf_pos_state *s, smd_cplx u_d_hat);

@@ -24,6 +24,13 @@ typedef struct smd_svm_params {
 
 smd_status smd_svm_init(smd_svm_params *p, int limit, smd_real d_min);
 
+/* Dead-time compensation: d_x += (t_dead / T_sw) sat(i_x / i_lin), the
+ * average volt-seconds a dead time t_dead removes in the direction of the
+ * phase current i_x (use the current expected during the period, e.g. the
+ * reference, to stay clear of sampling noise). Duties are kept in [0, 1]. */
+void smd_svm_deadtime_comp(smd_real d_abc[3], const smd_real i_abc[3], smd_real t_ratio,
+                           smd_real i_lin);
+
 /* Duty ratios d_abc in [d_min, 1 - d_min] realising u_s_ab_ref as closely as
  * the limit allows; *u_s_ab_applied receives the realised vector (the
  * switching-cycle average of the inverter output for ideal switches). */

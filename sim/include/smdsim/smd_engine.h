@@ -30,6 +30,8 @@ typedef struct smd_profiles {
     smd_pwl T_brake;   /* brake torque magnitude (opposes rotation), N m */
     smd_pwl i_d_ref;   /* d-axis current reference, A */
     smd_pwl i_q_ref;   /* q-axis current reference (speed loop off), A */
+    double i_d_sin_amp;  /* sinusoid added to i_d_ref (frequency-response tests), A */
+    double i_d_sin_freq; /* its frequency, Hz */
 } smd_profiles;
 
 enum smd_log_channel {

@@ -44,6 +44,8 @@ typedef struct smd_plant_config {
     double k_fan;         /* fan load coefficient, N m s^2/rad^2 (T = k w_M |w_M|) */
     double w_M0;          /* initial mechanical speed, rad/s */
     double theta_r0;      /* initial electrical angle, rad */
+    double i_d0;          /* initial current in the rotor frame, A */
+    double i_q0;
 } smd_plant_config;
 
 typedef struct smd_plant {
@@ -71,6 +73,13 @@ void smd_plant_step(smd_plant *p, const double d_abc[3], double T_ext, double T_
 
 /* ADC sample of the three phase currents at the carrier peak. */
 void smd_plant_sample(smd_plant *p, double i_abc_meas[3]);
+
+/* Leg-high interval [t_on, t_off) within a carrier period for duty d and
+ * phase current i_x (dead-time direction), as used by the plant. */
+void smd_pwm_leg_edges(const smd_plant_config *c, double d, double i_x, double *t_on,
+                       double *t_off);
+
+unsigned long smd_sizeof_plant(void);
 
 /* Phase currents (true). */
 void smd_plant_phase_currents(const smd_plant *p, double i_abc[3]);

@@ -1,0 +1,50 @@
+# smodrive: the two Quickstart commands are `make reproduce` and `make test`.
+# Both create a local virtual environment (.venv) and build the package in it;
+# `make test` also installs the Cortex-M4F cross compiler (Debian's
+# gcc-arm-none-eabi) when it is missing, because the firmware build is tested.
+
+PY ?= python3
+VENV := .venv
+BIN := $(VENV)/bin
+OUT ?= results
+STAMP := $(VENV)/.installed
+SOURCES := $(shell find core sim src -type f \( -name '*.c' -o -name '*.h' -o -name '*.py' \)) \
+           CMakeLists.txt pyproject.toml
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+
+.PHONY: all install reproduce test ctest pytest toolchain bench clean
+
+all: test
+
+$(STAMP): $(SOURCES)
+	@[ -x $(BIN)/python ] || $(PY) -m venv $(VENV)
+	$(BIN)/python -m pip install -q --upgrade pip
+	$(BIN)/python -m pip install -q ".[test]"
+	@touch $(STAMP)
+
+install: $(STAMP)
+
+reproduce: $(STAMP)
+	$(BIN)/smodrive reproduce --out $(OUT)
+
+toolchain:
+	@command -v arm-none-eabi-gcc >/dev/null 2>&1 || { \
+	  echo "installing gcc-arm-none-eabi (Cortex-M4F cross compiler) from Debian"; \
+	  $(SUDO) apt-get update -qq && \
+	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq gcc-arm-none-eabi libnewlib-arm-none-eabi >/dev/null; }
+
+ctest: toolchain
+	cmake -S . -B build/ctest -DSMD_BUILD_TESTS=ON -DSMD_BUILD_PYLIB=OFF -DCMAKE_BUILD_TYPE=Release >/dev/null
+	cmake --build build/ctest -j 2
+	ctest --test-dir build/ctest --output-on-failure
+
+pytest: $(STAMP)
+	$(BIN)/python -m pytest -q
+
+test: ctest pytest
+
+bench: $(STAMP)
+	$(BIN)/python benchmarks/bench_engine.py
+
+clean:
+	rm -rf build $(VENV) $(OUT)

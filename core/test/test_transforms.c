@@ -1,0 +1,108 @@
+/*
+ * Clarke / Park transforms (amplitude invariant, yang2018 Sec. II-A).
+ *
+ * Tolerances: every output is a short expression (<= 4 roundings) of O(1)
+ * inputs, plus one sin/cos of |theta| <= pi for Park (glibc sinf/cosf are
+ * within 1 ulp). The error is therefore below ~4 eps |x|; we allow 8 eps |x|.
+ * A wrong factor (e.g. 2/3 vs 1, sqrt3 vs 1/sqrt3) or a wrong sign gives an
+ * error of O(|x|), 10^5..10^14 times larger.
+ */
+#include "smd_test.h"
+#include "smodrive/smd_transforms.h"
+
+static void test_clarke_known_values(void)
+{
+    /* a = 1, b = c = -1/2: the vector on the alpha axis with amplitude 1 */
+    smd_real x1[3] = {R(1.0), R(-0.5), R(-0.5)};
+    /* a = 0, b = sqrt3/2, c = -sqrt3/2: amplitude 1 on the beta axis */
+    smd_real x2[3] = {R(0.0), R(0.86602540378443864676), R(-0.86602540378443864676)};
+    CHECK_CPLX(smd_abc_to_ab(x1), 1.0, 4 * SMDT_EPS);
+    CHECK_CPLX(smd_abc_to_ab(x2), 1.0 * JD, 4 * SMDT_EPS);
+    /* two-phase measurement: i_a = 1, i_b = -1/2 -> (1, 0); i_a = 0, i_b = sqrt3/2 -> j */
+    CHECK_CPLX(smd_ab2_to_ab(R(1.0), R(-0.5)), 1.0, 4 * SMDT_EPS);
+    CHECK_CPLX(smd_ab2_to_ab(R(0.0), R(0.86602540378443864676)), 1.0 * JD, 4 * SMDT_EPS);
+}
+
+/* A balanced three-phase set A cos(phi - k 2pi/3) maps to A e^{j phi}
+ * (amplitude invariance), whatever zero sequence x0 is added. */
+static void test_clarke_balanced_set(void)
+{
+    unsigned long st = 1;
+    int n;
+    for (n = 0; n < 200; n++) {
+        double A = smdt_rand(&st, 0.1, 300.0);
+        double phi = smdt_rand(&st, -PI_D, PI_D);
+        double x0 = smdt_rand(&st, -100.0, 100.0);
+        double complex ref = A * cexp(JD * phi);
+        smd_real x[3];
+        smd_real y[3];
+        int k;
+        for (k = 0; k < 3; k++) {
+            x[k] = R(A * cos(phi - 2.0 * PI_D * k / 3.0));
+            y[k] = R(A * cos(phi - 2.0 * PI_D * k / 3.0) + x0);
+        }
+        /* scale: inputs up to A + |x0|, two roundings of the inputs themselves */
+        CHECK_CPLX(smd_abc_to_ab(x), ref, 8 * SMDT_EPS * A);
+        CHECK_CPLX(smd_abc_to_ab(y), ref, 8 * SMDT_EPS * (A + fabs(x0)));
+        CHECK_CPLX(smd_ab2_to_ab(x[0], x[1]), ref, 8 * SMDT_EPS * A);
+    }
+}
+
+/* ab -> abc: known values, zero sum and the round trip back to ab. */
+static void test_inverse_clarke(void)
+{
+    unsigned long st = 7;
+    smd_real abc[3];
+    int n;
+    smd_ab_to_abc(smd_c(R(2.0), R(0.0)), abc);
+    CHECK_CLOSE(abc[0], 2.0, 4 * SMDT_EPS);
+    CHECK_CLOSE(abc[1], -1.0, 4 * SMDT_EPS);
+    CHECK_CLOSE(abc[2], -1.0, 4 * SMDT_EPS);
+    smd_ab_to_abc(smd_c(R(0.0), R(1.0)), abc);
+    CHECK_CLOSE(abc[0], 0.0, 4 * SMDT_EPS);
+    CHECK_CLOSE(abc[1], 0.86602540378443864676, 4 * SMDT_EPS);
+    CHECK_CLOSE(abc[2], -0.86602540378443864676, 4 * SMDT_EPS);
+    for (n = 0; n < 200; n++) {
+        double complex z = smdt_rand(&st, -500, 500) + smdt_rand(&st, -500, 500) * JD;
+        double m = cabs(z);
+        int k;
+        smd_ab_to_abc(smdt_c(z), abc);
+        for (k = 0; k < 3; k++) {
+            /* x_k = Re(z e^{-j 2 pi k / 3}) */
+            CHECK_CLOSE(abc[k], creal(z * cexp(-JD * 2.0 * PI_D * k / 3.0)), 8 * SMDT_EPS * m);
+        }
+        CHECK_CLOSE((double)abc[0] + (double)abc[1] + (double)abc[2], 0.0, 8 * SMDT_EPS * m);
+        CHECK_CPLX(smd_abc_to_ab(abc), z, 8 * SMDT_EPS * m);
+    }
+}
+
+/* Park: x_dq = x_ab e^{-j theta}; known values, round trip, magnitude kept. */
+static void test_park(void)
+{
+    unsigned long st = 3;
+    int n;
+    /* alpha-axis vector seen from a frame at +90 degrees lies on -q */
+    CHECK_CPLX(smd_ab_to_dq(smd_c(R(1.0), R(0.0)), R(1.57079632679489661923)), -1.0 * JD,
+               8 * SMDT_EPS);
+    /* d-axis vector at theta = pi/3 -> (1/2, sqrt3/2) */
+    CHECK_CPLX(smd_dq_to_ab(smd_c(R(1.0), R(0.0)), R(1.04719755119659774615)),
+               0.5 + 0.86602540378443864676 * JD, 8 * SMDT_EPS);
+    for (n = 0; n < 200; n++) {
+        double complex z = smdt_rand(&st, -50, 50) + smdt_rand(&st, -50, 50) * JD;
+        double th = smdt_rand(&st, -PI_D, PI_D);
+        double m = cabs(z);
+        smd_cplx dq = smd_ab_to_dq(smdt_c(z), R(th));
+        CHECK_CPLX(dq, z * cexp(-JD * th), 8 * SMDT_EPS * m);
+        CHECK_CPLX(smd_dq_to_ab(dq, R(th)), z, 16 * SMDT_EPS * m);
+        CHECK_CLOSE(smd_cabs(dq), m, 8 * SMDT_EPS * m);
+    }
+}
+
+int main(void)
+{
+    RUN_TEST(test_clarke_known_values);
+    RUN_TEST(test_clarke_balanced_set);
+    RUN_TEST(test_inverse_clarke);
+    RUN_TEST(test_park);
+    return smdt_summary("test_transforms");
+}

@@ -1,0 +1,1 @@
+"""Transfer functions of the papers' analyses and metrics of logged signals."""

@@ -1,0 +1,5 @@
+"""The papers' experiments as data: scenario catalogues and their claims."""
+
+from . import yang2018
+
+PAPERS = {"yang2018": yang2018}
