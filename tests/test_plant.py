@@ -171,18 +171,19 @@ def test_locked_rotor_carrier_pwm_matches_piecewise_solution(t_dead):
 
 
 def test_rotating_carrier_pwm_one_period_and_torque():
-    # Spinning rotor (n = 1000 r/min) with EMF, dead time, carrier PWM. J = 1e4
-    # makes the speed change within one period |T_e| T / J <= 25*1e-4/1e4 =
-    # 2.5e-7 rad/s, i.e. a rotor-angle error over the period below
-    # n_p * 2.5e-7 * 1e-4 = 1e-10 rad, an EMF error below w psi * 1e-10 ~ 2e-8 V
-    # and a current error below T/L * 2e-8 ~ 1e-10 A. So each period is
-    # compared with the exact constant-speed solution started from the plant's
-    # state, with tolerance 1e-9 of the current scale.
+    # Spinning rotor (n = 1000 r/min) with EMF, dead time, carrier PWM. Each
+    # period is compared with the exact constant-speed solution started from
+    # the plant's state (i, theta, w_M at the period start). J = 1e4 bounds the
+    # speed change within a period by |T_e| T / J <= 24*1e-4/1e4 = 2.4e-7 rad/s
+    # (|i| <= 10 A); the plant holds the mid-period speed, so the two EMF
+    # magnitudes differ by <= n_p psi * 1.2e-7 = 1.9e-7 V, a current difference
+    # <= T/L * 1.9e-7 = 8e-10 A, i.e. ~1e-10 of the ~8 A current (the angle
+    # difference, <= 5e-7 * T = 5e-11 rad, is smaller still). Tolerance 1e-9 of
+    # the current scale; a one-edge error of 1 ns would be 2e-5 A.
     s = scenario(pwm="carrier", t_dead=2e-6, J=1e4, B=0.0, n_M0=1000.0, theta_r0=0.3)
     m, T = s.motor, s.T_sp
     Kt = 1.5 * m.n_p * m.psi_r
     p = Plant(s)
-    t = 0.0
     worst_i = worst_T = 0.0
     for _ in range(200):
         i0, th0, w = p.i_s, p.theta_r, m.n_p * p.w_M
@@ -196,7 +197,6 @@ def test_rotating_carrier_pwm_one_period_and_torque():
         p.step(d)
         worst_i = max(worst_i, abs(p.i_s - i1) / max(1.0, abs(i1)))
         worst_T = max(worst_T, abs(p.T_e_mean - Kt * Q.imag / T) / (Kt * max(1.0, abs(i1))))
-        t += T
     assert worst_i <= 1e-9
     assert worst_T <= 1e-9
 
@@ -240,8 +240,9 @@ def test_sinusoidal_steady_state_averaged_exact_discrete():
         # Feed the last period's mean torque back as load: by telescoping, the
         # speed then never departs from w_M0 by more than T max|T_e| / J =
         # 1e-4 * 15 / 1e4 = 1.5e-7 rad/s, a rotor-angle drift below
-        # n_p * 1.5e-7 * 0.15 s = 1e-7 rad, i.e. a relative current error
-        # ~1e-7 (EMF phase) -- hence the 1e-6 tolerance below.
+        # n_p * 1.5e-7 * 0.15 s = 9e-8 rad. That turns the EMF current
+        # (|w psi / (R + jwL)| = 16.6 A) by 9e-8 rad: 1.5e-6 A = 2.5e-7 of |I|
+        # (6 A). The rounding of 1500 steps is ~1e-13. Tolerance 1e-6 of |I|.
         p.step(duties_for(uk, s.inverter.u_dc), T_ext=p.T_e_mean)
         kk = k + 1
         ref = I * cmath.exp(1j * w * kk * T) - I * math.exp(-a * kk * T)
@@ -250,9 +251,10 @@ def test_sinusoidal_steady_state_averaged_exact_discrete():
     assert abs(p.w_M - 1000.0 * RPM) <= 1e-6
 
     # steady-state mean torque: exact rotor-frame integral over one period
-    thk = th0 + w * 1500 * T
-    _, _, Q = exact_period(I * cmath.exp(1j * w * 1500 * T), thk, w,
-                           [(T, U * cmath.exp(1j * w * 1500.5 * T))], s)
+    # (the last step was period k = 1499, from t = 1499 T)
+    thk = th0 + w * 1499 * T
+    _, _, Q = exact_period(I * cmath.exp(1j * w * 1499 * T), thk, w,
+                           [(T, U * cmath.exp(1j * w * 1499.5 * T))], s)
     Te_ref = 1.5 * m.n_p * psi * Q.imag / T
     # remaining transient e^{-a * 0.15} ~ 5e-7 of I plus the 1e-7 drift above
     assert abs(p.T_e_mean - Te_ref) <= 2e-6 * 1.5 * m.n_p * psi * abs(I)
@@ -355,8 +357,9 @@ def test_brake_constant_deceleration_and_taper(J, T_brake, eps):
         w_prev = p.w_M
         p.step((0.5, 0.5, 0.5), 0.0, T_brake)
         ws.append(p.w_M)
-        if w_prev >= eps:
-            # torque held at -T_b over the whole period: exact linear decrease
+        if w_prev >= eps and p.w_M >= eps:
+            # outside the taper band for the whole period: torque -T_b, exact
+            # linear decrease (a period entering the band is split there)
             # (rounding of one subtraction, 1e-12 relative to w0)
             assert abs((w_prev - p.w_M) - T_brake * T / J) <= 1e-12 * w0
     ws = np.array(ws)

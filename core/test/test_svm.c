@@ -188,6 +188,28 @@ static void test_zero_vector_fallback(void)
     }
 }
 
+/* Dead-time compensation d_x += (t_dead/T) sat(i_x / i_lin), kept in [0, 1].
+ * Hand values with t_dead/T = 0.02, i_lin = 1 A:
+ *   d = 0.5,  i = 10 A   -> 0.5 + 0.02          = 0.52
+ *   d = 0.2,  i = -0.5 A -> 0.2 - 0.02 * 0.5    = 0.19  (linear zone)
+ *   d = 0.99, i = 3 A    -> min(1, 1.01)        = 1
+ * and d = 0.01, i = -2 A -> max(0, -0.01) = 0. Tolerance: 2 roundings of 1. */
+static void test_deadtime_comp(void)
+{
+    smd_real d[3] = {R(0.5), R(0.2), R(0.99)};
+    smd_real i[3] = {R(10.0), R(-0.5), R(3.0)};
+    smd_real d2[3] = {R(0.01), R(0.5), R(0.5)};
+    smd_real i2[3] = {R(-2.0), R(0.0), R(1.0)};
+    smd_svm_deadtime_comp(d, i, R(0.02), R(1.0));
+    CHECK_CLOSE(d[0], 0.52, 4 * SMDT_EPS);
+    CHECK_CLOSE(d[1], 0.19, 4 * SMDT_EPS);
+    CHECK_CLOSE(d[2], 1.0, 0.0);
+    smd_svm_deadtime_comp(d2, i2, R(0.02), R(1.0));
+    CHECK_CLOSE(d2[0], 0.0, 0.0);
+    CHECK_CLOSE(d2[1], 0.5, 0.0);
+    CHECK_CLOSE(d2[2], 0.52, 4 * SMDT_EPS);
+}
+
 int main(void)
 {
     RUN_TEST(test_init);
@@ -195,5 +217,6 @@ int main(void)
     RUN_TEST(test_circle_limit);
     RUN_TEST(test_hexagon_limit);
     RUN_TEST(test_zero_vector_fallback);
+    RUN_TEST(test_deadtime_comp);
     return smdt_summary("test_svm");
 }

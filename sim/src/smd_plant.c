@@ -183,6 +183,73 @@ static double complex step_weighted_integral(double a, double R, double w, doubl
     return tau * (phi1(z1) - phi1(z2)) / R;
 }
 
+/* Exact solution of J dw/dt = F - B w over tau from w0: end speed and the
+ * integral of w. */
+static void lin_mech(double F, double Bv, double J, double w0, double tau, double *w1,
+                     double *th)
+{
+    double b = Bv / J;
+    double acc = F / J - b * w0;
+    *w1 = w0 + acc * tau * creal(phi1(b * tau));
+    *th = w0 * tau + acc * tau * tau * phi2r(b * tau);
+}
+
+/* Advance the mechanics over T with electromagnetic torque T_e and load T_L
+ * (which includes the brake term evaluated at w0). Outside the brake's taper
+ * band |w| < eps the brake torque is constant; inside it is T_brake w / eps, a
+ * viscous term, solved exactly. A period that enters the band is split at the
+ * crossing instant, so the speed settles at rest without ringing (an explicit
+ * hold of the taper rings when T T_brake / (J eps) > 2). Returns the end
+ * speed, the integral of w, and the mean load torque. */
+static void mech_advance(const smd_plant_config *c, double T_e, double T_L, double T_brake,
+                         double w0, double T, double *w1, double *th, double *T_L_mean)
+{
+    const double eps = c->w_brake_eps;
+    double s0 = w0 / eps;
+    double T_other, Bb, t_c = 0.0, th1 = 0.0, wc;
+    if (s0 > 1.0) s0 = 1.0;
+    if (s0 < -1.0) s0 = -1.0;
+    T_other = T_L - T_brake * s0; /* load without the brake */
+    Bb = c->B + T_brake / eps;    /* viscous coefficient inside the band */
+    if (T_brake <= 0.0 || fabs(w0) < eps) {
+        if (T_brake <= 0.0) {
+            lin_mech(T_e - T_L, c->B, c->J, w0, T, w1, th);
+            *T_L_mean = T_L;
+        } else {
+            lin_mech(T_e - T_other, Bb, c->J, w0, T, w1, th);
+            *T_L_mean = T_other + T_brake / eps * (*th / T);
+        }
+        return;
+    }
+    /* outside the band: constant brake torque */
+    lin_mech(T_e - T_L, c->B, c->J, w0, T, w1, th);
+    if (fabs(*w1) >= eps && (*w1) * w0 > 0.0) {
+        *T_L_mean = T_L;
+        return;
+    }
+    /* the speed reaches the band edge w_c = sign(w0) eps at t_c: bisection on
+     * the exact solution (monotonic in t over the period) */
+    {
+        double lo = 0.0, hi = T, w_edge = w0 > 0.0 ? eps : -eps;
+        int k;
+        for (k = 0; k < 60; k++) {
+            double mid = 0.5 * (lo + hi), wm, tm;
+            lin_mech(T_e - T_L, c->B, c->J, w0, mid, &wm, &tm);
+            if ((wm - w_edge) * (w0 - w_edge) > 0.0) lo = mid; else hi = mid;
+        }
+        t_c = hi;
+        lin_mech(T_e - T_L, c->B, c->J, w0, t_c, &wc, &th1);
+        wc = w_edge;
+    }
+    {
+        double w2, th2;
+        lin_mech(T_e - T_other, Bb, c->J, wc, T - t_c, &w2, &th2);
+        *w1 = w2;
+        *th = th1 + th2;
+        *T_L_mean = (T_L * t_c + T_other * (T - t_c) + T_brake / eps * th2) / T;
+    }
+}
+
 void smd_plant_step(smd_plant *p, const double d_abc[3], double T_ext, double T_brake)
 {
     const smd_plant_config *c = &p->c;
@@ -195,7 +262,7 @@ void smd_plant_step(smd_plant *p, const double d_abc[3], double T_ext, double T_
     double complex leg_dir[3];
     double complex i1, i_int, u_mean, C, Ap;
     double i_abc[3];
-    double T_e0, T_L, T_e_mean, w_mid, w_e, acc, b, alpha, w1, th_int;
+    double T_e0, T_L, T_e_mean, w_mid, w_e, w1, th_int;
     double complex ejth0 = cexp(I * p->theta_r);
     int x;
 
@@ -267,12 +334,8 @@ void smd_plant_step(smd_plant *p, const double d_abc[3], double T_ext, double T_
     /* Mean torque over the period, 1.5 n_p psi Im{i e^{-j theta}}. */
     T_e_mean = Kt * cimag(i_int) / T;
 
-    /* Mechanics, exact for constant torque: J dw/dt = T_e - T_L - B w. */
-    b = c->B / c->J;
-    alpha = (T_e_mean - T_L) / c->J;
-    acc = (alpha - b * p->w_M);
-    w1 = p->w_M + acc * T * creal(phi1(b * T));
-    th_int = p->w_M * T + acc * T * T * phi2r(b * T);
+    /* Mechanics: J dw/dt = T_e - T_L - B w, exact for the period's torque. */
+    mech_advance(c, T_e_mean, T_L, T_brake, p->w_M, T, &w1, &th_int, &T_L);
 
     p->i_re = creal(i1);
     p->i_im = cimag(i1);

@@ -1,0 +1,144 @@
+"""Command line: `smodrive run SCENARIO.toml --out DIR`,
+`smodrive reproduce [PAPER ...] --out DIR`, `smodrive scenarios`."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import click
+import numpy as np
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
+
+from .params import ParameterError, load_scenario, scenario_to_toml
+from .scenarios import PAPERS
+
+console = Console(stderr=True)
+
+
+def _progress() -> Progress:
+    return Progress(
+        TextColumn("[bold]{task.description}"),
+        BarColumn(),
+        TextColumn("{task.percentage:>3.0f}%"),
+        TimeElapsedColumn(),
+        console=console,
+        transient=False,
+    )
+
+
+@click.group()
+@click.version_option(package_name="smodrive")
+def main() -> None:
+    """smodrive: sliding-mode observer based PMSM drive control."""
+
+
+@main.command()
+@click.argument("papers", nargs=-1)
+@click.option("--out", type=click.Path(path_type=Path), default=Path("results"),
+              show_default=True, help="results folder")
+def reproduce(papers: tuple[str, ...], out: Path) -> None:
+    """Run every experiment of PAPERS (default: all) and write figures,
+    claims.json and report.md into OUT."""
+    from .report import reproduce as run
+
+    chosen = list(papers) or list(PAPERS)
+    unknown = [p for p in chosen if p not in PAPERS]
+    if unknown:
+        raise click.BadParameter(f"unknown paper {unknown}; known: {', '.join(PAPERS)}")
+    with _progress() as prog:
+        tasks: dict[str, int] = {}
+
+        def on_progress(name: str, frac: float) -> None:
+            if name not in tasks:
+                tasks[name] = prog.add_task(name, total=1.0)
+            prog.update(tasks[name], completed=frac)
+
+        rep = run(chosen, out, on_progress=on_progress)
+    table = Table(title=f"claims ({out / 'claims.json'})")
+    for col in ("claim", "paper", "expected", "reproduced", "unit", "result"):
+        table.add_column(col)
+    for c in rep.claims:
+        table.add_row(c.id, _f(c.paper), _f(c.expected), _f(c.reproduced), c.unit,
+                      "[green]pass" if c.passed else "[red]FAIL")
+    Console().print(table)
+    n_pass = sum(c.passed for c in rep.claims)
+    console.print(f"{n_pass} claims passed, {len(rep.claims) - n_pass} failed; report: "
+                  f"{out / 'report.md'}; {rep.samples:,} samples in {rep.seconds:.1f} s")
+
+
+def _f(x: float | None) -> str:
+    return "-" if x is None else f"{x:.4g}"
+
+
+@main.command()
+@click.argument("scenario", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.option("--out", type=click.Path(path_type=Path), default=Path("results"),
+              show_default=True)
+def run(scenario: Path, out: Path) -> None:
+    """Simulate one SCENARIO.toml; write signals.npz, summary.json and a figure."""
+    from . import plots
+    from .simulate import SimulationError, simulate
+
+    try:
+        s = load_scenario(scenario)
+    except ParameterError as exc:
+        console.print(f"[red]error:[/red] {exc}")
+        sys.exit(2)
+    out.mkdir(parents=True, exist_ok=True)
+    with _progress() as prog:
+        task = prog.add_task(s.name, total=1.0)
+        try:
+            r = simulate(s, progress=lambda f: prog.update(task, completed=f))
+        except (SimulationError, ParameterError) as exc:
+            console.print(f"[red]error:[/red] {exc}")
+            sys.exit(1)
+    np.savez_compressed(out / "signals.npz", **{c: r[c] for c in _channels()})
+    (out / "scenario.toml").write_text(scenario_to_toml(s))
+    last = r.window(0.8 * s.duration, s.duration)
+    summary = {
+        "name": s.name,
+        "samples": int(r.data.shape[0] * s.log_stride),
+        "status": r.status,
+        "speed_rpm_mean_last_20pct": float(np.mean(r["w_M"][last]) * 60 / (2 * np.pi)),
+        "i_d_mean_last_20pct": float(np.mean(r["i_d"][last])),
+        "i_q_mean_last_20pct": float(np.mean(r["i_q"][last])),
+        "theta_error_rms_deg_last_20pct": float(np.degrees(np.sqrt(np.mean(
+            r.theta_error[last] ** 2)))),
+    }
+    (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+    plots.sensorless_panels(out, s.name.replace(".", "_"), [r], [s.name], s.name,
+                            [(0.0, s.duration)])
+    console.print(json.dumps(summary, indent=2))
+
+
+def _channels():
+    from .simulate import CHANNELS
+
+    return CHANNELS
+
+
+@main.command()
+def scenarios() -> None:
+    """List the catalogue of paper scenarios."""
+    for paper, mod in PAPERS.items():
+        for name in mod.SCENARIOS:
+            click.echo(name)
+
+
+@main.command()
+@click.argument("name")
+def show(name: str) -> None:
+    """Print a catalogue scenario as TOML (a starting point for your own)."""
+    for mod in PAPERS.values():
+        if name in mod.SCENARIOS:
+            click.echo(scenario_to_toml(mod.SCENARIOS[name]()))
+            return
+    raise click.BadParameter(f"unknown scenario {name}; see `smodrive scenarios`")
+
+
+if __name__ == "__main__":
+    main()
