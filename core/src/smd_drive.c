@@ -39,6 +39,10 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
         if (st != SMD_OK) {
             return st;
         }
+        st = smd_smdo_set_euler(&p->smdo, c->smdo_euler);
+        if (st != SMD_OK) {
+            return st;
+        }
     }
     if (c->mode == SMD_DRIVE_SENSORLESS) {
         st = smd_emf_pos_init(&p->pos, c->T_sp, c->w_lpf, c->w_hys, c->w_max);

@@ -22,6 +22,7 @@ smd_status smd_emf_pos_init(smd_emf_pos_params *p, smd_real T_sp, smd_real w_lpf
     p->T_sp = T_sp;
     p->w_lpf = w_lpf;
     p->a_lpf = SMD_R(1.0) - SMD_EXP(-w_lpf * T_sp);
+    p->a_dir = SMD_R(1.0) - SMD_EXP(SMD_R(-0.125) * w_lpf * T_sp);
     p->w_hys = w_hys;
     return SMD_OK;
 }
@@ -31,6 +32,7 @@ void smd_emf_pos_reset(smd_emf_pos_state *s, smd_real w_r0)
     s->phi_prev = SMD_R(0.0);
     s->w_r_raw = w_r0;
     s->w_r_hat = w_r0;
+    s->w_r_dir = w_r0;
     s->theta_r_hat = SMD_R(0.0);
     s->dir = w_r0 < SMD_R(0.0) ? -1 : 1;
     s->primed = 0;
@@ -57,9 +59,10 @@ void smd_emf_pos_step(const smd_emf_pos_params *p, smd_emf_pos_state *s, smd_cpl
     }
     s->phi_prev = phi;
     s->primed = 1;
-    if (s->w_r_hat > p->w_hys) {
+    s->w_r_dir += p->a_dir * (s->w_r_hat - s->w_r_dir);
+    if (s->w_r_dir > p->w_hys) {
         s->dir = 1;
-    } else if (s->w_r_hat < -p->w_hys) {
+    } else if (s->w_r_dir < -p->w_hys) {
         s->dir = -1;
     }
     d_sign = s->dir > 0 ? SMD_R(1.0) : SMD_R(-1.0);

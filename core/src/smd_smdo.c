@@ -40,6 +40,19 @@ smd_status smd_smdo_init(smd_smdo_params *p, smd_real T_sp, smd_real L_s_hat, sm
     p->l = l;
     p->w_c = w_c;
     p->rho = rho;
+    p->euler = 0;
+    return SMD_OK;
+}
+
+smd_status smd_smdo_set_euler(smd_smdo_params *p, int euler)
+{
+    if (p == 0) {
+        return SMD_ERR_NULL;
+    }
+    if (euler != 0 && euler != 1) {
+        return SMD_ERR_MODE;
+    }
+    p->euler = euler;
     return SMD_OK;
 }
 
@@ -77,11 +90,16 @@ smd_status smd_smdo_step(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i
     /* eq. (35), with R_hat (the paper prints R_s; see docs/errata.md) */
     di = smd_cadd(smd_cadd(u_s_ab, s->u_d_hat), u_smo);
     di = smd_csub(di, smd_cscale(s->i_s_hat, R));
-    /* eq. (36): forward-Euler complex-coefficient filter */
-    du = smd_cadd(smd_cscale(smd_cj(s->u_d_hat), w_r), smd_cscale(u_smo, p->w_c));
-
     s->i_s_hat = smd_cadd(s->i_s_hat, smd_cscale(di, T / L));
-    s->u_d_hat = smd_cadd(s->u_d_hat, smd_cscale(du, T));
+    if (p->euler) {
+        /* eq. (36) as printed: forward-Euler complex-coefficient filter */
+        du = smd_cadd(smd_cscale(smd_cj(s->u_d_hat), w_r), smd_cscale(u_smo, p->w_c));
+        s->u_d_hat = smd_cadd(s->u_d_hat, smd_cscale(du, T));
+    } else {
+        /* eq. (19) discretised with the exact rotation e^{j w T} of (17) */
+        du = smd_cmul(s->u_d_hat, smd_cexpj(w_r * T));
+        s->u_d_hat = smd_cadd(du, smd_cscale(u_smo, p->w_c * T));
+    }
     s->e_i_prev = e_i;
     s->u_smo_prev = u_smo;
     s->u_smo = u_smo;

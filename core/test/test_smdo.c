@@ -10,6 +10,10 @@
  *   u_smo  = L lambda sgn + (L l - R) e_i                             (34)
  *   i_hat^{k+1} = i_hat + T/L (u + u_d_hat + u_smo - R i_hat)         (35)
  *   u_d_hat^{k+1} = u_d_hat + (j w u_d_hat + w_c u_smo) T             (36)
+ * The core runs (36) as printed when smd_smdo_set_euler(p, 1); by default it
+ * discretises the rotation of (19) exactly:
+ *   u_d_hat^{k+1} = u_d_hat e^{j w T} + w_c T u_smo                    (36')
+ * Both are tested.
  */
 #include "smd_test.h"
 #include "smodrive/smd_smdo.h"
@@ -30,7 +34,8 @@ typedef struct ref_state {
 } ref_state;
 
 static void ref_step(ref_state *s, double L, double Rr, double T, double lmin, double l,
-                     double wc, double rho, double complex i, double complex u, double w)
+                     double wc, double rho, double complex i, double complex u, double w,
+                     int euler)
 {
     double complex e = i - s->i_hat;
     double complex eu = L * (e - s->e_prev) / T + s->smo_prev + Rr * s->e_prev;
@@ -38,7 +43,8 @@ static void ref_step(ref_state *s, double L, double Rr, double T, double lmin, d
     double complex sgn = e / (cabs(e) + rho);
     double complex smo = L * lambda * sgn + (L * l - Rr) * e;
     double complex i_next = s->i_hat + T / L * (u + s->u_d_hat + smo - Rr * s->i_hat);
-    double complex ud_next = s->u_d_hat + (JD * w * s->u_d_hat + wc * smo) * T;
+    double complex ud_next = euler ? s->u_d_hat + (JD * w * s->u_d_hat + wc * smo) * T
+                                   : s->u_d_hat * cexp(JD * w * T) + wc * T * smo;
     s->i_hat = i_next;
     s->u_d_hat = ud_next;
     s->e_prev = e;
@@ -113,22 +119,40 @@ static void test_stability_check(void)
  *   sgn = (3 + 4j) / 6,  L lambda sgn = 501 (0.5 + 0.6667j) = 250.5 + 334j
  *   u_smo = 250.5 + 334j + (10 - 1)(3 + 4j) = 277.5 + 370j
  *   i_hat^1 = 0.01 (10 + 20 + 277.5 + 370j) = 3.075 + 3.7j
- *   u_d_hat^1 = 20 + 1e-4 (20000j + 500 (277.5 + 370j)) = 33.875 + 20.5j
+ *   (36) : u_d_hat^1 = 20 + 1e-4 (20000j + 500 (277.5 + 370j)) = 33.875 + 20.5j
+ *   (36'): u_d_hat^1 = 20 e^{0.1j} + 0.05 (277.5 + 370j)
+ *                    = 19.90008331 + 1.99666833j + 13.875 + 18.5j
+ *                    = 33.77508331 + 20.49666833j
  * Tolerance: lambda ~ 5e4 with ~6 roundings -> 8 eps 5e4; voltages ~ 500 V. */
 static void test_first_step_by_hand(void)
 {
-    smd_smdo_params p;
-    smd_smdo_state s;
-    CHECK_INT(smd_smdo_init(&p, R(1e-4), R(0.01), R(1.0), R(100.0), R(1000.0), R(500.0), R(1.0)),
-              SMD_OK);
-    smd_smdo_reset(&s, smd_c(R(0.0), R(0.0)), smd_c(R(20.0), R(0.0)));
-    CHECK_INT(smd_smdo_step(&p, &s, smd_c(R(3.0), R(4.0)), smd_c(R(10.0), R(0.0)), R(1000.0)),
-              SMD_OK);
-    CHECK_CLOSE(s.lambda, 50100.0, 8 * SMDT_EPS * 5e4);
-    CHECK_CPLX(s.u_smo, 277.5 + 370.0 * JD, 8 * SMDT_EPS * 500.0);
-    CHECK_CPLX(s.i_s_hat, 3.075 + 3.7 * JD, 8 * SMDT_EPS * 5.0);
-    CHECK_CPLX(s.u_d_hat, 33.875 + 20.5 * JD, 8 * SMDT_EPS * 50.0);
-    CHECK_CPLX(s.e_i_prev, 3.0 + 4.0 * JD, 0.0);
+    int euler;
+    for (euler = 0; euler < 2; euler++) {
+        smd_smdo_params p;
+        smd_smdo_state s;
+        CHECK_INT(smd_smdo_init(&p, R(1e-4), R(0.01), R(1.0), R(100.0), R(1000.0), R(500.0),
+                                R(1.0)),
+                  SMD_OK);
+        CHECK_INT(p.euler, 0); /* default: exact rotation */
+        CHECK_INT(smd_smdo_set_euler(&p, euler), SMD_OK);
+        smd_smdo_reset(&s, smd_c(R(0.0), R(0.0)), smd_c(R(20.0), R(0.0)));
+        CHECK_INT(smd_smdo_step(&p, &s, smd_c(R(3.0), R(4.0)), smd_c(R(10.0), R(0.0)), R(1000.0)),
+                  SMD_OK);
+        CHECK_CLOSE(s.lambda, 50100.0, 8 * SMDT_EPS * 5e4);
+        CHECK_CPLX(s.u_smo, 277.5 + 370.0 * JD, 8 * SMDT_EPS * 500.0);
+        CHECK_CPLX(s.i_s_hat, 3.075 + 3.7 * JD, 8 * SMDT_EPS * 5.0);
+        CHECK_CPLX(s.u_d_hat, euler ? 33.875 + 20.5 * JD : 33.77508331 + 20.49666833 * JD,
+                   8 * SMDT_EPS * 50.0 + 1e-8);
+        CHECK_CPLX(s.e_i_prev, 3.0 + 4.0 * JD, 0.0);
+    }
+    {
+        smd_smdo_params p;
+        CHECK_INT(smd_smdo_init(&p, R(1e-4), R(0.01), R(1.0), R(100.0), R(1000.0), R(500.0),
+                                R(1.0)),
+                  SMD_OK);
+        CHECK_INT(smd_smdo_set_euler(&p, 2), SMD_ERR_MODE);
+        CHECK_INT(smd_smdo_set_euler(0, 1), SMD_ERR_NULL);
+    }
 }
 
 /* One step from random states (including the history e_i^{k-1}, u_smo^{k-1}
@@ -149,9 +173,11 @@ static void test_step_vs_reference(void)
     const double L = 1.3 * LS, Rr = 0.7 * RS;
     unsigned long st = 77;
     smd_smdo_params p;
-    int n;
+    int n, euler;
     CHECK_INT(smd_smdo_init(&p, R(TSP), R(L), R(Rr), R(LMIN), R(LGAIN), R(WC), R(RHO)), SMD_OK);
-    for (n = 0; n < 500; n++) {
+    for (n = 0; n < 1000; n++) {
+        euler = n % 4 >= 2;
+        CHECK_INT(smd_smdo_set_euler(&p, euler), SMD_OK);
         smd_smdo_state s;
         ref_state r;
         double complex i, u;
@@ -183,7 +209,7 @@ static void test_step_vs_reference(void)
         S_u = L / TSP * (ai + ah + cabs(r.e_prev)) + cabs(r.smo_prev) + Rr * cabs(r.e_prev);
         {
             double complex u_d0 = r.u_d_hat, i_h0 = r.i_hat;
-            ref_step(&r, L, Rr, TSP, LMIN, LGAIN, WC, RHO, i, u, w);
+            ref_step(&r, L, Rr, TSP, LMIN, LGAIN, WC, RHO, i, u, w, euler);
             S_smo = S_u + L * r.lambda * (1.0 + (ai + ah) / (cabs(r.e_prev) + RHO)) +
                     (L * LGAIN + Rr) * (ai + ah);
             CHECK_INT(smd_smdo_step(&p, &s, smdt_c(i), smdt_c(u), R(w)), SMD_OK);
@@ -209,6 +235,7 @@ static double converge_run(double T, double w, double *i_err)
     double th = 0.4;
     double worst = 0.0, worst_i = 0.0;
     int k, n = (int)(0.3 / T + 0.5), n_tail = (int)(0.02 / T + 0.5);
+    *i_err = INFINITY;
     if (smd_smdo_init(&p, R(T), R(LS), R(RS), R(LMIN), R(LGAIN), R(WC), R(RHO)) != SMD_OK) {
         return INFINITY;
     }

@@ -60,6 +60,7 @@ class DriveConfig(ct.Structure):
         ("handover", ct.c_int),
         ("t_dead_comp", real),
         ("i_dtc", real),
+        ("smdo_euler", ct.c_int),
     ]
 
 
@@ -123,6 +124,7 @@ class SmdoParams(ct.Structure):
         ("l", real),
         ("w_c", real),
         ("rho", real),
+        ("euler", ct.c_int),
     ]
 
 
@@ -150,7 +152,14 @@ class SvmParams(ct.Structure):
 
 
 class EmfPosParams(ct.Structure):
-    _fields_ = [("T_sp", real), ("w_lpf", real), ("a_lpf", real), ("w_hys", real), ("w_max", real)]
+    _fields_ = [
+        ("T_sp", real),
+        ("w_lpf", real),
+        ("a_lpf", real),
+        ("a_dir", real),
+        ("w_hys", real),
+        ("w_max", real),
+    ]
 
 
 class EmfPosState(ct.Structure):
@@ -158,6 +167,7 @@ class EmfPosState(ct.Structure):
         ("phi_prev", real),
         ("w_r_raw", real),
         ("w_r_hat", real),
+        ("w_r_dir", real),
         ("theta_r_hat", real),
         ("dir", ct.c_int),
         ("primed", ct.c_int),
@@ -193,6 +203,7 @@ _sig("smd_dbpc_conventional", Cplx, P(DbpcParams), Cplx, Cplx, Cplx, real, real)
 _sig("smd_dbpc_robust", Cplx, P(DbpcParams), Cplx, Cplx, Cplx)
 _sig("smd_smdo_init", ct.c_int, P(SmdoParams), real, real, real, real, real, real, real)
 _sig("smd_smdo_reset", None, P(SmdoState), Cplx, Cplx)
+_sig("smd_smdo_set_euler", ct.c_int, P(SmdoParams), ct.c_int)
 _sig("smd_smdo_step", ct.c_int, P(SmdoParams), P(SmdoState), Cplx, Cplx, real)
 _sig("smd_pi_init", ct.c_int, P(PiParams), real, real, real, real)
 _sig("smd_pi_reset", None, P(PiState), real)

@@ -24,11 +24,14 @@ class Claim:
     check: Check = "abs"
     passed: bool = False
     basis: str = ""  # why the tolerance is what it is
+    why_fail: str = ""  # the reason, stated in the claim if it fails
 
     def __post_init__(self) -> None:
         self.passed = self.evaluate()
         if not self.passed and "FAILS" not in self.statement:
             self.statement += f" FAILS: {self.describe_check()}, reproduced {self.reproduced:.4g}."
+            if self.why_fail:
+                self.statement += f" Why: {self.why_fail}"
 
     @property
     def target(self) -> float | None:

@@ -136,7 +136,7 @@ class ControllerCfg(_Validated):
     psi_r_pi: float = num(0.4, 0.0, 100.0, "Wb", "flux used to tune the speed PI", lo_open=True)
     i_max: float = num(15.0, 0.0, 1e5, "A", "q-axis current limit (assumed)", lo_open=True)
     speed_decimation: int = num(1, 1, 1000, "", "speed loop runs every N samples")
-    w_lpf: float = num(50.0, 0.0, 1e6, "rad/s", "sensorless speed LPF bandwidth (assumed)",
+    w_lpf: float = num(100.0, 0.0, 1e6, "rad/s", "sensorless speed LPF bandwidth (assumed)",
                        lo_open=True)
     w_hys: float = num(5.0, 0.0, 1e5, "rad/s", "direction hysteresis (electrical)")
     t_handover: float = num(0.0, 0.0, 1e3, "s", "sensorless: time run on the encoder first")
@@ -144,6 +144,7 @@ class ControllerCfg(_Validated):
     i_dtc: float = num(0.3, 0.0, 1e5, "A", "linear zone of the compensation", lo_open=True)
     n_max: float = num(3000.0, 0.0, 1e6, "r/min", "sensorless speed-estimate limit", lo_open=True)
     speed_loop: bool = True
+    smdo_euler: bool = False  # True: eq. (36) as printed (forward-Euler rotation)
 
     def pi_gains(self, n_p: int) -> tuple[float, float]:
         """Speed PI gains in A per electrical rad/s: the loop

@@ -85,6 +85,7 @@ def drive_config(s: Scenario) -> _ffi.DriveConfig:
     c.handover = int(round(k.t_handover / s.T_sp))
     c.t_dead_comp = k.t_dead_comp
     c.i_dtc = k.i_dtc
+    c.smdo_euler = 1 if k.smdo_euler else 0
     return c
 
 

@@ -52,6 +52,7 @@ typedef struct smd_drive_config {
                               converges (0: sensorless from the first sample) */
     smd_real t_dead_comp;  /* dead time to compensate in the modulator, s (0: off) */
     smd_real i_dtc;        /* current below which the compensation is linear, A (> 0) */
+    int smdo_euler;        /* 1: eq. (36) as printed (forward Euler); 0: exact rotation */
 } smd_drive_config;
 
 typedef struct smd_drive_params {

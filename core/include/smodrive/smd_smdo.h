@@ -19,6 +19,8 @@ typedef struct smd_smdo_params {
     smd_real l;          /* proportional reaching gain, 1/s, eq. (21) */
     smd_real w_c;        /* complex-filter adaption gain omega_c, rad/s, eq. (19) */
     smd_real rho;        /* smoothing of sgn(), A, eq. (39) */
+    int euler;           /* 1: rotate u_d_hat by (1 + j w T) as printed in eq. (36);
+                            0: by e^{j w T}, the exact discrete rotation (default) */
 } smd_smdo_params;
 
 typedef struct smd_smdo_state {
@@ -29,6 +31,11 @@ typedef struct smd_smdo_state {
     smd_cplx u_smo;      /* u_smo^k (read-only view) */
     smd_real lambda;     /* adapted gain used at k, eq. (37) */
 } smd_smdo_state;
+
+/* Select the discretisation of the rotation in eq. (36) (see docs/errata.md):
+ * the forward-Euler factor (1 + j w T) leaves a steady-state sliding residual
+ * of |u_d| (w T)^2 / (2 w_c T) that biases the current prediction. */
+smd_status smd_smdo_set_euler(smd_smdo_params *p, int euler);
 
 /* Rejects a parameter set whose discrete current-error loop is unstable:
  * the linear part of (34)-(35) gives e_i^{k+1} = (1 - l T_sp) e_i^k, so
