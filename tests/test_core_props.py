@@ -109,7 +109,7 @@ def invalid(lo: float, hi: float, lo_open: bool) -> st.SearchStrategy[float]:
 
 def sentinel(cls):
     """A struct with every field -1, to see whether init wrote to it."""
-    return cls(*([-1.0] * len(cls._fields_)))
+    return cls(*[-1 if typ is ct.c_int else -1.0 for _, typ in cls._fields_])
 
 
 def dbpc_init(*args):
@@ -220,6 +220,17 @@ def test_smdo_init_accepts_valid_iff_discrete_loop_stable(data):
     assert rc == (ERR_STABILITY if unstable else OK)
     if rc == OK:
         assert [p.T_sp, p.L_s_hat, p.R_s_hat, p.lambda_min, p.l, p.w_c, p.rho] == args
+        assert p.euler == 0  # exact rotation by default
+
+
+@pytest.mark.parametrize("euler", [-1, 0, 1, 2, 100])
+def test_smdo_set_euler(euler):
+    p = F.SmdoParams()
+    assert lib.smd_smdo_init(ct.byref(p), 1e-4, 0.02, 2.0, 800.0, 1200.0, 1500.0, 0.2) == OK
+    assert lib.smd_smdo_set_euler(None, 1) == ERR_NULL
+    rc = lib.smd_smdo_set_euler(ct.byref(p), euler)
+    assert rc == (OK if euler in (0, 1) else ERR_MODE)
+    assert p.euler == (euler if rc == OK else 0)
 
 
 @SETTINGS
@@ -330,7 +341,7 @@ def test_dbpc_robust_finite_and_deadbeat(T, L, R, i, u_d, i_ref):
     assert abs(i_k2 - i_ref) <= 1e-5 * scale + 1e-4
 
 
-def _smdo_params(draw) -> F.SmdoParams:
+def _smdo_params(draw, euler: int = 0) -> F.SmdoParams:
     T = draw(fl(1e-6, 1e-3))
     L = draw(fl(1e-4, 1.0))
     R = draw(fl(0.0, 100.0))
@@ -341,6 +352,7 @@ def _smdo_params(draw) -> F.SmdoParams:
     w_c = draw(st.floats(0.01, 0.95)) / T
     p = F.SmdoParams()
     assert lib.smd_smdo_init(ct.byref(p), T, L, R, lam, l, w_c, rho) == OK
+    assert lib.smd_smdo_set_euler(ct.byref(p), euler) == OK
     return p
 
 
@@ -350,9 +362,9 @@ def _smdo_state_finite(s: F.SmdoState) -> bool:
 
 
 @settings(max_examples=60, deadline=None)
-@given(data=st.data(), n=st.integers(100, 400))
-def test_smdo_random_inputs_keep_state_finite(data, n):
-    p = _smdo_params(data.draw)
+@given(data=st.data(), n=st.integers(100, 400), euler=st.sampled_from([0, 1]))
+def test_smdo_random_inputs_keep_state_finite(data, n, euler):
+    p = _smdo_params(data.draw, euler)
     s = F.SmdoState()
     lib.smd_smdo_reset(ct.byref(s), C(data.draw(cplx_i)), C(data.draw(cplx_u)))
     seed = data.draw(st.integers(0, 2**32 - 1))
@@ -370,9 +382,11 @@ def test_smdo_random_inputs_keep_state_finite(data, n):
 
 @pytest.mark.parametrize("where", ["i_re", "i_im", "u_re", "u_im", "w"])
 @pytest.mark.parametrize("bad", [NAN, INF])
-def test_smdo_nonfinite_input_reports_and_state_stays_finite(where, bad):
+@pytest.mark.parametrize("euler", [0, 1])
+def test_smdo_nonfinite_input_reports_and_state_stays_finite(where, bad, euler):
     p = F.SmdoParams()
     assert lib.smd_smdo_init(ct.byref(p), 1e-4, 0.02345, 2.25, 800.0, 1200.0, 1500.0, 0.2) == OK
+    assert lib.smd_smdo_set_euler(ct.byref(p), euler) == OK
     s = F.SmdoState()
     lib.smd_smdo_reset(ct.byref(s), C(1 + 2j), C(30 - 40j))
     for _ in range(5):

@@ -110,9 +110,13 @@ static void test_angle_both_directions(void)
 
 /* Speed from rest (w_r0 = 0): first-order low-pass of eq. (45),
  * w_hat after n updates = w (1 - (1 - a)^n), a = 1 - exp(-w_lpf T) (the first
- * call only primes phi_prev). For w < 0 the direction starts at +1 (angle off
- * by pi while w_hat > -w_hys) and flips once w_hat < -w_hys; then the angle
- * is exact. */
+ * call only primes phi_prev). The direction comes from w_dir, w_hat filtered
+ * again by a first-order low-pass 8 times slower (a_dir = 1 - exp(-w_lpf T/8),
+ * updated on every call): for w < 0 it starts at +1 (angle off by pi) and
+ * flips at the first call with w_dir < -w_hys; then the angle is exact. The
+ * expected flip instant is computed from that definition in double (the
+ * threshold is crossed with a margin of > 0.05 rad/s per sample, far above the
+ * rounding of w_hat). */
 static void test_speed_from_rest(void)
 {
     const double speeds[2] = {400.0, -400.0};
@@ -144,8 +148,17 @@ static void test_speed_from_rest(void)
         CHECK_CLOSE(s.w_r_hat, w, tol_w(w));
         CHECK_CLOSE(smdt_wrap((double)s.theta_r_hat - (th - w * TSP)), 0.0, tol_th(w));
         if (w < 0) {
-            /* first k with w (1 - (1-a)^(k-1)) < -w_hys: (1-a)^(k-1) < 7/8 */
-            int k_exp = 1 + (int)ceil(log(1.0 - WHYS / 400.0) / log(1.0 - a));
+            const double a_dir = 1.0 - exp(-WLPF * TSP / 8.0);
+            double w_dir = 0.0;
+            int k_exp = -1;
+            for (k = 1; k <= 3000 && k_exp < 0; k++) {
+                double w_hat = w * (1.0 - pow(1.0 - a, (double)(k - 1)));
+                w_dir += a_dir * (w_hat - w_dir);
+                if (w_dir < -WHYS) {
+                    k_exp = k;
+                }
+            }
+            CHECK(k_exp > 50); /* the slow filter really delays the flip */
             CHECK_INT(flipped_at, k_exp);
         } else {
             CHECK_INT(flipped_at, -1);
@@ -153,8 +166,8 @@ static void test_speed_from_rest(void)
     }
 }
 
-/* Hysteresis: the direction only changes when w_hat leaves the band
- * [-w_hys, w_hys]. Started with dir = -1 (w_r0 = -100) and fed a slow forward
+/* Hysteresis: the direction only changes when the (slowly filtered) speed
+ * leaves the band [-w_hys, w_hys]. Started with dir = -1 (w_r0 = -100) and fed a slow forward
  * rotation (+30 rad/s, inside the band), w_hat settles at +30 and dir stays
  * -1 (so the angle is pi off: the price of the band); at +100 rad/s
  * (continuous phase) dir becomes +1 and the angle is exact. Mirror case from

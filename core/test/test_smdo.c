@@ -227,7 +227,7 @@ static void test_step_vs_reference(void)
 /* Euler plant of model (15) with exact L, R and a rotating disturbance
  * u_d^k = -j w psi e^{j theta^k}; returns max |u_d_hat^k / u_d^k - 1| over
  * the last 20 ms of a 0.3 s run, and the max |i^k - i_hat^k| there. */
-static double converge_run(double T, double w, double *i_err)
+static double converge_run(double T, double w, int euler, double *i_err)
 {
     smd_smdo_params p;
     smd_smdo_state s;
@@ -236,7 +236,8 @@ static double converge_run(double T, double w, double *i_err)
     double worst = 0.0, worst_i = 0.0;
     int k, n = (int)(0.3 / T + 0.5), n_tail = (int)(0.02 / T + 0.5);
     *i_err = INFINITY;
-    if (smd_smdo_init(&p, R(T), R(LS), R(RS), R(LMIN), R(LGAIN), R(WC), R(RHO)) != SMD_OK) {
+    if (smd_smdo_init(&p, R(T), R(LS), R(RS), R(LMIN), R(LGAIN), R(WC), R(RHO)) != SMD_OK ||
+        smd_smdo_set_euler(&p, euler) != SMD_OK) {
         return INFINITY;
     }
     smd_smdo_reset(&s, smd_c(R(0.0), R(0.0)), smd_c(R(0.0), R(0.0)));
@@ -259,10 +260,10 @@ static double converge_run(double T, double w, double *i_err)
     return worst;
 }
 
-/* G(j w_r) = 1 of eq. (33), discrete limit. In steady state the discrete
- * filter (36) advances u_d_hat by (1 + j w T) per sample while u_d advances by
- * e^{j w T}; the mismatch F = e^{jwT} - 1 - jwT ~ -(wT)^2/2 must be supplied by
- * u_smo, which enters (36) with gain ~ w_c T, so
+/* G(j w_r) = 1 of eq. (33), discrete limit, eq. (36) as printed. In steady
+ * state the filter (36) advances u_d_hat by (1 + j w T) per sample while u_d
+ * advances by e^{j w T}; the mismatch F = e^{jwT} - 1 - jwT ~ -(wT)^2/2 must be
+ * supplied by u_smo, which enters (36) with gain ~ w_c T, so
  *   |G_discrete(e^{jwT}) - 1| ~ |F| / (w_c T) = w^2 T / (2 w_c).
  * (0.53 % at w = 400 rad/s, 1.3 % at w = 628 rad/s for T = 100 us.)
  * Checks: the error is below twice this leading-order value (the factor 2
@@ -270,7 +271,7 @@ static double converge_run(double T, double w, double *i_err)
  * ~4x when T is divided by 4 (first order in T: G -> 1 as T -> 0), and the
  * estimated current follows the plant current within the boundary layer rho.
  * Float rounding: |u_d| >= 160 V, errors ~1e-4 V, i.e. < 1e-6 relative. */
-static void test_convergence_rotating_disturbance(void)
+static void test_convergence_euler(void)
 {
     const double speeds[3] = {400.0, 628.3, -628.3};
     int n;
@@ -278,15 +279,36 @@ static void test_convergence_rotating_disturbance(void)
         double w = speeds[n];
         double ei1, ei4;
         double lead1 = w * w * TSP / (2.0 * WC);
-        double e1 = converge_run(TSP, w, &ei1);
-        double e4 = converge_run(TSP / 4.0, w, &ei4);
+        double e1 = converge_run(TSP, w, 1, &ei1);
+        double e4 = converge_run(TSP / 4.0, w, 1, &ei4);
         CHECK_CLOSE(e1, 0.0, 2.0 * lead1);
         CHECK_CLOSE(e4, 0.0, 2.0 * lead1 / 4.0);
         CHECK(e1 > 0.5 * lead1); /* the discretisation error is really there */
         CHECK_CLOSE(e1 / e4, 4.0, 1.0);
         CHECK_CLOSE(ei1, 0.0, RHO);
-        printf("    w = %7.1f rad/s: |G-1| = %.4g (T), %.4g (T/4); w^2 T/(2 w_c) = %.4g;"
+        printf("    (36)  w = %7.1f rad/s: |G-1| = %.4g (T), %.4g (T/4); w^2 T/(2 w_c) = %.4g;"
                " max|e_i| = %.3g A\n", w, e1, e4, lead1, ei1);
+    }
+}
+
+/* Exact rotation (36') (the default): for the Euler plant the fixed point is
+ * u_d_hat = u_d, u_smo = 0, i_hat = i exactly, i.e. G(e^{jwT}) = 1 at any T.
+ * Only rounding remains: each step rounds u_d_hat (~4 eps |u_d|) and the
+ * current error e_i = i - i_hat (~eps |i|, |i| < 30 A here), which u_smo
+ * turns into ~L (lambda/rho + l) eps |i| ~ 120 ohm * eps |i| of voltage; the
+ * loop forgets with time constant 1/(w_c T) ~ 7 samples. So
+ * |G - 1| <~ 7 (4 eps + 120 * 30 eps / |u_d|) < 200 eps for |u_d| >= 160 V;
+ * we allow 1000 eps (1.2e-4 in float), still 40x below the (36) error. */
+static void test_convergence_exact_rotation(void)
+{
+    const double speeds[4] = {400.0, 628.3, -628.3, 2000.0};
+    int n;
+    for (n = 0; n < 4; n++) {
+        double w = speeds[n], ei;
+        double e = converge_run(TSP, w, 0, &ei);
+        CHECK_CLOSE(e, 0.0, 1000 * SMDT_EPS);
+        CHECK_CLOSE(ei, 0.0, 1000 * SMDT_EPS * 30.0);
+        printf("    (36') w = %7.1f rad/s: |G-1| = %.3g, max|e_i| = %.3g A\n", w, e, ei);
     }
 }
 
@@ -334,7 +356,8 @@ int main(void)
     RUN_TEST(test_stability_check);
     RUN_TEST(test_first_step_by_hand);
     RUN_TEST(test_step_vs_reference);
-    RUN_TEST(test_convergence_rotating_disturbance);
+    RUN_TEST(test_convergence_euler);
+    RUN_TEST(test_convergence_exact_rotation);
     RUN_TEST(test_nonfinite_measurement);
     RUN_TEST(test_nonfinite_speed);
     return smdt_summary("test_smdo");

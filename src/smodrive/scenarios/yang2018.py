@@ -493,11 +493,13 @@ _POS_BASIS = (
 
 
 LOW_SPEED_WHY = (
-    "at 75-150 r/min the back EMF is only 12.6-25 V; the SMDO passes the assumed ADC noise "
-    "(0.02 A RMS, 12 bits) with the bandwidth of w_c and l + lambda/rho into u_d_hat, about "
-    "1 V RMS, so the arctangent of eq. (44) has a few degrees of noise with peaks above 10 "
-    "deg (no PLL, as in the paper). The RMS error stays within its bound; the paper's own "
-    "noise level is not given (rho = 0.2 A suggests it was not lower than ours)."
+    "at 75-150 r/min the back EMF is only 12.6-25 V. The SMDO passes the assumed ADC noise "
+    "(0.02 A RMS, 12 bits) into u_d_hat (about 1 V RMS), and the dead-time compensation "
+    "leaves volt-second errors of a few volts around each current zero crossing; the "
+    "arctangent of eq. (44) (no PLL, as in the paper) turns both into angle errors with "
+    "peaks above 10 deg. With an ideal ADC and no dead time the peak is below 1.1 deg "
+    "(tests/test_yang2018_claims.py). The RMS error stays within its bound; the paper's "
+    "noise and dead-time figures are not given."
 )
 
 
