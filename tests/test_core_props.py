@@ -28,6 +28,7 @@ SETTINGS = settings(max_examples=200, deadline=None,
 OK, ERR_NULL, ERR_TS, ERR_L, ERR_R, ERR_PSI = 0, 1, 2, 3, 4, 5
 ERR_LAMBDA, ERR_L_GAIN, ERR_WC, ERR_RHO, ERR_KP, ERR_KI = 6, 7, 8, 9, 10, 11
 ERR_LIMIT, ERR_MODE, ERR_STABILITY, ERR_WLPF, ERR_NONFINITE = 12, 13, 14, 15, 16
+ERR_WHYS, ERR_WMAX, ERR_DMIN = 18, 19, 22
 
 PI_F = float(np.float32(np.pi))  # SMD_PI in the float build (slightly above pi)
 INF, NAN = math.inf, math.nan
@@ -82,8 +83,8 @@ PI = [
 EMF = [  # w_lpf in (0, pi/T_sp), w_max in (w_hys, pi/T_sp]: upper bounds in own tests
     ("T_sp", 0.0, 1.0, True, ERR_TS),
     ("w_lpf", 0.0, INF, True, ERR_WLPF),
-    ("w_hys", 0.0, 1e5, False, ERR_LIMIT),
-    ("w_max", 0.0, INF, True, ERR_LIMIT),
+    ("w_hys", 0.0, 1e5, False, ERR_WHYS),
+    ("w_max", 0.0, INF, True, ERR_WMAX),
 ]
 
 
@@ -252,7 +253,7 @@ def test_emf_pos_init_rejects_w_lpf_above_nyquist(T, excess):
     w = math.pi / T * excess
     assume(math.isfinite(f32(w)))
     assert emf_init(T, w, 0.0, 1.0 / T)[0] == ERR_WLPF
-    assert emf_init(T, 1.0 / T, 0.0, w)[0] == ERR_LIMIT  # w_max beyond pi/T_sp
+    assert emf_init(T, 1.0 / T, 0.0, w)[0] == ERR_WMAX  # w_max beyond pi/T_sp
 
 
 @pytest.mark.parametrize("T", [1e-4, 1e-3, 0.5, 1.0])
@@ -269,7 +270,7 @@ def test_emf_pos_init_rejects_w_max_not_above_w_hys(T, w_hys, below):
     """|w_hat| is limited to w_max; a limit inside the hysteresis band could
     never flip the direction, so w_max <= w_hys is rejected."""
     w_max = f32(below * w_hys)
-    assert emf_init(T, 1.0 / T, w_hys, w_max)[0] == ERR_LIMIT
+    assert emf_init(T, 1.0 / T, w_hys, w_max)[0] == ERR_WMAX
     if w_hys < math.pi / T * 0.99:
         assert emf_init(T, 1.0 / T, w_hys, next_up(w_hys))[0] == OK
 
@@ -283,7 +284,7 @@ def test_svm_init_limit_and_d_min(limit, d_min):
     if limit not in (0, 1):
         assert rc == ERR_MODE
     elif not (0.0 <= d_min <= f32(0.49)):
-        assert rc == ERR_LIMIT
+        assert rc == ERR_DMIN
     else:
         assert rc == OK and p.limit == limit and p.d_min == d_min
     if rc != OK:

@@ -20,12 +20,12 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
     p->speed_decimation = c->speed_decimation;
     p->speed_loop = c->speed_loop;
     if (c->handover < 0) {
-        return SMD_ERR_LIMIT;
+        return SMD_ERR_HANDOVER;
     }
     p->handover = c->handover;
     if (!smd_in_range(c->t_dead_comp, SMD_R(0.0), SMD_R(0.25) * c->T_sp) ||
         !(smd_in_range(c->i_dtc, SMD_R(0.0), SMD_R(1e5)) && c->i_dtc > SMD_R(0.0))) {
-        return SMD_ERR_LIMIT;
+        return SMD_ERR_DEADTIME;
     }
     p->dtc_ratio = c->t_dead_comp / c->T_sp;
     p->i_dtc = c->i_dtc;

@@ -9,20 +9,21 @@ smd_status smd_emf_pos_init(smd_emf_pos_params *p, smd_real T_sp, smd_real w_lpf
     if (!(smd_in_range(T_sp, SMD_R(0.0), SMD_R(1.0)) && T_sp > SMD_R(0.0))) {
         return SMD_ERR_TS;
     }
-    if (!(smd_in_range(w_lpf, SMD_R(0.0), SMD_PI / T_sp) && w_lpf > SMD_R(0.0))) {
+    if (!(smd_in_range(w_lpf, SMD_R(0.0), SMD_PI / T_sp) && w_lpf > SMD_R(0.0) &&
+          w_lpf < SMD_PI / T_sp)) {
         return SMD_ERR_WLPF;
     }
     if (!smd_in_range(w_hys, SMD_R(0.0), SMD_R(1e5))) {
-        return SMD_ERR_LIMIT;
+        return SMD_ERR_WHYS;
     }
     if (!(smd_in_range(w_max, SMD_R(0.0), SMD_PI / T_sp) && w_max > w_hys)) {
-        return SMD_ERR_LIMIT;
+        return SMD_ERR_WMAX;
     }
     p->w_max = w_max;
     p->T_sp = T_sp;
     p->w_lpf = w_lpf;
-    p->a_lpf = SMD_R(1.0) - SMD_EXP(-w_lpf * T_sp);
-    p->a_dir = SMD_R(1.0) - SMD_EXP(SMD_R(-0.125) * w_lpf * T_sp);
+    p->a_lpf = -SMD_EXPM1(-w_lpf * T_sp);
+    p->a_dir = -SMD_EXPM1(SMD_R(-0.125) * w_lpf * T_sp);
     p->w_hys = w_hys;
     return SMD_OK;
 }

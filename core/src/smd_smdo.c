@@ -73,6 +73,7 @@ smd_status smd_smdo_step(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i
     const smd_real T = p->T_sp;
     const smd_real L = p->L_s_hat;
     const smd_real R = p->R_s_hat;
+    const smd_cplx i_prev = s->i_s_hat;
     smd_cplx e_i = smd_csub(i_s_ab, s->i_s_hat); /* eq. (20) */
     smd_cplx e_u, sgn, u_smo, di, du;
     smd_real lambda;
@@ -105,7 +106,11 @@ smd_status smd_smdo_step(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i
     s->u_smo = u_smo;
     s->lambda = lambda;
     if (!smd_cfinite(s->i_s_hat) || !smd_cfinite(s->u_d_hat) || !isfinite(lambda)) {
-        smd_smdo_reset(s, i_s_ab, smd_c(SMD_R(0.0), SMD_R(0.0)));
+        /* restart from the sample if it is usable, else from the last
+         * estimate, else from zero: never keep a NaN in the state */
+        smd_cplx i0 = smd_cfinite(i_s_ab) ? i_s_ab
+                      : (smd_cfinite(i_prev) ? i_prev : smd_c(SMD_R(0.0), SMD_R(0.0)));
+        smd_smdo_reset(s, i0, smd_c(SMD_R(0.0), SMD_R(0.0)));
         return SMD_ERR_NONFINITE;
     }
     return SMD_OK;

@@ -15,12 +15,18 @@ const char *smd_status_str(smd_status s)
     case SMD_ERR_RHO: return "rho: boundary layer must be in (0, 1000] A";
     case SMD_ERR_KP: return "k_p: proportional gain must be in [0, 1e6]";
     case SMD_ERR_KI: return "k_i: integral gain must be in [0, 1e9]";
-    case SMD_ERR_LIMIT: return "limit: must be positive and finite";
+    case SMD_ERR_LIMIT: return "y_max: output limit must be in (0, 1e9]";
     case SMD_ERR_MODE: return "mode: unknown value";
     case SMD_ERR_STABILITY: return "gains make the discrete loop unstable";
     case SMD_ERR_WLPF: return "w_lpf: low-pass bandwidth must be in (0, pi/T_sp) rad/s";
     case SMD_ERR_NONFINITE: return "a step produced NaN or Inf; outputs were zeroed";
     case SMD_ERR_DECIMATION: return "speed_decimation: must be in [1, 1000]";
+    case SMD_ERR_WHYS: return "w_hys: direction hysteresis must be in [0, 1e5] rad/s";
+    case SMD_ERR_WMAX: return "w_max: speed-estimate limit must be in (w_hys, pi/T_sp] rad/s";
+    case SMD_ERR_DEADTIME:
+        return "t_dead_comp: must be in [0, T_sp/4] s, and i_dtc > 0 A";
+    case SMD_ERR_HANDOVER: return "handover: must be >= 0 samples";
+    case SMD_ERR_DMIN: return "d_min: minimum duty must be in [0, 0.49]";
     default: return "unknown status";
     }
 }

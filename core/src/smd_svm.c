@@ -10,7 +10,7 @@ smd_status smd_svm_init(smd_svm_params *p, int limit, smd_real d_min)
         return SMD_ERR_MODE;
     }
     if (!smd_in_range(d_min, SMD_R(0.0), SMD_R(0.49))) {
-        return SMD_ERR_LIMIT;
+        return SMD_ERR_DMIN;
     }
     p->limit = limit;
     p->d_min = d_min;

@@ -144,7 +144,7 @@ static void test_init_rejects(void)
     CHECK_INT(smd_drive_init(&p, &c), SMD_ERR_STABILITY);
     c = base_config(SMD_DRIVE_SENSORLESS);
     c.handover = -1;
-    CHECK_INT(smd_drive_init(&p, &c), SMD_ERR_LIMIT);
+    CHECK_INT(smd_drive_init(&p, &c), SMD_ERR_HANDOVER);
     c = base_config(SMD_DRIVE_ROBUST);
     CHECK_INT(smd_drive_init(0, &c), SMD_ERR_NULL);
     CHECK_INT(smd_drive_init(&p, 0), SMD_ERR_NULL);

@@ -47,12 +47,12 @@ static void test_init_rejects(void)
     CHECK_INT(smd_emf_pos_init(&p, R(TSP), R(0.0), R(WHYS), R(WMAX)), SMD_ERR_WLPF);
     CHECK_INT(smd_emf_pos_init(&p, R(TSP), R(4.0 / TSP), R(WHYS), R(WMAX)), SMD_ERR_WLPF); /* > pi/T */
     CHECK_INT(smd_emf_pos_init(&p, R(TSP), R(NAN), R(WHYS), R(WMAX)), SMD_ERR_WLPF);
-    CHECK_INT(smd_emf_pos_init(&p, R(TSP), R(WLPF), R(-1.0), R(WMAX)), SMD_ERR_LIMIT);
-    CHECK_INT(smd_emf_pos_init(&p, R(TSP), R(WLPF), R(NAN), R(WMAX)), SMD_ERR_LIMIT);
+    CHECK_INT(smd_emf_pos_init(&p, R(TSP), R(WLPF), R(-1.0), R(WMAX)), SMD_ERR_WHYS);
+    CHECK_INT(smd_emf_pos_init(&p, R(TSP), R(WLPF), R(NAN), R(WMAX)), SMD_ERR_WHYS);
     /* w_max must exceed w_hys and stay below the Nyquist speed pi/T */
-    CHECK_INT(smd_emf_pos_init(&p, R(TSP), R(WLPF), R(WHYS), R(WHYS)), SMD_ERR_LIMIT);
-    CHECK_INT(smd_emf_pos_init(&p, R(TSP), R(WLPF), R(WHYS), R(4.0 / TSP)), SMD_ERR_LIMIT);
-    CHECK_INT(smd_emf_pos_init(&p, R(TSP), R(WLPF), R(WHYS), R(NAN)), SMD_ERR_LIMIT);
+    CHECK_INT(smd_emf_pos_init(&p, R(TSP), R(WLPF), R(WHYS), R(WHYS)), SMD_ERR_WMAX);
+    CHECK_INT(smd_emf_pos_init(&p, R(TSP), R(WLPF), R(WHYS), R(4.0 / TSP)), SMD_ERR_WMAX);
+    CHECK_INT(smd_emf_pos_init(&p, R(TSP), R(WLPF), R(WHYS), R(NAN)), SMD_ERR_WMAX);
 }
 
 /* Speed limit: a true speed beyond w_max gives w_hat = +-w_max exactly. */

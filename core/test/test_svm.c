@@ -50,9 +50,9 @@ static void test_init(void)
     CHECK_INT(smd_svm_init(&p, SMD_SVM_LIMIT_HEXAGON, R(0.1)), SMD_OK);
     CHECK_INT(smd_svm_init(&p, 2, R(0.0)), SMD_ERR_MODE);
     CHECK_INT(smd_svm_init(&p, -1, R(0.0)), SMD_ERR_MODE);
-    CHECK_INT(smd_svm_init(&p, SMD_SVM_LIMIT_CIRCLE, R(0.5)), SMD_ERR_LIMIT);
-    CHECK_INT(smd_svm_init(&p, SMD_SVM_LIMIT_CIRCLE, R(-0.01)), SMD_ERR_LIMIT);
-    CHECK_INT(smd_svm_init(&p, SMD_SVM_LIMIT_CIRCLE, R(NAN)), SMD_ERR_LIMIT);
+    CHECK_INT(smd_svm_init(&p, SMD_SVM_LIMIT_CIRCLE, R(0.5)), SMD_ERR_DMIN);
+    CHECK_INT(smd_svm_init(&p, SMD_SVM_LIMIT_CIRCLE, R(-0.01)), SMD_ERR_DMIN);
+    CHECK_INT(smd_svm_init(&p, SMD_SVM_LIMIT_CIRCLE, R(NAN)), SMD_ERR_DMIN);
     CHECK_INT(smd_svm_init(0, SMD_SVM_LIMIT_CIRCLE, R(0.0)), SMD_ERR_NULL);
 }
 

@@ -5,7 +5,7 @@
 static const char *CHANNELS[SMD_LOG_N] = {
     "t", "w_M", "theta_r", "i_alpha", "i_beta", "i_d", "i_q", "T_e", "T_L", "w_M_ref",
     "i_d_ref", "i_q_ref", "theta_hat", "w_hat", "u_d_hat_alpha", "u_d_hat_beta", "u_alpha",
-    "u_beta", "u_ref_alpha", "u_ref_beta", "i_a_meas", "i_b_meas", "i_hat_alpha",
+    "u_beta", "u_cmd_alpha", "u_cmd_beta", "i_a_meas", "i_b_meas", "i_hat_alpha",
     "i_hat_beta", "lambda", "status"};
 
 const char *smd_log_channel_name(int ch)
@@ -130,8 +130,8 @@ long smd_engine_run(smd_engine *e, long n, double *log, long stride)
             r[SMD_LOG_W_HAT] = (double)v.w_r;
             r[SMD_LOG_UD_ALPHA] = (double)v.u_d_hat.re;
             r[SMD_LOG_UD_BETA] = (double)v.u_d_hat.im;
-            r[SMD_LOG_UREF_ALPHA] = (double)v.u_s_ab.re;
-            r[SMD_LOG_UREF_BETA] = (double)v.u_s_ab.im;
+            r[SMD_LOG_UCMD_ALPHA] = (double)v.u_s_ab.re;
+            r[SMD_LOG_UCMD_BETA] = (double)v.u_s_ab.im;
             r[SMD_LOG_I_A_MEAS] = i_meas[0];
             r[SMD_LOG_I_B_MEAS] = i_meas[1];
             r[SMD_LOG_IHAT_ALPHA] = (double)v.i_s_hat.re;

@@ -16,6 +16,7 @@ smodrive.params.ParameterError: motor.L_s = -1.0 is outside its valid range [1e-
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import tomllib
 from dataclasses import dataclass, field
@@ -29,9 +30,18 @@ class ParameterError(ValueError):
     """A parameter is missing, unknown, or outside its valid range."""
 
 
-def num(default: float, lo: float, hi: float, unit: str, doc: str, *, lo_open: bool = False) -> Any:
-    """A numeric dataclass field with range metadata."""
-    return field(default=default, metadata={"range": (lo, hi, lo_open), "unit": unit, "doc": doc})
+def num(default: Any, lo: float, hi: float, unit: str, doc: str, *, lo_open: bool = False,
+        integer: bool = False) -> Any:
+    """A numeric dataclass field with range metadata (a tuple default makes
+    it a per-phase vector of that length)."""
+    n = len(default) if isinstance(default, tuple) else 0
+    return field(default=default, metadata={"range": (lo, hi, lo_open), "unit": unit, "doc": doc,
+                                             "integer": integer, "n": n})
+
+
+def flag(default: bool, doc: str) -> Any:
+    """A boolean dataclass field."""
+    return field(default=default, metadata={"bool": True, "doc": doc})
 
 
 def choice(default: str, options: tuple[str, ...], doc: str) -> Any:
@@ -51,13 +61,25 @@ class _Validated:
         for f in dataclasses.fields(self):  # type: ignore[arg-type]
             value = getattr(self, f.name)
             name = f"{self._section}.{f.name}" if self._section else f.name
+            if f.metadata.get("bool") and not isinstance(value, bool):
+                raise ParameterError(f"{name} = {value!r} is not true or false")
             if "range" in f.metadata:
                 lo, hi, lo_open = f.metadata["range"]
                 unit = f.metadata["unit"]
-                values = value if isinstance(value, tuple) else (value,)
+                n = f.metadata["n"]
+                if n:
+                    if not isinstance(value, tuple) or len(value) != n:
+                        raise ParameterError(f"{name} = {value!r} must be {n} values (one a phase)")
+                    values = value
+                else:
+                    if isinstance(value, (tuple, list)):
+                        raise ParameterError(f"{name} = {value!r} must be a single number")
+                    values = (value,)
                 for v in values:
                     if isinstance(v, bool) or not isinstance(v, (int, float)):
                         raise ParameterError(f"{name} = {value!r} is not a number")
+                    if f.metadata["integer"] and not isinstance(v, int):
+                        raise ParameterError(f"{name} = {value!r} must be a whole number")
                     ok = math.isfinite(v) and (v > lo if lo_open else v >= lo) and v <= hi
                     if not ok:
                         br = "(" if lo_open else "["
@@ -80,7 +102,7 @@ class MotorPars(_Validated):
     R_s: float = num(2.25, 1e-6, 1e3, "ohm", "stator resistance", lo_open=True)
     L_s: float = num(23.45e-3, 1e-7, 10.0, "H", "stator inductance")
     psi_r: float = num(0.4, 0.0, 100.0, "Wb", "PM flux linkage")
-    n_p: int = num(4, 1, 100, "", "pole pairs")
+    n_p: int = num(4, 1, 100, "", "pole pairs", integer=True)
     J: float = num(0.012, 1e-9, 1e4, "kg m^2", "inertia of motor and load (assumed)")
     B: float = num(0.002, 0.0, 1e3, "N m s/rad", "viscous friction (assumed)")
     P_N: float = num(2400.0, 0.0, 1e8, "W", "rated power")
@@ -112,9 +134,9 @@ class AdcCfg(_Validated):
     gain: tuple[float, float, float] = num((1.0, 1.0, 1.0), 0.5, 2.0, "", "per-phase gain")
     offset: tuple[float, float, float] = num((0.0, 0.0, 0.0), -1e3, 1e3, "A", "per-phase offset")
     noise: float = num(0.02, 0.0, 1e3, "A", "white-noise standard deviation (assumed)")
-    bits: int = num(12, 0, 24, "", "resolution (0: none)")
+    bits: int = num(12, 0, 24, "", "resolution (0: none)", integer=True)
     full_scale: float = num(25.0, 1e-6, 1e6, "A", "+- input range (assumed)")
-    seed: int = num(1, 0, 2**63 - 1, "", "noise seed")
+    seed: int = num(1, 0, 2**63 - 1, "", "noise seed", integer=True)
 
 
 @dataclass(frozen=True)
@@ -135,7 +157,7 @@ class ControllerCfg(_Validated):
     J_hat: float = num(0.012, 1e-9, 1e4, "kg m^2", "inertia used to tune the speed PI")
     psi_r_pi: float = num(0.4, 0.0, 100.0, "Wb", "flux used to tune the speed PI", lo_open=True)
     i_max: float = num(15.0, 0.0, 1e5, "A", "q-axis current limit (assumed)", lo_open=True)
-    speed_decimation: int = num(1, 1, 1000, "", "speed loop runs every N samples")
+    speed_decimation: int = num(1, 1, 1000, "", "speed loop runs every N samples", integer=True)
     w_lpf: float = num(100.0, 0.0, 1e6, "rad/s", "sensorless speed LPF bandwidth (assumed)",
                        lo_open=True)
     w_hys: float = num(5.0, 0.0, 1e5, "rad/s", "direction hysteresis (electrical)")
@@ -143,8 +165,8 @@ class ControllerCfg(_Validated):
     t_dead_comp: float = num(2e-6, 0.0, 1e-3, "s", "dead time compensated by the modulator")
     i_dtc: float = num(0.3, 0.0, 1e5, "A", "linear zone of the compensation", lo_open=True)
     n_max: float = num(3000.0, 0.0, 1e6, "r/min", "sensorless speed-estimate limit", lo_open=True)
-    speed_loop: bool = True
-    smdo_euler: bool = False  # True: eq. (36) as printed (forward-Euler rotation)
+    speed_loop: bool = flag(True, "i_q reference from the speed PI (else from i_q_ref)")
+    smdo_euler: bool = flag(False, "eq. (36) as printed (forward-Euler rotation)")
 
     def pi_gains(self, n_p: int) -> tuple[float, float]:
         """Speed PI gains in A per electrical rad/s: the loop
@@ -207,20 +229,63 @@ class Scenario(_Validated):
     name: str = "scenario"
     T_sp: float = num(100e-6, 1e-7, 1.0, "s", "sampling (= carrier) period")
     duration: float = num(1.0, 0.0, 1e4, "s", "simulated time", lo_open=True)
-    n_M0: float = num(0.0, -1e6, 1e6, "r/min", "initial speed")
+    n_M0: float = num(0.0, -9.5e5, 9.5e5, "r/min", "initial speed")
     theta_r0: float = num(0.0, -1e3, 1e3, "rad", "initial electrical angle")
     w_M_ref: Profile = field(default_factory=lambda: Profile.const(0.0))  # rad/s
     i_d_ref: Profile = field(default_factory=lambda: Profile.const(0.0))
     i_q_ref: Profile = field(default_factory=lambda: Profile.const(0.0))
     i_d_sin_amp: float = num(0.0, 0.0, 1e4, "A", "sinusoid added to the i_d reference")
     i_d_sin_freq: float = num(0.0, 0.0, 1e7, "Hz", "its frequency")
-    log_stride: int = num(1, 1, 10**6, "", "log every N samples")
-    warm_start: bool = True  # start in steady state: current and speed PI carry the initial load
+    log_stride: int = num(1, 1, 10**6, "", "log every N samples", integer=True)
+    warm_start: bool = flag(True, "start in steady state: current and speed PI carry the load")
     motor: MotorPars = field(default_factory=MotorPars)
     controller: ControllerCfg = field(default_factory=ControllerCfg)
     inverter: InverterCfg = field(default_factory=InverterCfg)
     adc: AdcCfg = field(default_factory=AdcCfg)
     load: LoadCfg = field(default_factory=LoadCfg)
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        # plant limits that depend on more than one field
+        if self.inverter.t_dead > 0.25 * self.T_sp:
+            raise ParameterError(
+                f"inverter.t_dead = {self.inverter.t_dead!r} is outside its valid range "
+                f"[0, T_sp/4 = {0.25 * self.T_sp:g}] s")
+
+    def check_controller(self) -> None:
+        """Controller limits that depend on more than one field (the ones the
+        C core's init checks too); run by load_scenario and before every
+        simulation, not for plant-only use."""
+        T, c = self.T_sp, self.controller
+        nyq = math.pi / T
+        if c.t_dead_comp > 0.25 * T:
+            raise ParameterError(
+                f"controller.t_dead_comp = {c.t_dead_comp!r} is outside its valid range "
+                f"[0, T_sp/4 = {0.25 * T:g}] s")
+        if c.mode == "sensorless":
+            if c.w_lpf >= nyq:
+                raise ParameterError(
+                    f"controller.w_lpf = {c.w_lpf!r} is outside its valid range "
+                    f"(0, pi/T_sp = {nyq:g}) rad/s")
+            w_max = c.n_max * RPM * self.motor.n_p
+            if not (c.w_hys < w_max <= nyq):
+                raise ParameterError(
+                    f"controller.n_max = {c.n_max!r} is outside its valid range: the "
+                    f"electrical speed limit n_max n_p must lie in (w_hys = {c.w_hys:g}, "
+                    f"pi/T_sp = {nyq:g}] rad/s")
+            a, b = 1.0 - c.w_c * T, w_max * T
+            if a * a + b * b >= 1.0:
+                raise ParameterError(
+                    f"controller.w_c = {c.w_c!r} with n_max = {c.n_max!r}: the filter (36) "
+                    "would be unstable, |1 - w_c T_sp + j w_max T_sp| must be below 1")
+        if c.mode != "conventional" and (c.l + c.lambda_min / c.rho) * T >= 2.0:
+            raise ParameterError(
+                f"controller.l = {c.l!r}, lambda_min = {c.lambda_min!r}, rho = {c.rho!r}: "
+                "(l + lambda_min/rho) T_sp must be below 2 for a stable SMDO")
+        if c.mode != "conventional" and c.w_c * T >= 1.0:
+            raise ParameterError(
+                f"controller.w_c = {c.w_c!r} is outside its valid range (0, 1/T_sp = {1 / T:g})"
+                " rad/s")
 
     @property
     def n_steps(self) -> int:
@@ -243,11 +308,19 @@ _PROFILE_KEYS = {"w_M_ref", "i_d_ref", "i_q_ref", "T_brake", "T_ext"}
 
 
 def _profile_from(name: str, v: Any, scale: float = 1.0) -> Profile:
-    if isinstance(v, (int, float)):
+    form = f"{name}: expected a number or a table {{t = [...], y = [...]}} of numbers"
+    is_num = lambda x: isinstance(x, (int, float)) and not isinstance(x, bool)  # noqa: E731
+    if is_num(v):
         return Profile.const(float(v) * scale)
-    if isinstance(v, dict) and set(v) == {"t", "y"}:
-        return Profile(tuple(map(float, v["t"])), tuple(float(y) * scale for y in v["y"]))
-    raise ParameterError(f"{name}: expected a number or a table {{t = [...], y = [...]}}")
+    if not (isinstance(v, dict) and set(v) == {"t", "y"}):
+        raise ParameterError(form)
+    t, y = v["t"], v["y"]
+    if not (isinstance(t, list) and isinstance(y, list) and all(map(is_num, t + y))):
+        raise ParameterError(form)
+    try:
+        return Profile(tuple(map(float, t)), tuple(float(x) * scale for x in y))
+    except ParameterError as exc:
+        raise ParameterError(f"{name}: {exc}") from None
 
 
 def _build(cls: type, section: str, data: dict[str, Any]) -> Any:
@@ -289,7 +362,9 @@ def load_scenario(path: str | Path) -> Scenario:
         data = tomllib.loads(path.read_text())
     except tomllib.TOMLDecodeError as exc:
         raise ParameterError(f"{path}: not valid TOML: {exc}") from exc
-    return scenario_from_dict(data)
+    s = scenario_from_dict(data)
+    s.check_controller()
+    return s
 
 
 def scenario_to_toml(s: Scenario) -> str:
@@ -299,7 +374,8 @@ def scenario_to_toml(s: Scenario) -> str:
         if isinstance(v, bool):
             return "true" if v else "false"
         if isinstance(v, str):
-            return f'"{v}"'
+            # a JSON string is a TOML basic string, but for DEL, which TOML escapes
+            return json.dumps(v, ensure_ascii=False).replace("\x7f", "\\u007f")
         if isinstance(v, tuple):
             return "[" + ", ".join(val(x) for x in v) + "]"
         if isinstance(v, Profile):

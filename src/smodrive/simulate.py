@@ -134,6 +134,7 @@ class Engine:
     """A live engine: plant and controller state persist between run() calls."""
 
     def __init__(self, s: Scenario):
+        s.check_controller()
         self.scenario = s
         self._buf = (ct.c_double * math.ceil(_ffi.ENGINE_SIZE / 8 + 1))()
         self._pc, self._dc, self._pr = plant_config(s), drive_config(s), profiles(s)

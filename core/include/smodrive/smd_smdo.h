@@ -37,9 +37,11 @@ typedef struct smd_smdo_state {
  * of |u_d| (w T)^2 / (2 w_c T) that biases the current prediction. */
 smd_status smd_smdo_set_euler(smd_smdo_params *p, int euler);
 
-/* Rejects a parameter set whose discrete current-error loop is unstable:
- * the linear part of (34)-(35) gives e_i^{k+1} = (1 - l T_sp) e_i^k, so
- * l T_sp must be below 2 (SMD_ERR_STABILITY). */
+/* Rejects a parameter set whose discrete loops are unstable
+ * (SMD_ERR_STABILITY): near e_i = 0 the linear part of (34)-(35) with the
+ * smoothed sign (39) gives e_i^{k+1} = (1 - (l + lambda_min/rho) T_sp) e_i^k,
+ * so (l + lambda_min/rho) T_sp must be below 2; and the filter (36) needs
+ * w_c T_sp < 1. */
 smd_status smd_smdo_init(smd_smdo_params *p, smd_real T_sp, smd_real L_s_hat, smd_real R_s_hat,
                          smd_real lambda_min, smd_real l, smd_real w_c, smd_real rho);
 

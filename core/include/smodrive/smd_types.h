@@ -19,6 +19,7 @@ typedef double smd_real;
 #define SMD_ATAN2 atan2
 #define SMD_FABS fabs
 #define SMD_EXP exp
+#define SMD_EXPM1 expm1
 #define SMD_FLOOR floor
 #else
 typedef float smd_real;
@@ -29,6 +30,7 @@ typedef float smd_real;
 #define SMD_ATAN2 atan2f
 #define SMD_FABS fabsf
 #define SMD_EXP expf
+#define SMD_EXPM1 expm1f
 #define SMD_FLOOR floorf
 #endif
 
@@ -57,7 +59,12 @@ typedef enum smd_status {
     SMD_ERR_STABILITY = 14,    /* the discrete loop would be unstable */
     SMD_ERR_WLPF = 15,         /* speed low-pass bandwidth not in (0, pi/T_sp) */
     SMD_ERR_NONFINITE = 16,    /* a step produced NaN or Inf; outputs were zeroed */
-    SMD_ERR_DECIMATION = 17    /* speed-loop decimation not in [1, 1000] */
+    SMD_ERR_DECIMATION = 17,   /* speed-loop decimation not in [1, 1000] */
+    SMD_ERR_WHYS = 18,         /* direction hysteresis not in [0, 1e5] rad/s */
+    SMD_ERR_WMAX = 19,         /* speed-estimate limit not in (w_hys, pi/T_sp] rad/s */
+    SMD_ERR_DEADTIME = 20,     /* dead-time compensation not in [0, T_sp/4], or i_dtc <= 0 */
+    SMD_ERR_HANDOVER = 21,     /* handover sample count negative */
+    SMD_ERR_DMIN = 22          /* minimum duty not in [0, 0.49] */
 } smd_status;
 
 /* Human-readable text for a status, e.g. for a debugger or a binding. */

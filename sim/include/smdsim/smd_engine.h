@@ -53,8 +53,8 @@ enum smd_log_channel {
     SMD_LOG_UD_BETA,
     SMD_LOG_U_ALPHA,     /* mean inverter voltage applied over [t_k, t_k+1), V */
     SMD_LOG_U_BETA,
-    SMD_LOG_UREF_ALPHA,  /* controller's (limited) voltage for the next period, V */
-    SMD_LOG_UREF_BETA,
+    SMD_LOG_UCMD_ALPHA,  /* voltage commanded for the next period (after the limit), V */
+    SMD_LOG_UCMD_BETA,
     SMD_LOG_I_A_MEAS,    /* ADC phase currents, A */
     SMD_LOG_I_B_MEAS,
     SMD_LOG_IHAT_ALPHA,  /* SMDO current prediction i_hat^{k+1}, A */
