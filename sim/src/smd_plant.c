@@ -183,6 +183,45 @@ static double complex step_weighted_integral(double a, double R, double w, doubl
     return tau * (phi1(z1) - phi1(z2)) / R;
 }
 
+/* Per-period constants for the response to a voltage step at instant t. */
+typedef struct edge_kernel {
+    double a, R, L, w, T;
+    double complex e_mwT;  /* e^{-j w T} */
+    double complex den;    /* R j w (a + j w) */
+    int slow;              /* |w T| small: use the series forms */
+} edge_kernel;
+
+static void edge_kernel_init(edge_kernel *k, double a, double R, double L, double w, double T)
+{
+    k->a = a;
+    k->R = R;
+    k->L = L;
+    k->w = w;
+    k->T = T;
+    k->slow = fabs(w * T) < 1e-3;
+    k->e_mwT = cos(w * T) - I * sin(w * T);
+    k->den = R * I * w * (a + I * w);
+}
+
+/* A unit voltage step applied at t in [0, T]: g = its current at T,
+ * (1 - e^{-a tau}) / R with tau = T - t, and s = the integral over [t, T] of
+ * its current weighted by e^{-j w t'}:
+ *   s = e^{-j w t} [a (1 - q) + j w q (e^{-a tau} - 1)] / (R j w (a + j w)),
+ * q = e^{-j w tau}; one expm1 and one sine/cosine pair per edge. */
+static void edge_response(const edge_kernel *k, double t, double *g, double complex *s)
+{
+    double tau = k->T - t;
+    double em = expm1(-k->a * tau);
+    *g = -em / k->R;
+    if (k->slow) {
+        *s = cexp(-I * k->w * t) * step_weighted_integral(k->a, k->R, k->w, tau);
+    } else {
+        double complex E = cos(k->w * t) - I * sin(k->w * t);
+        double complex q = k->e_mwT * conj(E);
+        *s = E * (k->a * (1.0 - q) + I * k->w * q * em) / k->den;
+    }
+}
+
 /* Exact solution of J dw/dt = F - B w over tau from w0: end speed and the
  * integral of w. */
 static void lin_mech(double F, double Bv, double J, double w0, double tau, double *w1,
@@ -264,6 +303,7 @@ void smd_plant_step(smd_plant *p, const double d_abc[3], double T_ext, double T_
     double i_abc[3];
     double T_e0, T_L, T_e_mean, w_mid, w_e, w1, th_int;
     double complex ejth0 = cexp(I * p->theta_r);
+    edge_kernel ek;
     int x;
 
     leg_dir[0] = 2.0 / 3.0 * c->u_dc;
@@ -283,6 +323,7 @@ void smd_plant_step(smd_plant *p, const double d_abc[3], double T_ext, double T_
     T_e0 = Kt * cimag(i0 * conj(ejth0));
     w_mid = p->w_M + 0.5 * T * (T_e0 - T_L - c->B * p->w_M) / c->J;
     w_e = c->n_p * w_mid;
+    edge_kernel_init(&ek, a, R, L, w_e, T);
 
     /* Rotating-EMF particular solution i_p(t) = C e^{j theta(t)}, yang2018 eq. (1):
      * L di/dt = u - R i - j w psi e^{j theta}. */
@@ -303,16 +344,14 @@ void smd_plant_step(smd_plant *p, const double d_abc[3], double T_ext, double T_
         if (c->pwm_mode == SMD_PWM_CARRIER) {
             smd_pwm_leg_edges(c, d, i_abc[x], &t_on, &t_off);
             if (t_off > t_on) {
-                double tau_on = T - t_on;
-                double tau_off = T - t_off;
-                /* exact step responses at T of a pulse on [t_on, t_off) */
-                double g_on = tau_on * creal(phi1(a * tau_on)) / L;
-                double g_off = tau_off * creal(phi1(a * tau_off)) / L;
+                double g_on, g_off;
+                double complex s_on, s_off;
+                edge_response(&ek, t_on, &g_on, &s_on);
+                edge_response(&ek, t_off, &g_off, &s_off);
+                /* exact step responses at T of a pulse on [t_on, t_off) ... */
                 i1 += leg_dir[x] * (g_on - g_off);
-                /* their frame-weighted integrals, shifted to the edge instants */
-                i_int += leg_dir[x] * conj(ejth0) *
-                         (cexp(-I * w_e * t_on) * step_weighted_integral(a, R, w_e, tau_on) -
-                          cexp(-I * w_e * t_off) * step_weighted_integral(a, R, w_e, tau_off));
+                /* ... and their frame-weighted integrals over the period */
+                i_int += leg_dir[x] * conj(ejth0) * (s_on - s_off);
                 u_mean += leg_dir[x] * (t_off - t_on) / T;
             }
         } else {
