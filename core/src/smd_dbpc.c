@@ -3,17 +3,13 @@
 smd_status smd_dbpc_init(smd_dbpc_params *p, smd_real T_sp, smd_real L_s_hat,
                          smd_real R_s_hat, smd_real psi_r_hat)
 {
+    smd_status st;
     if (p == 0) {
         return SMD_ERR_NULL;
     }
-    if (!(smd_in_range(T_sp, SMD_R(0.0), SMD_R(1.0)) && T_sp > SMD_R(0.0))) {
-        return SMD_ERR_TS;
-    }
-    if (!(smd_in_range(L_s_hat, SMD_R(0.0), SMD_R(10.0)) && L_s_hat > SMD_R(0.0))) {
-        return SMD_ERR_L;
-    }
-    if (!smd_in_range(R_s_hat, SMD_R(0.0), SMD_R(1000.0))) {
-        return SMD_ERR_R;
+    st = smd_check_model(T_sp, L_s_hat, R_s_hat);
+    if (st != SMD_OK) {
+        return st;
     }
     if (!smd_in_range(psi_r_hat, SMD_R(0.0), SMD_R(100.0))) {
         return SMD_ERR_PSI;

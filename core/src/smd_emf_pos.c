@@ -6,7 +6,7 @@ smd_status smd_emf_pos_init(smd_emf_pos_params *p, smd_real T_sp, smd_real w_lpf
     if (p == 0) {
         return SMD_ERR_NULL;
     }
-    if (!(smd_in_range(T_sp, SMD_R(0.0), SMD_R(1.0)) && T_sp > SMD_R(0.0))) {
+    if (!smd_in_pos_range(T_sp, SMD_R(1.0))) {
         return SMD_ERR_TS;
     }
     if (!(smd_in_range(w_lpf, SMD_R(0.0), SMD_PI / T_sp) && w_lpf > SMD_R(0.0) &&

@@ -12,10 +12,10 @@ smd_status smd_pi_init(smd_pi_params *p, smd_real k_p, smd_real k_i, smd_real T_
     if (!smd_in_range(k_i, SMD_R(0.0), SMD_R(1e9))) {
         return SMD_ERR_KI;
     }
-    if (!(smd_in_range(T_s, SMD_R(0.0), SMD_R(1.0)) && T_s > SMD_R(0.0))) {
+    if (!smd_in_pos_range(T_s, SMD_R(1.0))) {
         return SMD_ERR_TS;
     }
-    if (!(smd_in_range(y_max, SMD_R(0.0), SMD_R(1e9)) && y_max > SMD_R(0.0))) {
+    if (!smd_in_pos_range(y_max, SMD_R(1e9))) {
         return SMD_ERR_LIMIT;
     }
     p->k_p = k_p;

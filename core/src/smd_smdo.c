@@ -3,28 +3,24 @@
 smd_status smd_smdo_init(smd_smdo_params *p, smd_real T_sp, smd_real L_s_hat, smd_real R_s_hat,
                          smd_real lambda_min, smd_real l, smd_real w_c, smd_real rho)
 {
+    smd_status st;
     if (p == 0) {
         return SMD_ERR_NULL;
     }
-    if (!(smd_in_range(T_sp, SMD_R(0.0), SMD_R(1.0)) && T_sp > SMD_R(0.0))) {
-        return SMD_ERR_TS;
-    }
-    if (!(smd_in_range(L_s_hat, SMD_R(0.0), SMD_R(10.0)) && L_s_hat > SMD_R(0.0))) {
-        return SMD_ERR_L;
-    }
-    if (!smd_in_range(R_s_hat, SMD_R(0.0), SMD_R(1000.0))) {
-        return SMD_ERR_R;
+    st = smd_check_model(T_sp, L_s_hat, R_s_hat);
+    if (st != SMD_OK) {
+        return st;
     }
     if (!smd_in_range(lambda_min, SMD_R(0.0), SMD_R(1e7))) {
         return SMD_ERR_LAMBDA;
     }
-    if (!(smd_in_range(l, SMD_R(0.0), SMD_R(1e7)) && l > SMD_R(0.0))) {
+    if (!smd_in_pos_range(l, SMD_R(1e7))) {
         return SMD_ERR_L_GAIN;
     }
-    if (!(smd_in_range(w_c, SMD_R(0.0), SMD_R(1e7)) && w_c > SMD_R(0.0))) {
+    if (!smd_in_pos_range(w_c, SMD_R(1e7))) {
         return SMD_ERR_WC;
     }
-    if (!(smd_in_range(rho, SMD_R(0.0), SMD_R(1000.0)) && rho > SMD_R(0.0))) {
+    if (!smd_in_pos_range(rho, SMD_R(1000.0))) {
         return SMD_ERR_RHO;
     }
     /* Linear part of the error loop: e^{k+1} = (1 - (l + lambda/rho) T) e^k at

@@ -110,4 +110,27 @@ static inline int smd_in_range(smd_real x, smd_real lo, smd_real hi)
     return isfinite(x) && x >= lo && x <= hi;
 }
 
+/* Range check helper: 0 < x <= hi and finite. */
+static inline int smd_in_pos_range(smd_real x, smd_real hi)
+{
+    return smd_in_range(x, SMD_R(0.0), hi) && x > SMD_R(0.0);
+}
+
+/* The checks shared by every block built on the model (15): sampling
+ * period in (0, 1] s, inductance estimate in (0, 10] H, resistance estimate
+ * in [0, 1000] ohm. */
+static inline smd_status smd_check_model(smd_real T_sp, smd_real L_s_hat, smd_real R_s_hat)
+{
+    if (!smd_in_pos_range(T_sp, SMD_R(1.0))) {
+        return SMD_ERR_TS;
+    }
+    if (!smd_in_pos_range(L_s_hat, SMD_R(10.0))) {
+        return SMD_ERR_L;
+    }
+    if (!smd_in_range(R_s_hat, SMD_R(0.0), SMD_R(1000.0))) {
+        return SMD_ERR_R;
+    }
+    return SMD_OK;
+}
+
 #endif /* SMD_TYPES_H */
