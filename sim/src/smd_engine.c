@@ -19,6 +19,22 @@ unsigned long smd_sizeof_plant_config(void) { return sizeof(smd_plant_config); }
 unsigned long smd_sizeof_drive_config(void) { return sizeof(smd_drive_config); }
 unsigned long smd_sizeof_profiles(void) { return sizeof(smd_profiles); }
 
+/* Sizes of the core's block structs, for the binding's layout check. */
+unsigned long smd_sizeof_block(int which)
+{
+    switch (which) {
+    case 0: return sizeof(smd_dbpc_params);
+    case 1: return sizeof(smd_smdo_params);
+    case 2: return sizeof(smd_smdo_state);
+    case 3: return sizeof(smd_pi_params);
+    case 4: return sizeof(smd_pi_state);
+    case 5: return sizeof(smd_svm_params);
+    case 6: return sizeof(smd_emf_pos_params);
+    case 7: return sizeof(smd_emf_pos_state);
+    default: return 0;
+    }
+}
+
 double smd_pwl_eval(const smd_pwl *p, double t)
 {
     int lo = 0, hi;

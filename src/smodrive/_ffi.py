@@ -186,6 +186,7 @@ _sig("smd_plant_field", ct.c_char_p, ct.c_int)
 _sig("smd_log_channel_name", ct.c_char_p, ct.c_int)
 for _n in ("engine", "plant_config", "drive_config", "profiles"):
     _sig(f"smd_sizeof_{_n}", ct.c_ulong)
+_sig("smd_sizeof_block", ct.c_ulong, ct.c_int)
 _sig("smd_engine_init", ct.c_int, ct.c_void_p, P(PlantConfig), P(DriveConfig), P(Profiles))
 _sig("smd_engine_run", ct.c_long, ct.c_void_p, ct.c_long, P(ct.c_double), ct.c_long)
 _sig("smd_sizeof_plant", ct.c_ulong)
@@ -233,6 +234,13 @@ def check_layout() -> None:
         "drive_config": DriveConfig,
         "profiles": Profiles,
     }
+    blocks = (DbpcParams, SmdoParams, SmdoState, PiParams, PiState, SvmParams, EmfPosParams,
+              EmfPosState)
+    for k, cls in enumerate(blocks):
+        if lib.smd_sizeof_block(k) != ct.sizeof(cls):
+            raise ImportError(
+                f"smodrive binding out of date: sizeof({cls.__name__}) is "
+                f"{lib.smd_sizeof_block(k)} in C and {ct.sizeof(cls)} in Python")
     for name, cls in pairs.items():
         c_size = getattr(lib, f"smd_sizeof_{name}")()
         if c_size != ct.sizeof(cls):

@@ -258,6 +258,15 @@ class Scenario(_Validated):
         simulation, not for plant-only use."""
         T, c = self.T_sp, self.controller
         nyq = math.pi / T
+        if c.t_handover / T > 2**31 - 1:
+            raise ParameterError(
+                f"controller.t_handover = {c.t_handover!r} is too long: at most "
+                f"{(2**31 - 1) * T:g} s at T_sp = {T:g} s")
+        k_p, k_i = c.pi_gains(self.motor.n_p)
+        if k_p > 1e6 or k_i > 1e9:
+            raise ParameterError(
+                f"controller.speed_bw = {c.speed_bw!r} with J_hat = {c.J_hat!r} gives speed-PI "
+                f"gains k_p = {k_p:g}, k_i = {k_i:g}, beyond the core's limits 1e6 and 1e9")
         if c.t_dead_comp > 0.25 * T:
             raise ParameterError(
                 f"controller.t_dead_comp = {c.t_dead_comp!r} is outside its valid range "

@@ -88,6 +88,9 @@ unsigned long smd_sizeof_engine(void);
 unsigned long smd_sizeof_plant_config(void);
 unsigned long smd_sizeof_drive_config(void);
 unsigned long smd_sizeof_profiles(void);
+/* 0 dbpc params, 1 smdo params, 2 smdo state, 3 pi params, 4 pi state,
+ * 5 svm params, 6 emf_pos params, 7 emf_pos state */
+unsigned long smd_sizeof_block(int which);
 double smd_pwl_eval(const smd_pwl *p, double t);
 
 #endif
