@@ -173,6 +173,10 @@ class ControllerCfg(_Validated):
         b / s with b = 1.5 n_p^2 psi / J closed by k_p + k_i / s has the
         characteristic polynomial s^2 + b k_p s + b k_i; both roots at -speed_bw."""
         b = 1.5 * n_p**2 * self.psi_r_pi / self.J_hat
+        if not (math.isfinite(b) and b > 0.0):
+            raise ParameterError(
+                f"controller.psi_r_pi = {self.psi_r_pi!r} with J_hat = {self.J_hat!r}: the "
+                "speed-loop gain 1.5 n_p^2 psi / J is not a positive finite number")
         return 2.0 * self.speed_bw / b, self.speed_bw**2 / b
 
 
@@ -263,7 +267,7 @@ class Scenario(_Validated):
                 f"controller.t_handover = {c.t_handover!r} is too long: at most "
                 f"{(2**31 - 1) * T:g} s at T_sp = {T:g} s")
         k_p, k_i = c.pi_gains(self.motor.n_p)
-        if k_p > 1e6 or k_i > 1e9:
+        if not (k_p <= 1e6 and k_i <= 1e9):
             raise ParameterError(
                 f"controller.speed_bw = {c.speed_bw!r} with J_hat = {c.J_hat!r} gives speed-PI "
                 f"gains k_p = {k_p:g}, k_i = {k_i:g}, beyond the core's limits 1e6 and 1e9")
