@@ -1,0 +1,100 @@
+/*
+ * Discrete-time sliding-mode back-EMF observer for an LCL-filtered SPMSM,
+ * yao2022 Sec. III-V: observer (9) in the estimated rotor frame, augmented
+ * sliding surface (16), (18), chattering-suppression reaching law (33) with
+ * EMF adaption (34) and band-pass periodic-disturbance suppression (35) at
+ * 2 f_e and 3 f_e; or, for comparison, the time-delay reaching laws of
+ * refs. [17] (eq. (31), (61)-(63)) and [18] (eq. (32)).
+ *
+ * The speed-dependent matrices are designed offline (smodrive.design.yao2022)
+ * on a uniform grid of electrical speed and interpolated linearly here.
+ *
+ * Timing per sample k (the caller supplies the frame angle theta_hat(k) and
+ * speed w_hat(k) it uses, e.g. from the PLL): currents i_1(k), i_2(k) in the
+ * stationary frame, the voltage u(k) applied over [k, k+1) in the stationary
+ * frame; the step computes e_hat(k) and advances x_hat to k+1 in a frame
+ * advanced by w_hat T. If the caller's next frame differs (a PLL correction),
+ * it calls smd_lcl_smo_reframe with the difference before the next step.
+ */
+#ifndef SMD_LCL_SMO_H
+#define SMD_LCL_SMO_H
+
+#include "smd_bandpass.h"
+#include "smd_types.h"
+
+/* Matrices at one speed, row-major. */
+typedef struct smd_lcl_model {
+    smd_real G[36];  /* 6x6, eq. (7) */
+    smd_real H[12];  /* 6x2, eq. (7) (input matrix) */
+    smd_real F[12];  /* 6x2, eq. (7) (EMF matrix) */
+    smd_real Ft[16]; /* 4x4: [y1; y2] = Ft [i1_err; i2_err], lower block of T_r, eq. (14)-(15) */
+    smd_real Hc[4];  /* augmented state matrix H of eq. (16), (21) */
+    smd_real D1[4];  /* eq. (16), (21) */
+    smd_real D2[4];
+    smd_real Gam_c[4]; /* eq. (18) */
+    smd_real Gam_1[4];
+    smd_real Gam_2[4];
+    smd_real Gs[4];  /* reaching-mode matrix of eq. (28) */
+} smd_lcl_model;
+
+#define SMD_LCL_SMO_DELAY 256 /* longest band-pass delay line, samples */
+
+typedef enum smd_lcl_smo_law {
+    SMD_LCL_SMO_PROPOSED = 0, /* eq. (33)-(35) */
+    SMD_LCL_SMO_TDE17 = 1,    /* ref. [17]: eq. (61)-(63), compensation error (31) */
+    SMD_LCL_SMO_TDE18 = 2     /* ref. [18]: compensation error (32), low-pass (63) */
+} smd_lcl_smo_law;
+
+typedef struct smd_lcl_smo_params {
+    smd_real T;                 /* sampling period, s */
+    int law;                    /* smd_lcl_smo_law */
+    const smd_lcl_model *table; /* n models at w = w_min + k dw (electrical rad/s) */
+    int n;
+    smd_real w_min;
+    smd_real dw;
+    smd_real Q1, Q2;            /* diagonal of Q, eq. (33) */
+    smd_real k_e;               /* EMF adaption gain, eq. (34), (51) (also the LPF (63)) */
+    smd_real bw2, bw3;          /* -3 dB bandwidths of the 2 f_e, 3 f_e band-passes, rad/s */
+    smd_real w_bp_min;          /* band-pass suppression active above this |w|, rad/s */
+} smd_lcl_smo_params;
+
+typedef struct smd_lcl_smo_state {
+    smd_real x_hat[6];   /* [u_c, i_1, i_2] estimates, gamma-delta frame */
+    smd_real x_c[2];     /* augmented state, eq. (16) */
+    smd_real s[2];       /* switching function s(k), eq. (18) */
+    smd_real s_prev[2];  /* s(k-1) */
+    smd_real w_att[2];   /* attraction function w(k), eq. (33) */
+    smd_real w_prev[2];  /* w(k-1) */
+    smd_real D1[2];      /* lumped disturbance D(k-1) = s(k) - Gs s(k-1) - w(k-1) */
+    smd_real D2[2];      /* D(k-2) */
+    smd_real e_hat[2];   /* EMF estimate, gamma-delta frame, V */
+    smd_real d_hat[2];   /* periodic-disturbance compensation, eq. (35) */
+    smd_real theta_prev; /* frame angle of the previous call */
+    smd_cplx v_hist[SMD_LCL_SMO_DELAY]; /* v(k) = s(k) - Q s(k-1) + d_hat(k-1), eq. (35) */
+    int v_head;
+    smd_bandpass bp2, bp3;
+    int primed;
+} smd_lcl_smo_state;
+
+smd_status smd_lcl_smo_init(smd_lcl_smo_params *p, smd_real T, int law,
+                            const smd_lcl_model *table, int n, smd_real w_min, smd_real dw,
+                            smd_real Q1, smd_real Q2, smd_real k_e, smd_real bw2, smd_real bw3,
+                            smd_real w_bp_min);
+void smd_lcl_smo_reset(smd_lcl_smo_state *s, smd_real theta0);
+
+/* Interpolate the model at electrical speed w (clamped to the table). */
+void smd_lcl_smo_model(const smd_lcl_smo_params *p, smd_real w, smd_lcl_model *m);
+
+/* One sample; returns the EMF estimate e_hat(k) (gamma-delta frame). */
+smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, smd_cplx i1_ab,
+                            smd_cplx i2_ab, smd_cplx u_ab, smd_real theta_hat, smd_real w_hat);
+
+/* The frame of the next sample is advanced by dth beyond w_hat T: express
+ * the state estimates (x_hat, e_hat) in it. */
+void smd_lcl_smo_reframe(smd_lcl_smo_state *s, smd_real dth);
+
+/* Position error of eq. (47): atan(-e_gamma / e_delta), sign-corrected for
+ * negative speed (e_delta < 0 when w < 0). */
+smd_real smd_lcl_smo_theta_err(const smd_lcl_smo_state *s, smd_real w_hat);
+
+#endif

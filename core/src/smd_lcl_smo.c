@@ -1,0 +1,289 @@
+#include "smodrive/smd_lcl_smo.h"
+
+#include "smodrive/smd_transforms.h"
+
+smd_status smd_lcl_smo_init(smd_lcl_smo_params *p, smd_real T, int law,
+                            const smd_lcl_model *table, int n, smd_real w_min, smd_real dw,
+                            smd_real Q1, smd_real Q2, smd_real k_e, smd_real bw2, smd_real bw3,
+                            smd_real w_bp_min)
+{
+    if (p == 0 || table == 0) {
+        return SMD_ERR_NULL;
+    }
+    if (!smd_in_pos_range(T, SMD_R(1.0))) {
+        return SMD_ERR_TS;
+    }
+    if (law < SMD_LCL_SMO_PROPOSED || law > SMD_LCL_SMO_TDE18) {
+        return SMD_ERR_MODE;
+    }
+    if (n < 2 || !smd_in_range(w_min, SMD_R(-1e7), SMD_R(1e7)) || !smd_in_pos_range(dw, SMD_R(1e7))) {
+        return SMD_ERR_LIMIT;
+    }
+    /* Q must be convergent (eigenvalues inside the unit circle), eq. (33) */
+    if (!smd_in_range(Q1, SMD_R(-0.999), SMD_R(0.999)) ||
+        !smd_in_range(Q2, SMD_R(-0.999), SMD_R(0.999))) {
+        return SMD_ERR_STABILITY;
+    }
+    /* EMF adaption / low-pass gain: a first-order loop needs 0 < k < 2 */
+    if (!smd_in_pos_range(k_e, SMD_R(1.999))) {
+        return SMD_ERR_KI;
+    }
+    if (!smd_in_pos_range(bw2, SMD_PI / T) || !smd_in_pos_range(bw3, SMD_PI / T) ||
+        !smd_in_range(w_bp_min, SMD_R(0.0), SMD_R(1e7))) {
+        return SMD_ERR_LIMIT;
+    }
+    p->T = T;
+    p->law = law;
+    p->table = table;
+    p->n = n;
+    p->w_min = w_min;
+    p->dw = dw;
+    p->Q1 = Q1;
+    p->Q2 = Q2;
+    p->k_e = k_e;
+    p->bw2 = bw2;
+    p->bw3 = bw3;
+    p->w_bp_min = w_bp_min;
+    return SMD_OK;
+}
+
+void smd_lcl_smo_reset(smd_lcl_smo_state *s, smd_real theta0)
+{
+    int k;
+    for (k = 0; k < 6; k++) {
+        s->x_hat[k] = SMD_R(0.0);
+    }
+    for (k = 0; k < 2; k++) {
+        s->x_c[k] = s->s[k] = s->s_prev[k] = s->w_att[k] = s->w_prev[k] = SMD_R(0.0);
+        s->D1[k] = s->D2[k] = s->e_hat[k] = s->d_hat[k] = SMD_R(0.0);
+    }
+    for (k = 0; k < SMD_LCL_SMO_DELAY; k++) {
+        s->v_hist[k] = smd_c(SMD_R(0.0), SMD_R(0.0));
+    }
+    s->v_head = 0;
+    s->theta_prev = theta0;
+    smd_bandpass_reset(&s->bp2);
+    smd_bandpass_reset(&s->bp3);
+    s->primed = 0;
+}
+
+void smd_lcl_smo_model(const smd_lcl_smo_params *p, smd_real w, smd_lcl_model *m)
+{
+    smd_real x = (w - p->w_min) / p->dw;
+    smd_real f;
+    int k, i;
+    const smd_real *a;
+    const smd_real *b;
+    smd_real *o = (smd_real *)m;
+    const int nf = (int)(sizeof(smd_lcl_model) / sizeof(smd_real));
+    if (!(x > SMD_R(0.0))) {
+        x = SMD_R(0.0);
+    }
+    if (x > (smd_real)(p->n - 1)) {
+        x = (smd_real)(p->n - 1);
+    }
+    k = (int)x;
+    if (k > p->n - 2) {
+        k = p->n - 2;
+    }
+    f = x - (smd_real)k;
+    a = (const smd_real *)&p->table[k];
+    b = (const smd_real *)&p->table[k + 1];
+    for (i = 0; i < nf; i++) {
+        o[i] = a[i] + f * (b[i] - a[i]);
+    }
+}
+
+/* y = M x for a 2x2 row-major M */
+static void mv2(const smd_real M[4], const smd_real x[2], smd_real y[2])
+{
+    y[0] = M[0] * x[0] + M[1] * x[1];
+    y[1] = M[2] * x[0] + M[3] * x[1];
+}
+
+/* Delay line read with a two-tap interpolation exact for a sinusoid of
+ * W rad/sample: v(k - D) = a v(k - n) + b v(k - n - 1), n = floor(D),
+ * a = sin(W (1 - f)) / sin W, b = sin(W f) / sin W, f = D - n. */
+static smd_cplx delayed(const smd_lcl_smo_state *s, smd_real D, smd_real W)
+{
+    int n = (int)D;
+    smd_real f = D - (smd_real)n;
+    smd_real sw = SMD_SIN(W);
+    smd_real a = SMD_SIN(W * (SMD_R(1.0) - f)) / sw;
+    smd_real b = SMD_SIN(W * f) / sw;
+    int i0 = (s->v_head - n + 2 * SMD_LCL_SMO_DELAY) % SMD_LCL_SMO_DELAY;
+    int i1 = (i0 - 1 + SMD_LCL_SMO_DELAY) % SMD_LCL_SMO_DELAY;
+    return smd_cadd(smd_cscale(s->v_hist[i0], a), smd_cscale(s->v_hist[i1], b));
+}
+
+/* One harmonic channel of eq. (35): band-pass at h |w| of v delayed by N - 1
+ * samples, N = 2 pi / (h |w| T) the samples per harmonic period (fractional
+ * in general). Returns 0 when the delay does not fit the line. */
+static smd_cplx harmonic(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, smd_bandpass *bp,
+                         smd_real h, smd_real bw, smd_real w_abs)
+{
+    smd_real W = h * w_abs * p->T;
+    smd_real D;
+    if (!(W < SMD_R(0.95) * SMD_PI)) {
+        return smd_c(SMD_R(0.0), SMD_R(0.0));
+    }
+    D = SMD_TWO_PI / W - SMD_R(1.0);
+    if (!(D < (smd_real)(SMD_LCL_SMO_DELAY - 2)) || D < SMD_R(0.0)) {
+        return smd_c(SMD_R(0.0), SMD_R(0.0));
+    }
+    smd_bandpass_set(bp, h * w_abs, bw, p->T);
+    return smd_bandpass_step(bp, delayed(s, D, W));
+}
+
+void smd_lcl_smo_reframe(smd_lcl_smo_state *s, smd_real dth)
+{
+    smd_cplx r = smd_cexpj(-dth);
+    int i;
+    smd_cplx e;
+    for (i = 0; i < 3; i++) {
+        smd_cplx z = smd_cmul(smd_c(s->x_hat[2 * i], s->x_hat[2 * i + 1]), r);
+        s->x_hat[2 * i] = z.re;
+        s->x_hat[2 * i + 1] = z.im;
+    }
+    e = smd_cmul(smd_c(s->e_hat[0], s->e_hat[1]), r);
+    s->e_hat[0] = e.re;
+    s->e_hat[1] = e.im;
+}
+
+smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, smd_cplx i1_ab,
+                            smd_cplx i2_ab, smd_cplx u_ab, smd_real theta_hat, smd_real w_hat)
+{
+    smd_lcl_model m;
+    smd_cplx i1 = smd_ab_to_dq(i1_ab, theta_hat);
+    smd_cplx i2 = smd_ab_to_dq(i2_ab, theta_hat);
+    smd_cplx u = smd_ab_to_dq(u_ab, theta_hat);
+    smd_real err[4], y[4], t1[2], t2[2], t3[2], x_next[6], D0[2], Qs[2];
+    smd_real w_abs = SMD_FABS(w_hat);
+    int i, j;
+
+    smd_lcl_smo_model(p, w_hat, &m);
+    if (!s->primed) {
+        /* start the current estimates at the first sample */
+        s->x_hat[2] = i1.re;
+        s->x_hat[3] = i1.im;
+        s->x_hat[4] = i2.re;
+        s->x_hat[5] = i2.im;
+        s->primed = 1;
+    }
+    /* estimation error of the measured states, eq. (12), and the outputs of
+     * the canonical form, eq. (13)-(15) */
+    err[0] = s->x_hat[2] - i1.re;
+    err[1] = s->x_hat[3] - i1.im;
+    err[2] = s->x_hat[4] - i2.re;
+    err[3] = s->x_hat[5] - i2.im;
+    for (i = 0; i < 4; i++) {
+        y[i] = SMD_R(0.0);
+        for (j = 0; j < 4; j++) {
+            y[i] += m.Ft[4 * i + j] * err[j];
+        }
+    }
+    /* switching function, eq. (18) */
+    mv2(m.Gam_c, s->x_c, t1);
+    mv2(m.Gam_1, &y[0], t2);
+    mv2(m.Gam_2, &y[2], t3);
+    s->s[0] = t1[0] + t2[0] + t3[0];
+    s->s[1] = t1[1] + t2[1] + t3[1];
+    /* lumped disturbance of the reaching mode (30) one sample back:
+     * D(k-1) = s(k) - Gs s(k-1) - w(k-1) */
+    mv2(m.Gs, s->s_prev, t1);
+    D0[0] = s->s[0] - t1[0] - s->w_prev[0];
+    D0[1] = s->s[1] - t1[1] - s->w_prev[1];
+    Qs[0] = s->s[0] - p->Q1 * s->s_prev[0]; /* s(k) - Q s(k-1) */
+    Qs[1] = s->s[1] - p->Q2 * s->s_prev[1];
+
+    /* (-Gs + Q) s(k) */
+    mv2(m.Gs, s->s, t2);
+    t2[0] = -t2[0] + p->Q1 * s->s[0];
+    t2[1] = -t2[1] + p->Q2 * s->s[1];
+    if (p->law == SMD_LCL_SMO_PROPOSED) {
+        smd_cplx v = smd_c(Qs[0] + s->d_hat[0], Qs[1] + s->d_hat[1]);
+        smd_cplx d = smd_c(SMD_R(0.0), SMD_R(0.0));
+        s->v_head = (s->v_head + 1) % SMD_LCL_SMO_DELAY;
+        s->v_hist[s->v_head] = v;
+        /* eq. (34): EMF adaption */
+        s->e_hat[0] += p->k_e * Qs[0];
+        s->e_hat[1] += p->k_e * Qs[1];
+        /* eq. (35): periodic disturbance at 2 f_e and 3 f_e */
+        if (w_abs > p->w_bp_min) {
+            d = smd_cadd(harmonic(p, s, &s->bp2, SMD_R(2.0), p->bw2, w_abs),
+                         harmonic(p, s, &s->bp3, SMD_R(3.0), p->bw3, w_abs));
+        } else {
+            smd_bandpass_reset(&s->bp2);
+            smd_bandpass_reset(&s->bp3);
+        }
+        s->d_hat[0] = d.re;
+        s->d_hat[1] = d.im;
+        /* eq. (33) */
+        s->w_att[0] = t2[0] + s->e_hat[0] - s->d_hat[0];
+        s->w_att[1] = t2[1] + s->e_hat[1] - s->d_hat[1];
+    } else {
+        /* time-delay estimation: [17] compensates D(k) by D(k-1), eq. (31),
+         * (61)-(62) (with the sign of the increment that makes s converge);
+         * [18] by 2 D(k-1) - D(k-2), eq. (32). The EMF is the low-pass (63)
+         * of the attraction function. */
+        smd_real c0 = D0[0], c1 = D0[1];
+        if (p->law == SMD_LCL_SMO_TDE18) {
+            c0 = SMD_R(2.0) * D0[0] - s->D1[0];
+            c1 = SMD_R(2.0) * D0[1] - s->D1[1];
+        }
+        s->e_hat[0] += p->k_e * (s->w_prev[0] - s->e_hat[0]);
+        s->e_hat[1] += p->k_e * (s->w_prev[1] - s->e_hat[1]);
+        s->w_att[0] = t2[0] - c0;
+        s->w_att[1] = t2[1] - c1;
+    }
+    s->D2[0] = s->D1[0];
+    s->D2[1] = s->D1[1];
+    s->D1[0] = D0[0];
+    s->D1[1] = D0[1];
+
+    /* observer, eq. (9): x(k+1) = G x + H u + F w */
+    for (i = 0; i < 6; i++) {
+        smd_real acc = m.H[2 * i] * u.re + m.H[2 * i + 1] * u.im;
+        acc += m.F[2 * i] * s->w_att[0] + m.F[2 * i + 1] * s->w_att[1];
+        for (j = 0; j < 6; j++) {
+            acc += m.G[6 * i + j] * s->x_hat[j];
+        }
+        x_next[i] = acc;
+    }
+    for (i = 0; i < 6; i++) {
+        s->x_hat[i] = x_next[i];
+    }
+    /* augmented state, eq. (16) */
+    mv2(m.Hc, s->x_c, t1);
+    mv2(m.D1, &y[0], t2);
+    mv2(m.D2, &y[2], t3);
+    s->x_c[0] = t1[0] + t2[0] + t3[0];
+    s->x_c[1] = t1[1] + t2[1] + t3[1];
+
+    s->s_prev[0] = s->s[0];
+    s->s_prev[1] = s->s[1];
+    s->w_prev[0] = s->w_att[0];
+    s->w_prev[1] = s->w_att[1];
+    s->theta_prev = theta_hat;
+
+    for (i = 0; i < 6; i++) {
+        if (!isfinite(s->x_hat[i])) {
+            smd_lcl_smo_reset(s, theta_hat);
+            return SMD_ERR_NONFINITE;
+        }
+    }
+    if (!isfinite(s->e_hat[0]) || !isfinite(s->e_hat[1]) || !isfinite(s->x_c[0]) ||
+        !isfinite(s->x_c[1])) {
+        smd_lcl_smo_reset(s, theta_hat);
+        return SMD_ERR_NONFINITE;
+    }
+    return SMD_OK;
+}
+
+smd_real smd_lcl_smo_theta_err(const smd_lcl_smo_state *s, smd_real w_hat)
+{
+    /* eq. (47): e = j w psi e^{j theta_err} in the estimated frame, so
+     * e_gamma = -w psi sin, e_delta = w psi cos */
+    smd_real sg = w_hat < SMD_R(0.0) ? SMD_R(-1.0) : SMD_R(1.0);
+    return SMD_ATAN2(-sg * s->e_hat[0], sg * s->e_hat[1]);
+}
