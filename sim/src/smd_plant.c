@@ -1,4 +1,5 @@
 #include "smdsim/smd_plant.h"
+#include "smdsim/smd_pwm.h"
 
 #include <complex.h>
 #include <math.h>
@@ -33,76 +34,10 @@ static double wrap_pi(double x)
     return x - TWO_PI * floor((x + PI) / TWO_PI);
 }
 
-static uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
-
-/* xoshiro256** */
-static uint64_t rng_next(uint64_t s[4])
-{
-    uint64_t result = rotl(s[1] * 5, 7) * 9;
-    uint64_t t = s[1] << 17;
-    s[2] ^= s[0];
-    s[3] ^= s[1];
-    s[1] ^= s[2];
-    s[0] ^= s[3];
-    s[2] ^= t;
-    s[3] = rotl(s[3], 45);
-    return result;
-}
-
-static double rng_uniform(uint64_t s[4])
-{
-    return (double)(rng_next(s) >> 11) * (1.0 / 9007199254740992.0);
-}
-
-/* Standard normal by the polar method. */
-static double rng_normal(smd_plant *p)
-{
-    double u, v, r2, f;
-    if (p->have_spare) {
-        p->have_spare = 0;
-        return p->spare;
-    }
-    do {
-        u = 2.0 * rng_uniform(p->rng) - 1.0;
-        v = 2.0 * rng_uniform(p->rng) - 1.0;
-        r2 = u * u + v * v;
-    } while (r2 >= 1.0 || r2 == 0.0);
-    f = sqrt(-2.0 * log(r2) / r2);
-    p->spare = v * f;
-    p->have_spare = 1;
-    return u * f;
-}
-
-static uint64_t splitmix(uint64_t *x)
-{
-    uint64_t z = (*x += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    return z ^ (z >> 31);
-}
-
 void smd_pwm_leg_edges(const smd_plant_config *c, double d, double i_x, double *t_on,
                        double *t_off)
 {
-    const double T = c->T_sw;
-    if (!(d >= 0.0)) d = 0.0; /* also catches NaN */
-    if (d > 1.0) d = 1.0;
-    /* Regular sampling at the carrier peak: the leg is high while the held
-     * duty exceeds the triangle, i.e. on [(1-d)T/2, (1+d)T/2). */
-    *t_on = 0.5 * (1.0 - d) * T;
-    *t_off = 0.5 * (1.0 + d) * T;
-    if (c->t_dead > 0.0) {
-        /* During the dead time the diode of the current's direction conducts:
-         * a positive phase current delays the rising edge, a negative one the
-         * falling edge (current sign at the period start). */
-        if (i_x > 0.0) {
-            *t_on += c->t_dead;
-        } else if (i_x < 0.0) {
-            *t_off += c->t_dead;
-        }
-        if (*t_off > T) *t_off = T;
-        if (*t_on > *t_off) *t_on = *t_off;
-    }
+    smd_pwm_edges(c->T_sw, c->t_dead, d, i_x, t_on, t_off);
 }
 
 static int bad(double x, double lo, double hi) { return !(isfinite(x) && x >= lo && x <= hi); }
@@ -123,14 +58,13 @@ const char *smd_plant_field(int code)
 int smd_plant_init(smd_plant *p, const smd_plant_config *c)
 {
     int k;
-    uint64_t seed;
     if (bad(c->R_s, 1e-6, 1e3)) return 1;
     if (bad(c->L_s, 1e-7, 10.0)) return 2;
     if (bad(c->psi_r, 0.0, 100.0)) return 3;
     if (bad(c->n_p, 1.0, 100.0)) return 4;
     if (bad(c->J, 1e-9, 1e4)) return 5;
     if (bad(c->B, 0.0, 1e3)) return 6;
-    if (bad(c->u_dc, 0.0, 1e5)) return 7;
+    if (bad(c->u_dc, 1e-9, 1e5)) return 7;
     if (bad(c->T_sw, 1e-7, 1.0)) return 8;
     if (c->pwm_mode != SMD_PWM_AVERAGED && c->pwm_mode != SMD_PWM_CARRIER) return 9;
     if (bad(c->t_dead, 0.0, 0.25 * c->T_sw)) return 10;
@@ -157,21 +91,14 @@ int smd_plant_init(smd_plant *p, const smd_plant_config *c)
     p->T_L_mean = 0.0;
     p->u_re = 0.0;
     p->u_im = 0.0;
-    seed = c->seed;
-    for (k = 0; k < 4; k++) {
-        p->rng[k] = splitmix(&seed);
-    }
-    p->have_spare = 0;
-    p->spare = 0.0;
+    smd_rng_seed(&p->rng, c->seed);
     return 0;
 }
 
 void smd_plant_phase_currents(const smd_plant *p, double i_abc[3])
 {
     /* amplitude-invariant: i_x = Re(i_s e^{-j 2 pi x / 3}) */
-    i_abc[0] = p->i_re;
-    i_abc[1] = A_RE * p->i_re + A_IM * p->i_im;
-    i_abc[2] = A_RE * p->i_re - A_IM * p->i_im;
+    smd_ab_to_abc_d(p->i_re, p->i_im, i_abc);
 }
 
 /* Integral over [0, tau] of the unit step response g(s) = (1 - e^{-a s}) / R
@@ -337,10 +264,8 @@ void smd_plant_step(smd_plant *p, const double d_abc[3], double T_ext, double T_
 
     smd_plant_phase_currents(p, i_abc);
     for (x = 0; x < 3; x++) {
-        double d = d_abc[x];
+        double d = smd_pwm_clamp(d_abc[x]);
         double t_on, t_off;
-        if (!(d >= 0.0)) d = 0.0; /* also catches NaN */
-        if (d > 1.0) d = 1.0;
         if (c->pwm_mode == SMD_PWM_CARRIER) {
             smd_pwm_leg_edges(c, d, i_abc[x], &t_on, &t_off);
             if (t_off > t_on) {
@@ -357,13 +282,7 @@ void smd_plant_step(smd_plant *p, const double d_abc[3], double T_ext, double T_
         } else {
             /* Switching-cycle average: leg voltage d u_dc over the whole period
              * (dead time as the average volt-second loss). */
-            double de = d;
-            if (c->t_dead > 0.0) {
-                if (i_abc[x] > 0.0) de -= c->t_dead / T;
-                else if (i_abc[x] < 0.0) de += c->t_dead / T;
-                if (de < 0.0) de = 0.0;
-                if (de > 1.0) de = 1.0;
-            }
+            double de = smd_pwm_avg_duty(T, c->t_dead, d, i_abc[x]);
             i1 += leg_dir[x] * de * T * creal(phi1(a * T)) / L;
             i_int += leg_dir[x] * de * conj(ejth0) * step_weighted_integral(a, R, w_e, T);
             u_mean += leg_dir[x] * de;
@@ -390,20 +309,7 @@ void smd_plant_sample(smd_plant *p, double i_abc_meas[3])
 {
     const smd_plant_config *c = &p->c;
     double i_abc[3];
-    int x;
     smd_plant_phase_currents(p, i_abc);
-    for (x = 0; x < 3; x++) {
-        double v = c->adc_gain[x] * i_abc[x] + c->adc_offset[x];
-        if (c->adc_noise > 0.0) {
-            v += c->adc_noise * rng_normal(p);
-        }
-        if (c->adc_bits > 0) {
-            double lsb = 2.0 * c->adc_full_scale / ldexp(1.0, c->adc_bits);
-            double q = floor(v / lsb + 0.5) * lsb; /* mid-tread */
-            if (q > c->adc_full_scale - lsb) q = c->adc_full_scale - lsb;
-            if (q < -c->adc_full_scale) q = -c->adc_full_scale;
-            v = q;
-        }
-        i_abc_meas[x] = v;
-    }
+    smd_adc_sample3(i_abc, c->adc_gain, c->adc_offset, c->adc_noise, c->adc_bits,
+                    c->adc_full_scale, &p->rng, i_abc_meas);
 }

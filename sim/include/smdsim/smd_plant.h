@@ -17,6 +17,8 @@
 
 #include <stdint.h>
 
+#include "smdsim/smd_adc.h"
+
 typedef enum smd_pwm_mode {
     SMD_PWM_AVERAGED = 0,   /* switching-cycle average */
     SMD_PWM_CARRIER = 1     /* carrier comparison, regular sampling */
@@ -57,9 +59,7 @@ typedef struct smd_plant {
     double T_e_mean;     /* mean electromagnetic torque over the last period, N m */
     double T_L_mean;     /* load torque applied over the last period, N m */
     double u_re, u_im;   /* mean applied stator voltage over the last period, V */
-    uint64_t rng[4];     /* xoshiro256** state */
-    int have_spare;
-    double spare;
+    smd_rng rng;         /* ADC noise generator */
 } smd_plant;
 
 /* Returns 0 or a positive code naming the first bad field (see smd_plant_field). */
@@ -75,7 +75,8 @@ void smd_plant_step(smd_plant *p, const double d_abc[3], double T_ext, double T_
 void smd_plant_sample(smd_plant *p, double i_abc_meas[3]);
 
 /* Leg-high interval [t_on, t_off) within a carrier period for duty d and
- * phase current i_x (dead-time direction), as used by the plant. */
+ * phase current i_x (dead-time direction), as used by the plant: see
+ * smd_pwm_edges (smdsim/smd_pwm.h) with the config's T_sw and t_dead. */
 void smd_pwm_leg_edges(const smd_plant_config *c, double d, double i_x, double *t_on,
                        double *t_off);
 
