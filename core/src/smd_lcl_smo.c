@@ -4,7 +4,7 @@
 
 smd_status smd_lcl_smo_init(smd_lcl_smo_params *p, smd_real T, int law,
                             const smd_lcl_model *table, int n, smd_real w_min, smd_real dw,
-                            smd_real Q1, smd_real Q2, smd_real k_e, smd_real bw2, smd_real bw3,
+                            smd_real Q1, smd_real Q2, smd_real bw_rel2, smd_real bw_rel3,
                             smd_real w_bp_min)
 {
     if (p == 0 || table == 0) {
@@ -24,11 +24,7 @@ smd_status smd_lcl_smo_init(smd_lcl_smo_params *p, smd_real T, int law,
         !smd_in_range(Q2, SMD_R(-0.999), SMD_R(0.999))) {
         return SMD_ERR_STABILITY;
     }
-    /* EMF adaption / low-pass gain: a first-order loop needs 0 < k < 2 */
-    if (!smd_in_pos_range(k_e, SMD_R(1.999))) {
-        return SMD_ERR_KI;
-    }
-    if (!smd_in_pos_range(bw2, SMD_PI / T) || !smd_in_pos_range(bw3, SMD_PI / T) ||
+    if (!smd_in_pos_range(bw_rel2, SMD_R(2.0)) || !smd_in_pos_range(bw_rel3, SMD_R(2.0)) ||
         !smd_in_range(w_bp_min, SMD_R(0.0), SMD_R(1e7))) {
         return SMD_ERR_LIMIT;
     }
@@ -40,9 +36,8 @@ smd_status smd_lcl_smo_init(smd_lcl_smo_params *p, smd_real T, int law,
     p->dw = dw;
     p->Q1 = Q1;
     p->Q2 = Q2;
-    p->k_e = k_e;
-    p->bw2 = bw2;
-    p->bw3 = bw3;
+    p->bw_rel2 = bw_rel2;
+    p->bw_rel3 = bw_rel3;
     p->w_bp_min = w_bp_min;
     return SMD_OK;
 }
@@ -205,13 +200,15 @@ smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, s
         smd_cplx d = smd_c(SMD_R(0.0), SMD_R(0.0));
         s->v_head = (s->v_head + 1) % SMD_LCL_SMO_DELAY;
         s->v_hist[s->v_head] = v;
-        /* eq. (34): EMF adaption */
-        s->e_hat[0] += p->k_e * Qs[0];
-        s->e_hat[1] += p->k_e * Qs[1];
+        /* eq. (34) with the sign that converges: s(k) - Q s(k-1) is
+         * e_hat(k-1) - e(k-1) + (d - d_hat), so e_hat must move against it
+         * (docs/yao2022_design.md, erratum 5) */
+        s->e_hat[0] -= m.k * Qs[0];
+        s->e_hat[1] -= m.k * Qs[1];
         /* eq. (35): periodic disturbance at 2 f_e and 3 f_e */
         if (w_abs > p->w_bp_min) {
-            d = smd_cadd(harmonic(p, s, &s->bp2, SMD_R(2.0), p->bw2, w_abs),
-                         harmonic(p, s, &s->bp3, SMD_R(3.0), p->bw3, w_abs));
+            d = smd_cadd(harmonic(p, s, &s->bp2, SMD_R(2.0), p->bw_rel2 * w_abs, w_abs),
+                         harmonic(p, s, &s->bp3, SMD_R(3.0), p->bw_rel3 * w_abs, w_abs));
         } else {
             smd_bandpass_reset(&s->bp2);
             smd_bandpass_reset(&s->bp3);
@@ -231,8 +228,8 @@ smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, s
             c0 = SMD_R(2.0) * D0[0] - s->D1[0];
             c1 = SMD_R(2.0) * D0[1] - s->D1[1];
         }
-        s->e_hat[0] += p->k_e * (s->w_prev[0] - s->e_hat[0]);
-        s->e_hat[1] += p->k_e * (s->w_prev[1] - s->e_hat[1]);
+        s->e_hat[0] += m.k * (s->w_prev[0] - s->e_hat[0]);
+        s->e_hat[1] += m.k * (s->w_prev[1] - s->e_hat[1]);
         s->w_att[0] = t2[0] - c0;
         s->w_att[1] = t2[1] - c1;
     }

@@ -35,6 +35,7 @@ typedef struct smd_lcl_model {
     smd_real Gam_1[4];
     smd_real Gam_2[4];
     smd_real Gs[4];  /* reaching-mode matrix of eq. (28) */
+    smd_real k;      /* EMF adaption gain of eq. (34), (51); also the low-pass (63) */
 } smd_lcl_model;
 
 #define SMD_LCL_SMO_DELAY 256 /* longest band-pass delay line, samples */
@@ -53,8 +54,8 @@ typedef struct smd_lcl_smo_params {
     smd_real w_min;
     smd_real dw;
     smd_real Q1, Q2;            /* diagonal of Q, eq. (33) */
-    smd_real k_e;               /* EMF adaption gain, eq. (34), (51) (also the LPF (63)) */
-    smd_real bw2, bw3;          /* -3 dB bandwidths of the 2 f_e, 3 f_e band-passes, rad/s */
+    smd_real bw_rel2, bw_rel3;  /* -3 dB bandwidths of the 2 f_e, 3 f_e band-passes,
+                                   as fractions of f_e (Omega = bw_rel |w|) */
     smd_real w_bp_min;          /* band-pass suppression active above this |w|, rad/s */
 } smd_lcl_smo_params;
 
@@ -78,7 +79,7 @@ typedef struct smd_lcl_smo_state {
 
 smd_status smd_lcl_smo_init(smd_lcl_smo_params *p, smd_real T, int law,
                             const smd_lcl_model *table, int n, smd_real w_min, smd_real dw,
-                            smd_real Q1, smd_real Q2, smd_real k_e, smd_real bw2, smd_real bw3,
+                            smd_real Q1, smd_real Q2, smd_real bw_rel2, smd_real bw_rel3,
                             smd_real w_bp_min);
 void smd_lcl_smo_reset(smd_lcl_smo_state *s, smd_real theta0);
 

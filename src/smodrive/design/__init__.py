@@ -1,0 +1,1 @@
+"""Offline design maths (parameter-only computations handed to the core as tables)."""
