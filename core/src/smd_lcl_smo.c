@@ -49,7 +49,7 @@ void smd_lcl_smo_reset(smd_lcl_smo_state *s, smd_real theta0)
         s->x_hat[k] = SMD_R(0.0);
     }
     for (k = 0; k < 2; k++) {
-        s->x_c[k] = s->s[k] = s->s_prev[k] = s->w_att[k] = s->w_prev[k] = SMD_R(0.0);
+        s->x_c[k] = s->s[k] = s->s_prev[k] = s->w_att[k] = s->v_prev[k] = SMD_R(0.0);
         s->D1[k] = s->D2[k] = s->e_hat[k] = s->d_hat[k] = SMD_R(0.0);
     }
     for (k = 0; k < SMD_LCL_SMO_DELAY; k++) {
@@ -183,18 +183,25 @@ smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, s
     mv2(m.Gam_2, &y[2], t3);
     s->s[0] = t1[0] + t2[0] + t3[0];
     s->s[1] = t1[1] + t2[1] + t3[1];
-    /* lumped disturbance of the reaching mode (30) one sample back:
-     * D(k-1) = s(k) - Gs s(k-1) - w(k-1) */
-    mv2(m.Gs, s->s_prev, t1);
-    D0[0] = s->s[0] - t1[0] - s->w_prev[0];
-    D0[1] = s->s[1] - t1[1] - s->w_prev[1];
-    Qs[0] = s->s[0] - p->Q1 * s->s_prev[0]; /* s(k) - Q s(k-1) */
+    /* s(k) - Q s(k-1), and the lumped disturbance of the reaching mode one
+     * sample back, D(k-1) = s(k) - Q s(k-1) - v(k-1) (eq. (30) with the
+     * equivalent control below) */
+    Qs[0] = s->s[0] - p->Q1 * s->s_prev[0];
     Qs[1] = s->s[1] - p->Q2 * s->s_prev[1];
+    D0[0] = Qs[0] - s->v_prev[0];
+    D0[1] = Qs[1] - s->v_prev[1];
 
-    /* (-Gs + Q) s(k) */
+    /* (-Gs + Q) s(k) minus the equivalent-control terms built from the known
+     * x_c, y1 and the reduced-order estimate x_u_hat = x_c - L y1 of (23):
+     * without them the state coupling G_c x_c + G_y y1 + G_u x_u that eq. (29)
+     * lumps into d(k) makes the observer unstable (docs/yao2022_design.md) */
     mv2(m.Gs, s->s, t2);
     t2[0] = -t2[0] + p->Q1 * s->s[0];
     t2[1] = -t2[1] + p->Q2 * s->s[1];
+    mv2(m.Kc, s->x_c, t1);
+    mv2(m.Ky, &y[0], t3);
+    t2[0] -= t1[0] + t3[0];
+    t2[1] -= t1[1] + t3[1];
     if (p->law == SMD_LCL_SMO_PROPOSED) {
         smd_cplx v = smd_c(Qs[0] + s->d_hat[0], Qs[1] + s->d_hat[1]);
         smd_cplx d = smd_c(SMD_R(0.0), SMD_R(0.0));
@@ -215,24 +222,26 @@ smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, s
         }
         s->d_hat[0] = d.re;
         s->d_hat[1] = d.im;
-        /* eq. (33) */
-        s->w_att[0] = t2[0] + s->e_hat[0] - s->d_hat[0];
-        s->w_att[1] = t2[1] + s->e_hat[1] - s->d_hat[1];
+        /* eq. (33): v = e_hat - d_hat */
+        s->v_prev[0] = s->e_hat[0] - s->d_hat[0];
+        s->v_prev[1] = s->e_hat[1] - s->d_hat[1];
     } else {
         /* time-delay estimation: [17] compensates D(k) by D(k-1), eq. (31),
          * (61)-(62) (with the sign of the increment that makes s converge);
          * [18] by 2 D(k-1) - D(k-2), eq. (32). The EMF is the low-pass (63)
-         * of the attraction function. */
+         * of the compensation (which carries -D = e - d). */
         smd_real c0 = D0[0], c1 = D0[1];
         if (p->law == SMD_LCL_SMO_TDE18) {
             c0 = SMD_R(2.0) * D0[0] - s->D1[0];
             c1 = SMD_R(2.0) * D0[1] - s->D1[1];
         }
-        s->e_hat[0] += m.k * (s->w_prev[0] - s->e_hat[0]);
-        s->e_hat[1] += m.k * (s->w_prev[1] - s->e_hat[1]);
-        s->w_att[0] = t2[0] - c0;
-        s->w_att[1] = t2[1] - c1;
+        s->v_prev[0] = -c0;
+        s->v_prev[1] = -c1;
+        s->e_hat[0] += m.k * (s->v_prev[0] - s->e_hat[0]);
+        s->e_hat[1] += m.k * (s->v_prev[1] - s->e_hat[1]);
     }
+    s->w_att[0] = t2[0] + s->v_prev[0];
+    s->w_att[1] = t2[1] + s->v_prev[1];
     s->D2[0] = s->D1[0];
     s->D2[1] = s->D1[1];
     s->D1[0] = D0[0];
@@ -259,8 +268,6 @@ smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, s
 
     s->s_prev[0] = s->s[0];
     s->s_prev[1] = s->s[1];
-    s->w_prev[0] = s->w_att[0];
-    s->w_prev[1] = s->w_att[1];
     s->theta_prev = theta_hat;
 
     for (i = 0; i < 6; i++) {

@@ -35,6 +35,8 @@ typedef struct smd_lcl_model {
     smd_real Gam_1[4];
     smd_real Gam_2[4];
     smd_real Gs[4];  /* reaching-mode matrix of eq. (28) */
+    smd_real Kc[4];  /* equivalent control G_c x_c + G_y y1 + G_u x_u_hat with */
+    smd_real Ky[4];  /* x_u_hat = x_c - L y1 (eq. (23)): Kc x_c + Ky y1 (errata) */
     smd_real k;      /* EMF adaption gain of eq. (34), (51); also the low-pass (63) */
 } smd_lcl_model;
 
@@ -65,8 +67,8 @@ typedef struct smd_lcl_smo_state {
     smd_real s[2];       /* switching function s(k), eq. (18) */
     smd_real s_prev[2];  /* s(k-1) */
     smd_real w_att[2];   /* attraction function w(k), eq. (33) */
-    smd_real w_prev[2];  /* w(k-1) */
-    smd_real D1[2];      /* lumped disturbance D(k-1) = s(k) - Gs s(k-1) - w(k-1) */
+    smd_real v_prev[2];  /* disturbance part v(k-1) of w (w = equivalent part + v) */
+    smd_real D1[2];      /* lumped disturbance D(k-1) = s(k) - Q s(k-1) - v(k-1) */
     smd_real D2[2];      /* D(k-2) */
     smd_real e_hat[2];   /* EMF estimate, gamma-delta frame, V */
     smd_real d_hat[2];   /* periodic-disturbance compensation, eq. (35) */

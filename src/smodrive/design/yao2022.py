@@ -767,6 +767,10 @@ class ObserverMatrices:
     ``Gamma_c``, ``Gamma_1``, ``Gamma_2`` (2,2): switching function (18).
     ``G_s`` (2,2): reaching law (33); ``G_c``, ``G_u``, ``G_y`` (2,2): eq. (26).
     ``G_sm`` (6,6): sliding-mode dynamics (20) (analysis only).
+    ``L`` (2,2): reduced-order observer gain of step 2 (eq. (23)).
+    ``K_c``, ``K_y`` (2,2): the equivalent-control terms the reaching law
+    subtracts, ``G_c x_c + G_y y_1 + G_u x_u_hat`` with ``x_u_hat = x_c - L y_1``
+    (eq. (23)), i.e. ``K_c x_c + K_y y_1`` (see docs/yao2022_design.md).
     ``k``: EMF adaption gain (34), (51).
     ``a1_2``, ``a2_2``, ``a1_3``, ``a2_3``: band-pass (46) at 2 f_e and 3 f_e.
     ``N_2``, ``N_3``: integer delays ``round(f_s / (h f_e))`` of eq. (35),
@@ -793,6 +797,9 @@ class ObserverMatrices:
     G_u: np.ndarray
     G_y: np.ndarray
     G_sm: np.ndarray
+    L: np.ndarray
+    K_c: np.ndarray
+    K_y: np.ndarray
     k: float
     a1_2: float
     a2_2: float
@@ -833,6 +840,7 @@ def design_point(pars: LclMotorPars, w: float, design: ObserverDesignPars | None
         w=float(w), G=G, H=H, F=F, T_r=cf.T_r, B=cf.B, H_c=ss.H_c, D1=ss.D1, D2=ss.D2,
         Gamma_c=ss.Gamma_c, Gamma_1=ss.Gamma_1, Gamma_2=ss.Gamma_2,
         G_s=rm.G_s, G_c=rm.G_c, G_u=rm.G_u, G_y=rm.G_y, G_sm=ss.G_sm,
+        L=ss.L, K_c=rm.G_c + rm.G_u, K_y=rm.G_y - rm.G_u @ ss.L,
         k=k, a1_2=a1_2, a2_2=a2_2, a1_3=a1_3, a2_3=a2_3, N_2=n_delay(2), N_3=n_delay(3),
         L_s=lo.L_s, Theta=lo.Theta, Theta_y=lo.Theta_y, Theta_u=lo.Theta_u,
     )
@@ -865,6 +873,9 @@ class DesignTables:
     G_u: np.ndarray
     G_y: np.ndarray
     G_sm: np.ndarray
+    L: np.ndarray
+    K_c: np.ndarray
+    K_y: np.ndarray
     k: np.ndarray
     a1_2: np.ndarray
     a2_2: np.ndarray
