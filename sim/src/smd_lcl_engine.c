@@ -6,7 +6,7 @@ static const char *CHANNELS[SMD_LL_N] = {
     "t", "w_M", "theta_r", "theta_hat", "w_hat", "theta_err_est", "i2_d", "i2_q", "i2_g",
     "i2_dl", "i_ref_g", "i_ref_dl", "e_hat_g", "e_hat_dl", "s_g", "s_dl", "d_hat_g", "d_hat_dl",
     "u_alpha", "u_beta", "uc_alpha", "uc_beta", "i1_alpha", "i1_beta", "i2_alpha", "i2_beta",
-    "T_e", "T_L", "w_M_ref", "phase", "lin_e_alpha", "lin_e_beta", "status"};
+    "T_e", "T_L", "w_M_ref", "phase", "lin_e_alpha", "lin_e_beta", "v_g", "v_dl", "status"};
 
 const char *smd_lcl_log_channel_name(int ch)
 {
@@ -137,6 +137,8 @@ long smd_lcl_engine_run(smd_lcl_engine *e, long n, double *log, long stride)
             r[SMD_LL_PHASE] = (double)c->phase;
             r[SMD_LL_LIN_E_ALPHA] = e->lin_on ? (double)e->lin_s.x2[2] : 0.0;
             r[SMD_LL_LIN_E_BETA] = e->lin_on ? (double)e->lin_s.x2[3] : 0.0;
+            r[SMD_LL_V_G] = (double)c->smo.v_prev[0];
+            r[SMD_LL_V_DL] = (double)c->smo.v_prev[1];
             r[SMD_LL_STATUS] = (double)st;
         }
         smd_lcl_step(&e->plant, d_now, T_ext);

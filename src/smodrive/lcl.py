@@ -103,7 +103,7 @@ _sig("smd_lcl_engine_run", ct.c_long, ct.c_void_p, ct.c_long, ct.POINTER(ct.c_do
 
 N_MODEL = 36 + 12 + 12 + 16 + 4 * 9 + 1  # floats in smd_lcl_model
 N_LIN = 16 * 3 + 8  # floats in smd_linobs_model
-N_LOG = 33
+N_LOG = 35
 CHANNELS = tuple(lib.smd_lcl_log_channel_name(i).decode() for i in range(N_LOG))
 for _name, _cls in (("lcl_drive_config", LclDriveConfig), ("lcl_obs_config", LclObsConfig)):
     if getattr(lib, f"smd_sizeof_{_name}")() != ct.sizeof(_cls):
