@@ -3,7 +3,7 @@
 #include "smodrive/smd_transforms.h"
 
 smd_status smd_lcl_drive_init(smd_lcl_drive_params *p, const smd_lcl_drive_config *c,
-                              const smd_lcl_smo_params *smo)
+                              const smd_lcl_smo_params *smo, const smd_linobs_params *lin)
 {
     smd_status st;
     if (p == 0 || c == 0 || smo == 0) {
@@ -16,6 +16,9 @@ smd_status smd_lcl_drive_init(smd_lcl_drive_params *p, const smd_lcl_drive_confi
         return SMD_ERR_MODE;
     }
     if (c->emf_ff != 0 && c->emf_ff != 1) {
+        return SMD_ERR_MODE;
+    }
+    if (c->pos_source != 0 && !(c->pos_source == 1 && lin != 0)) {
         return SMD_ERR_MODE;
     }
     if (!smd_in_pos_range(c->T, SMD_R(1.0))) {
@@ -57,6 +60,11 @@ smd_status smd_lcl_drive_init(smd_lcl_drive_params *p, const smd_lcl_drive_confi
     p->a_start = c->a_start;
     p->w_handover = c->w_handover;
     p->smo = *smo;
+    p->use_lin = lin != 0;
+    p->pos_source = c->pos_source;
+    if (lin != 0) {
+        p->lin = *lin;
+    }
     return SMD_OK;
 }
 
@@ -79,6 +87,7 @@ void smd_lcl_drive_reset(const smd_lcl_drive_params *p, smd_lcl_drive_state *s, 
     smd_pi_reset(&s->speed_pi, i_delta0);
     smd_pll_reset(&s->pll, theta0, w0);
     smd_lcl_smo_reset(&s->smo, theta0);
+    smd_linobs_reset(&s->lin);
     s->status = 0;
 }
 
@@ -103,6 +112,18 @@ smd_status smd_lcl_drive_step(const smd_lcl_drive_params *p, smd_lcl_drive_state
     /* observer over the frame of sample k */
     st = smd_lcl_smo_step(&p->smo, &s->smo, i1_ab, i2_ab, s->u_ab, theta_k, w_k);
     s->theta_err = smd_lcl_smo_theta_err(&s->smo, w_k);
+    if (p->use_lin) {
+        smd_status sl = smd_linobs_step(&p->lin, &s->lin, i1_ab, i2_ab, s->u_ab, w_k);
+        if (p->pos_source == 1) {
+            /* angle of the linear observer's EMF, e = j w psi e^{j theta} */
+            smd_real sg = w_k < SMD_R(0.0) ? SMD_R(-1.0) : SMD_R(1.0);
+            smd_real th = SMD_ATAN2(-sg * s->lin.x2[2], sg * s->lin.x2[3]);
+            s->theta_err = smd_wrap_pi(th - theta_k);
+            if (sl != SMD_OK) {
+                st = sl;
+            }
+        }
+    }
 
     /* frame for the next sample */
     if (p->mode == SMD_LCL_SENSORED) {

@@ -30,14 +30,13 @@ int smd_lcl_engine_init(smd_lcl_engine *e, const smd_lcl_config *plant,
                           obs->w_min, obs->dw, obs->Q1, obs->Q2, obs->bw_rel2, obs->bw_rel3,
                           obs->w_bp_min);
     if (st != SMD_OK) return 2000 + (int)st;
-    st = smd_lcl_drive_init(&e->ctrl_p, ctrl, &e->smo_p);
-    if (st != SMD_OK) return 3000 + (int)st;
     e->lin_on = obs->lin_table != 0;
     if (e->lin_on) {
         st = smd_linobs_init(&e->lin_p, obs->lin_table, obs->lin_n, obs->lin_w_min, obs->lin_dw);
         if (st != SMD_OK) return 4000 + (int)st;
-        smd_linobs_reset(&e->lin_s);
     }
+    st = smd_lcl_drive_init(&e->ctrl_p, ctrl, &e->smo_p, e->lin_on ? &e->lin_p : 0);
+    if (st != SMD_OK) return 3000 + (int)st;
     if (prof->w_M_ref.n < 0 || prof->w_M_ref.n > SMD_PWL_MAX || prof->T_ext.n < 0 ||
         prof->T_ext.n > SMD_PWL_MAX || prof->i_d_ref.n < 0 || prof->i_d_ref.n > SMD_PWL_MAX ||
         prof->i_q_ref.n < 0 || prof->i_q_ref.n > SMD_PWL_MAX) {
@@ -91,13 +90,7 @@ long smd_lcl_engine_run(smd_lcl_engine *e, long n, double *log, long stride)
         /* 2. controller */
         st = smd_lcl_drive_step(&e->ctrl_p, &e->ctrl_s, &in, &out);
         if (st != SMD_OK) e->last_status = (int)st;
-        if (e->lin_on) {
-            smd_cplx i1 = smd_c(in.i1_a, SMD_INV_SQRT3 * (in.i1_a + SMD_R(2.0) * in.i1_b));
-            smd_cplx i2 = smd_c(in.i2_a, SMD_INV_SQRT3 * (in.i2_a + SMD_R(2.0) * in.i2_b));
-            smd_status sl = smd_linobs_step(&e->lin_p, &e->lin_s, i1, i2, u_applied,
-                                            in.w_enc);
-            if (sl != SMD_OK) e->lin_status = (int)sl;
-        }
+        (void)u_applied;
 
         /* 3. plant over [t_k, t_k+1) with the duties computed at k-1 */
         for (x = 0; x < 3; x++) {
@@ -135,8 +128,8 @@ long smd_lcl_engine_run(smd_lcl_engine *e, long n, double *log, long stride)
             r[SMD_LL_I2_BETA] = e->plant.i2_im;
             r[SMD_LL_W_M_REF] = w_ref;
             r[SMD_LL_PHASE] = (double)c->phase;
-            r[SMD_LL_LIN_E_ALPHA] = e->lin_on ? (double)e->lin_s.x2[2] : 0.0;
-            r[SMD_LL_LIN_E_BETA] = e->lin_on ? (double)e->lin_s.x2[3] : 0.0;
+            r[SMD_LL_LIN_E_ALPHA] = e->lin_on ? (double)c->lin.x2[2] : 0.0;
+            r[SMD_LL_LIN_E_BETA] = e->lin_on ? (double)c->lin.x2[3] : 0.0;
             r[SMD_LL_V_G] = (double)c->smo.v_prev[0];
             r[SMD_LL_V_DL] = (double)c->smo.v_prev[1];
             r[SMD_LL_STATUS] = (double)st;
@@ -153,4 +146,25 @@ long smd_lcl_engine_run(smd_lcl_engine *e, long n, double *log, long stride)
         e->k++;
     }
     return rows;
+}
+
+/* Closed-loop impulse response of the firmware PLL (eq. (48)) with unity
+ * feedback e = theta - theta_hat: theta = amp at k = 0 and 0 after; writes
+ * theta_hat(k) / amp for k = 1..n into out (analysis of Fig. 7). */
+int smd_pll_impulse(double T, double k_theta, double k_omega, double k_a, double amp, long n,
+                    double *out)
+{
+    smd_pll_params p;
+    smd_pll_state s;
+    long k;
+    smd_status st = smd_pll_init(&p, (smd_real)T, (smd_real)k_theta, (smd_real)k_omega,
+                                 (smd_real)k_a);
+    if (st != SMD_OK) return (int)st;
+    smd_pll_reset(&s, SMD_R(0.0), SMD_R(0.0));
+    for (k = 0; k < n; k++) {
+        double theta = (k == 0) ? amp : 0.0;
+        smd_pll_step(&p, &s, (smd_real)(theta - (double)s.theta));
+        out[k] = (double)s.theta / amp;
+    }
+    return 0;
 }

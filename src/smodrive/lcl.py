@@ -53,6 +53,7 @@ class LclDriveConfig(ct.Structure):
         ("a_start", real),
         ("w_handover", real),
         ("svm_limit", ct.c_int),
+        ("pos_source", ct.c_int),
     ]
 
 
@@ -159,6 +160,7 @@ class LclControllerCfg(_Validated):
     _section = "controller"
     mode: str = choice("sensorless", ("sensorless", "sensored"), "angle source")
     law: str = choice("proposed", ("proposed", "tde17", "tde18"), "reaching law")
+    observer: str = choice("smo", ("smo", "linear"), "position source: sliding-mode or linear")
     C1_hat_ratio: float = num(1.0, 0.1, 10.0, "", "observer's capacitance / true (Fig. 23)")
     k_p_i: float = num(0.35, 0.0, 1e4, "V/A", "current PI gain (assumed)")
     k_i_i: float = num(600.0, 0.0, 1e9, "V/(A s)", "current PI integral gain (assumed)")
@@ -171,9 +173,9 @@ class LclControllerCfg(_Validated):
     k_theta: float = num(0.1, 0.0, 2.0, "", "PLL, eq. (50)")
     k_omega: float = num(10.0, 0.0, 1e9, "1/s", "PLL, eq. (50)")
     k_a: float = num(10.0, 0.0, 1e12, "1/s^2", "PLL, eq. (50)")
-    i_start: float = num(10.0, 0.0, 1e4, "A", "start-up current (assumed)")
-    a_start_rpm_s: float = num(20e3, 0.0, 1e9, "r/min/s", "start-up acceleration (assumed)")
-    n_handover: float = num(10e3, 0.0, 1e6, "r/min", "handover speed (assumed)")
+    i_start: float = num(15.0, 0.0, 1e4, "A", "start-up current (assumed)")
+    a_start_rpm_s: float = num(5e3, 0.0, 1e9, "r/min/s", "start-up acceleration (assumed)")
+    n_handover: float = num(5e3, 0.0, 1e6, "r/min", "handover speed (assumed)")
     Q: tuple[float, float] = num((0.5, 0.5), -0.999, 0.999, "", "reaching-law Q (Table III)")
     bw_rel: tuple[float, float] = num((0.2, 0.2), 1e-3, 1.9, "", "band-pass widths / f_e")
     n_bp_min: float = num(5e3, 0.0, 1e6, "r/min", "band-pass suppression above (assumed)")
@@ -306,14 +308,15 @@ class LclEngine:
             k_theta=c.k_theta, k_omega=c.k_omega, k_a=c.k_a,
             i_start=c.i_start if s.start_open_loop else 0.0,
             a_start=c.a_start_rpm_s * RPM * p.n_p, w_handover=c.n_handover * RPM * p.n_p,
-            svm_limit=1,
+            svm_limit=1, pos_source=1 if c.observer == "linear" else 0,
         )
         self._dc = dc
         oc = LclObsConfig(
             law=LAWS[c.law], table=self._m.ctypes.data, n=self._m.shape[0], w_min=w_min, dw=dw,
             Q1=c.Q[0], Q2=c.Q[1], bw_rel2=c.bw_rel[0], bw_rel3=c.bw_rel[1],
             w_bp_min=c.n_bp_min * RPM * p.n_p,
-            lin_table=self._lin.ctypes.data if s.with_linear_observer else None,
+            lin_table=(self._lin.ctypes.data
+                       if s.with_linear_observer or c.observer == "linear" else None),
             lin_n=self._lin.shape[0], lin_w_min=w_min, lin_dw=dw,
         )
         self._oc = oc

@@ -20,6 +20,7 @@
 #ifndef SMD_LCL_DRIVE_H
 #define SMD_LCL_DRIVE_H
 
+#include "smd_lcl_linobs.h"
 #include "smd_lcl_smo.h"
 #include "smd_pi.h"
 #include "smd_pll.h"
@@ -53,6 +54,7 @@ typedef struct smd_lcl_drive_config {
     smd_real a_start;     /* start-up acceleration of the forced angle, electrical rad/s^2 */
     smd_real w_handover;  /* speed at which the PLL takes over, electrical rad/s */
     int svm_limit;        /* smd_svm_limit */
+    int pos_source;       /* 0: sliding-mode observer; 1: linear observer (64)-(65) */
 } smd_lcl_drive_config;
 
 typedef struct smd_lcl_drive_params {
@@ -67,6 +69,9 @@ typedef struct smd_lcl_drive_params {
     smd_pll_params pll;
     smd_svm_params svm;
     smd_lcl_smo_params smo; /* set by smd_lcl_drive_init from the caller's */
+    int use_lin;            /* the linear observer runs (alongside, or as the source) */
+    int pos_source;
+    smd_linobs_params lin;
 } smd_lcl_drive_params;
 
 typedef struct smd_lcl_drive_in {
@@ -99,13 +104,15 @@ typedef struct smd_lcl_drive_state {
     smd_pi_state speed_pi;
     smd_pll_state pll;
     smd_lcl_smo_state smo;
+    smd_linobs_state lin;
     int status;
 } smd_lcl_drive_state;
 
 /* smo: the observer's parameters (table, law, gains) prepared by the caller
  * with smd_lcl_smo_init. */
+/* lin: the linear observer's parameters, or NULL (then pos_source must be 0). */
 smd_status smd_lcl_drive_init(smd_lcl_drive_params *p, const smd_lcl_drive_config *c,
-                              const smd_lcl_smo_params *smo);
+                              const smd_lcl_smo_params *smo, const smd_linobs_params *lin);
 /* theta0, w0: the drive's knowledge at start (a flying start, or 0, 0 with
  * the start-up phase); phase: where to begin. */
 void smd_lcl_drive_reset(const smd_lcl_drive_params *p, smd_lcl_drive_state *s, smd_real theta0,

@@ -49,7 +49,6 @@ typedef struct smd_lcl_engine {
     smd_lcl_drive_params ctrl_p;
     smd_lcl_drive_state ctrl_s;
     smd_linobs_params lin_p;
-    smd_linobs_state lin_s;
     int lin_on;
     int lin_status;
     smd_profiles prof;
@@ -71,5 +70,7 @@ unsigned long smd_sizeof_lcl_drive_config(void);
 unsigned long smd_sizeof_lcl_obs_config(void);
 unsigned long smd_sizeof_lcl_model(void);
 unsigned long smd_sizeof_linobs_model(void);
+int smd_pll_impulse(double T, double k_theta, double k_omega, double k_a, double amp, long n,
+                    double *out);
 
 #endif
