@@ -120,3 +120,120 @@ def sensorless_panels(fig_dir: Path, name: str, results: Sequence[Result], label
         a[3].legend(fontsize=7)
     fig.suptitle(title)
     return _save(fig, fig_dir, name)
+
+
+# ------------------------------------------------------------- yao2022 ----
+
+def _spectrum(x: np.ndarray, T: float) -> tuple[np.ndarray, np.ndarray]:
+    x = x - np.mean(x)
+    w = np.hanning(x.size)
+    X = np.abs(np.fft.rfft(x * w)) * 2 / np.sum(w)
+    return np.fft.rfftfreq(x.size, T), X
+
+
+def lcl_time_panels(fig_dir: Path, name: str, results: Sequence, labels: Sequence[str],
+                    title: str, rows: Sequence[tuple[str, Sequence[tuple[str, str]]]],
+                    t_window: tuple[float, float] | None = None) -> Path:
+    """Columns per run, rows of (ylabel, [(channel or derived name, legend)])."""
+    n = len(results)
+    fig, axes = plt.subplots(len(rows), n, figsize=(4.0 * n, 1.9 * len(rows) + 0.6),
+                             squeeze=False, sharex="col")
+    for j, (r, lab) in enumerate(zip(results, labels)):
+        m = r.window(*t_window) if t_window else np.ones(r.t.size, bool)
+        t = r.t[m]
+        for i, (ylabel, chans) in enumerate(rows):
+            ax = axes[i, j]
+            for ch, leg in chans:
+                y = _derived(r, ch)[m]
+                ax.plot(t, y, label=leg)
+            if j == 0:
+                ax.set_ylabel(ylabel)
+            if len(chans) > 1:
+                ax.legend(fontsize=6, loc="best")
+        axes[0, j].set_title(lab)
+        axes[-1, j].set_xlabel("t (s)")
+    fig.suptitle(title)
+    return _save(fig, fig_dir, name)
+
+
+def _derived(r, ch: str) -> np.ndarray:
+    if ch == "n_rpm":
+        return r.n_rpm
+    if ch == "n_hat_rpm":
+        return r.n_hat_rpm
+    if ch == "theta_error":
+        return r.theta_error
+    if ch == "n_ref_rpm":
+        return r["w_M_ref"] / RPM
+    if ch == "s_abs":
+        return np.abs(r["s_g"] + 1j * r["s_dl"])
+    return r[ch]
+
+
+def ripple_panels(fig_dir: Path, name: str, results: dict, speeds: Sequence[float],
+                  title: str) -> Path:
+    """Figs. 12-13 layout: estimated speed and its spectrum, chattering s(k),
+    for the baseline (61)-(63) and the proposed reaching law at each speed."""
+    fig, axes = plt.subplots(3, len(speeds), figsize=(4.2 * len(speeds), 7), squeeze=False)
+    for j, n in enumerate(speeds):
+        for law, col in (("tde17", "C3"), ("proposed", "C0")):
+            r = results[(law, n)]
+            m = r.window(0.1, r.scenario.duration)
+            t = r.t[m]
+            lab = "baseline (61)" if law == "tde17" else "proposed (33)"
+            axes[0, j].plot(t, r.n_hat_rpm[m], color=col, label=lab, lw=0.6)
+            f, X = _spectrum(r.n_hat_rpm[m], r.scenario.T_sp * r.scenario.log_stride)
+            axes[1, j].semilogy(f, X + 1e-6, color=col, lw=0.6)
+            axes[2, j].plot(t, np.abs(r["s_g"][m] + 1j * r["s_dl"][m]), color=col, lw=0.5)
+        axes[0, j].set_title(f"{n / 1e3:g} kr/min")
+        axes[1, j].set_xlim(0, 10e3)
+        axes[1, j].set_xlabel("f (Hz)")
+        axes[2, j].set_xlabel("t (s)")
+    axes[0, 0].set_ylabel("estimated speed (r/min)")
+    axes[1, 0].set_ylabel("speed ripple spectrum (r/min)")
+    axes[2, 0].set_ylabel("|s(k)| (A)")
+    axes[0, 0].legend(fontsize=7)
+    fig.suptitle(title)
+    return _save(fig, fig_dir, name)
+
+
+def waveform_spectrum(fig_dir: Path, name: str, results: Sequence, labels: Sequence[str],
+                      channel: str, ylabel: str, title: str, span: float = 0.004,
+                      f_max: float = 10e3) -> Path:
+    """Figs. 17-18 layout: a phase waveform over a few periods and its spectrum."""
+    n = len(results)
+    fig, axes = plt.subplots(2, n, figsize=(4.2 * n, 5), squeeze=False)
+    for j, (r, lab) in enumerate(zip(results, labels)):
+        t1 = r.scenario.duration
+        m = r.window(t1 - span, t1)
+        axes[0, j].plot(r.t[m] * 1e3, r[channel][m])
+        axes[0, j].set_title(lab)
+        axes[0, j].set_xlabel("t (ms)")
+        mm = r.window(0.1, t1)
+        f, X = _spectrum(r[channel][mm], r.scenario.T_sp * r.scenario.log_stride)
+        axes[1, j].semilogy(f, X + 1e-9)
+        axes[1, j].set_xlim(0, f_max)
+        axes[1, j].set_xlabel("f (Hz)")
+    axes[0, 0].set_ylabel(ylabel)
+    axes[1, 0].set_ylabel("amplitude")
+    fig.suptitle(title)
+    return _save(fig, fig_dir, name)
+
+
+def disturbance_panels(fig_dir: Path, name: str, t: np.ndarray, d: np.ndarray,
+                       e17: np.ndarray, e18: np.ndarray, T: float, title: str) -> Path:
+    """Fig. 4 layout: d(k) and the compensation errors of [17], [18], with spectra."""
+    fig, axes = plt.subplots(2, 3, figsize=(11, 5))
+    for j, (x, lab) in enumerate(((d, "d(k)"), (e17, "error [17], eq. (31)"),
+                                  (e18, "error [18], eq. (32)"))):
+        axes[0, j].plot(t[: x.size] * 1e3, x.real, lw=0.6, label="gamma")
+        axes[0, j].plot(t[: x.size] * 1e3, x.imag, lw=0.6, label="delta")
+        axes[0, j].set_title(lab)
+        axes[0, j].set_xlabel("t (ms)")
+        f, X = _spectrum(np.abs(x), T)
+        axes[1, j].plot(f, X)
+        axes[1, j].set_xlim(0, 10e3)
+        axes[1, j].set_xlabel("f (Hz)")
+    axes[0, 0].legend(fontsize=7)
+    fig.suptitle(title)
+    return _save(fig, fig_dir, name)
