@@ -48,6 +48,9 @@ void smd_lcl_smo_reset(smd_lcl_smo_state *s, smd_real theta0)
     for (k = 0; k < 6; k++) {
         s->x_hat[k] = SMD_R(0.0);
     }
+    for (k = 0; k < 4; k++) {
+        s->y[k] = SMD_R(0.0);
+    }
     for (k = 0; k < 2; k++) {
         s->x_c[k] = s->s[k] = s->s_prev[k] = s->w_att[k] = s->v_prev[k] = SMD_R(0.0);
         s->D1[k] = s->D2[k] = s->e_hat[k] = s->d_hat[k] = SMD_R(0.0);
@@ -145,18 +148,15 @@ void smd_lcl_smo_reframe(smd_lcl_smo_state *s, smd_real dth)
     s->e_hat[1] = e.im;
 }
 
-smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, smd_cplx i1_ab,
-                            smd_cplx i2_ab, smd_cplx u_ab, smd_real theta_hat, smd_real w_hat)
+void smd_lcl_smo_reach(const smd_lcl_smo_params *p, smd_lcl_smo_state *s,
+                       const smd_lcl_model *mp, smd_cplx i1, smd_cplx i2, smd_real w_hat)
 {
-    smd_lcl_model m;
-    smd_cplx i1 = smd_ab_to_dq(i1_ab, theta_hat);
-    smd_cplx i2 = smd_ab_to_dq(i2_ab, theta_hat);
-    smd_cplx u = smd_ab_to_dq(u_ab, theta_hat);
-    smd_real err[4], y[4], t1[2], t2[2], t3[2], x_next[6], D0[2], Qs[2];
+    const smd_lcl_model *m = mp;
+    smd_real err[4], t1[2], t2[2], t3[2], D0[2], Qs[2];
+    smd_real *y = s->y;
     smd_real w_abs = SMD_FABS(w_hat);
     int i, j;
 
-    smd_lcl_smo_model(p, w_hat, &m);
     if (!s->primed) {
         /* start the current estimates at the first sample */
         s->x_hat[2] = i1.re;
@@ -174,13 +174,13 @@ smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, s
     for (i = 0; i < 4; i++) {
         y[i] = SMD_R(0.0);
         for (j = 0; j < 4; j++) {
-            y[i] += m.Ft[4 * i + j] * err[j];
+            y[i] += m->Ft[4 * i + j] * err[j];
         }
     }
     /* switching function, eq. (18) */
-    mv2(m.Gam_c, s->x_c, t1);
-    mv2(m.Gam_1, &y[0], t2);
-    mv2(m.Gam_2, &y[2], t3);
+    mv2(m->Gam_c, s->x_c, t1);
+    mv2(m->Gam_1, &y[0], t2);
+    mv2(m->Gam_2, &y[2], t3);
     s->s[0] = t1[0] + t2[0] + t3[0];
     s->s[1] = t1[1] + t2[1] + t3[1];
     /* s(k) - Q s(k-1), and the lumped disturbance of the reaching mode one
@@ -195,11 +195,11 @@ smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, s
      * x_c, y1 and the reduced-order estimate x_u_hat = x_c - L y1 of (23):
      * without them the state coupling G_c x_c + G_y y1 + G_u x_u that eq. (29)
      * lumps into d(k) makes the observer unstable (docs/yao2022_design.md) */
-    mv2(m.Gs, s->s, t2);
+    mv2(m->Gs, s->s, t2);
     t2[0] = -t2[0] + p->Q1 * s->s[0];
     t2[1] = -t2[1] + p->Q2 * s->s[1];
-    mv2(m.Kc, s->x_c, t1);
-    mv2(m.Ky, &y[0], t3);
+    mv2(m->Kc, s->x_c, t1);
+    mv2(m->Ky, &y[0], t3);
     t2[0] -= t1[0] + t3[0];
     t2[1] -= t1[1] + t3[1];
     if (p->law == SMD_LCL_SMO_PROPOSED) {
@@ -210,8 +210,8 @@ smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, s
         /* eq. (34) with the sign that converges: s(k) - Q s(k-1) is
          * e_hat(k-1) - e(k-1) + (d - d_hat), so e_hat must move against it
          * (docs/yao2022_design.md, erratum 5) */
-        s->e_hat[0] -= m.k * Qs[0];
-        s->e_hat[1] -= m.k * Qs[1];
+        s->e_hat[0] -= m->k * Qs[0];
+        s->e_hat[1] -= m->k * Qs[1];
         /* eq. (35): periodic disturbance at 2 f_e and 3 f_e */
         if (w_abs > p->w_bp_min) {
             d = smd_cadd(harmonic(p, s, &s->bp2, SMD_R(2.0), p->bw_rel2 * w_abs, w_abs),
@@ -237,8 +237,8 @@ smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, s
         }
         s->v_prev[0] = -c0;
         s->v_prev[1] = -c1;
-        s->e_hat[0] += m.k * (s->v_prev[0] - s->e_hat[0]);
-        s->e_hat[1] += m.k * (s->v_prev[1] - s->e_hat[1]);
+        s->e_hat[0] += m->k * (s->v_prev[0] - s->e_hat[0]);
+        s->e_hat[1] += m->k * (s->v_prev[1] - s->e_hat[1]);
     }
     s->w_att[0] = t2[0] + s->v_prev[0];
     s->w_att[1] = t2[1] + s->v_prev[1];
@@ -247,12 +247,18 @@ smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, s
     s->D1[0] = D0[0];
     s->D1[1] = D0[1];
 
+}
+
+void smd_lcl_smo_predict(const smd_lcl_model *m, smd_lcl_smo_state *s, smd_cplx u)
+{
+    smd_real x_next[6], t1[2], t2[2], t3[2];
+    int i, j;
     /* observer, eq. (9): x(k+1) = G x + H u + F w */
     for (i = 0; i < 6; i++) {
-        smd_real acc = m.H[2 * i] * u.re + m.H[2 * i + 1] * u.im;
-        acc += m.F[2 * i] * s->w_att[0] + m.F[2 * i + 1] * s->w_att[1];
+        smd_real acc = m->H[2 * i] * u.re + m->H[2 * i + 1] * u.im;
+        acc += m->F[2 * i] * s->w_att[0] + m->F[2 * i + 1] * s->w_att[1];
         for (j = 0; j < 6; j++) {
-            acc += m.G[6 * i + j] * s->x_hat[j];
+            acc += m->G[6 * i + j] * s->x_hat[j];
         }
         x_next[i] = acc;
     }
@@ -260,16 +266,25 @@ smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, s
         s->x_hat[i] = x_next[i];
     }
     /* augmented state, eq. (16) */
-    mv2(m.Hc, s->x_c, t1);
-    mv2(m.D1, &y[0], t2);
-    mv2(m.D2, &y[2], t3);
+    mv2(m->Hc, s->x_c, t1);
+    mv2(m->D1, &s->y[0], t2);
+    mv2(m->D2, &s->y[2], t3);
     s->x_c[0] = t1[0] + t2[0] + t3[0];
     s->x_c[1] = t1[1] + t2[1] + t3[1];
-
     s->s_prev[0] = s->s[0];
     s->s_prev[1] = s->s[1];
-    s->theta_prev = theta_hat;
+}
 
+smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, smd_cplx i1_ab,
+                            smd_cplx i2_ab, smd_cplx u_ab, smd_real theta_hat, smd_real w_hat)
+{
+    smd_lcl_model m;
+    int i;
+    smd_lcl_smo_model(p, w_hat, &m);
+    smd_lcl_smo_reach(p, s, &m, smd_ab_to_dq(i1_ab, theta_hat), smd_ab_to_dq(i2_ab, theta_hat),
+                      w_hat);
+    smd_lcl_smo_predict(&m, s, smd_ab_to_dq(u_ab, theta_hat));
+    s->theta_prev = theta_hat;
     for (i = 0; i < 6; i++) {
         if (!isfinite(s->x_hat[i])) {
             smd_lcl_smo_reset(s, theta_hat);

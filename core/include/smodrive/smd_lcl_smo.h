@@ -65,6 +65,7 @@ typedef struct smd_lcl_smo_state {
     smd_real x_hat[6];   /* [u_c, i_1, i_2] estimates, gamma-delta frame */
     smd_real x_c[2];     /* augmented state, eq. (16) */
     smd_real s[2];       /* switching function s(k), eq. (18) */
+    smd_real y[4];       /* canonical outputs [y1; y2](k), eq. (13) */
     smd_real s_prev[2];  /* s(k-1) */
     smd_real w_att[2];   /* attraction function w(k), eq. (33) */
     smd_real v_prev[2];  /* disturbance part v(k-1) of w (w = equivalent part + v) */
@@ -91,6 +92,15 @@ void smd_lcl_smo_model(const smd_lcl_smo_params *p, smd_real w, smd_lcl_model *m
 /* One sample; returns the EMF estimate e_hat(k) (gamma-delta frame). */
 smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, smd_cplx i1_ab,
                             smd_cplx i2_ab, smd_cplx u_ab, smd_real theta_hat, smd_real w_hat);
+
+/* The two halves of a step (public so that each can be costed, Table VI):
+ * the reaching law (switching function (18), law (33)-(35) or the TDE
+ * baselines) on the currents in the estimated frame, then the current
+ * prediction (observer (9) and augmented state (16)) with the voltage in
+ * that frame. smd_lcl_smo_step = model + reach + predict. */
+void smd_lcl_smo_reach(const smd_lcl_smo_params *p, smd_lcl_smo_state *s,
+                       const smd_lcl_model *m, smd_cplx i1_gd, smd_cplx i2_gd, smd_real w_hat);
+void smd_lcl_smo_predict(const smd_lcl_model *m, smd_lcl_smo_state *s, smd_cplx u_gd);
 
 /* The frame of the next sample is advanced by dth beyond w_hat T: express
  * the state estimates (x_hat, e_hat) in it. */
