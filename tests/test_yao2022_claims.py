@@ -1,0 +1,136 @@
+"""yao2022: every claim of the reproduction, asserted with its tolerance.
+
+As for yang2018, failing claims are pinned and their stated causes checked:
+removing the cause named in the claim brings the result inside its bound,
+or the number the reason quotes is verified.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from smodrive.claims import write_claims
+from smodrive.design import yao2022 as dz
+from smodrive.lcl import LclAdcCfg, simulate_lcl
+from smodrive.params import Profile
+from smodrive.scenarios import yao2022 as y
+
+REQUIRED = (
+    [f"yao2022.table1.h{h}_V" for h in range(1, 6)]
+    + ["yao2022.fig4.comp_error_ratio_18_over_17", "yao2022.fig7.pll_bandwidth_hz"]
+    + [f"yao2022.fig10.pos_error_rad_{t}" for t in ("30k", "60k", "100k")]
+    + [f"yao2022.fig9.true_pos_error_rad_{t}" for t in ("30k", "60k", "100k")]
+    + [f"yao2022.table5.ripple_rpm_{law}_{t}" for law in ("baseline", "proposed")
+       for t in ("30k", "60k", "100k")]
+    + ["yao2022.table5.ripple_reduction_100k", "yao2022.fig14.pos_error_peak_rad",
+       "yao2022.fig19.pos_error_peak_rad", "yao2022.fig21.speed_error_peak_rpm",
+       "yao2022.fig22.reversal_pos_error_peak_rad", "yao2022.fig23.linear_observer_stable",
+       "yao2022.fig23.smo_stable", "yao2022.table6.instructions_observer",
+       "yao2022.table6.instructions_reaching_law", "yao2022.table6.instructions_pll"]
+)
+
+KNOWN_FAILING = {
+    "yao2022.fig10.pos_error_rad_100k": "ADC gain error against the 30 A delta current",
+    **{f"yao2022.table5.ripple_rpm_{law}_{t}": "the PLL attenuates the chattering"
+       for law in ("baseline", "proposed") for t in ("30k", "60k", "100k")},
+    "yao2022.table5.ripple_reduction_100k": "ripple set by noise, not chattering",
+    "yao2022.fig14.pos_error_peak_rad": "ADC noise at 5-10 kr/min after the handover",
+    "yao2022.fig22.reversal_pos_error_peak_rad": "ADC noise at 3-4 kr/min",
+    "yao2022.fig23.linear_observer_stable": "the linear observer keeps its designed poles",
+}
+
+IDEAL = LclAdcCfg(noise=0.0, bits=0)
+GAINS_ONLY = LclAdcCfg(gain_i1=y.ADC.gain_i1, gain_i2=y.ADC.gain_i2, noise=0.0, bits=0)
+
+
+@pytest.fixture(scope="module")
+def claims():
+    out = []
+    for exp in y.EXPERIMENTS:
+        out += exp.run(lambda name, frac: None).claims
+    return {c.id: c for c in out}
+
+
+def test_every_required_claim_is_produced(claims):
+    assert not [c for c in REQUIRED if c not in claims]
+
+
+def test_claims_json(claims, tmp_path):
+    write_claims(list(claims.values()), tmp_path / "c.json")
+    data = json.loads((tmp_path / "c.json").read_text())
+    assert {d["id"] for d in data} == set(claims)
+
+
+@pytest.mark.parametrize("cid", REQUIRED + ["yao2022.fig12_13.chattering_ratio_100k"])
+def test_claim_verdict(claims, cid):
+    c = claims[cid]
+    if cid in KNOWN_FAILING:
+        assert not c.passed and "Why:" in c.statement, f"{cid} now passes: update KNOWN_FAILING"
+    else:
+        assert c.passed, c.statement
+
+
+# ---------------------------------------------------------- the reasons ----
+
+def test_injection_method_is_exact_without_adc_gain_error():
+    """At 100 kr/min the injection reading matches the true error within the
+    claim's 0.005 rad when the ADC has no gain error, and misses it by more
+    than that with the +-1 % gains alone (no noise)."""
+
+    def reading(adc):
+        s = y.steady(100e3, name="x").replace(
+            duration=0.3, i_d_ref=Profile.steps(0.0, (y.INJ_T, 5.0)), adc=adc)
+        r = simulate_lcl(s)
+        b, a = r.window(0.05, y.INJ_T), r.window(y.INJ_T + 0.05, 0.3)
+        inj = math.atan((r["i2_dl"][b].mean() - r["i2_dl"][a].mean()) / r["i2_g"][a].mean())
+        return abs(inj + r.theta_error[b].mean())
+
+    assert reading(IDEAL) <= 0.005
+    assert reading(GAINS_ONLY) > 0.005
+
+
+def test_pll_attenuates_the_chattering_harmonics():
+    """The ripple claims' reason: the closed loop of eq. (48)-(50) passes
+    2 f_e and 3 f_e at 100 kr/min with gain below 0.11 (so a ripple of
+    hundreds of r/min would need kHz angle-error swings of radians)."""
+    g = dz.pll_closed_loop(dz.PllPars())
+    for f in (2 * 100e3 / 60, 3 * 100e3 / 60):
+        assert abs(g(np.exp(2j * np.pi * f * 50e-6))) < 0.11
+
+
+def _peak_after_handover(r, s):
+    closed = r["phase"] > 0.5
+    m = closed & (r.t >= r.t[np.argmax(closed)] + 0.1)
+    return float(np.max(np.abs(r.theta_error[m])))
+
+
+def test_fig14_peak_is_mostly_adc_noise(claims):
+    """Without ADC noise the peak after the handover drops below a third of
+    the noisy one, and with an ideal ADC to about the 0.03 rad the reason
+    quotes (below 0.04)."""
+    s = y.fig14_scenario()
+    noisy = claims["yao2022.fig14.pos_error_peak_rad"].reproduced
+    assert _peak_after_handover(simulate_lcl(s.replace(adc=GAINS_ONLY)), s) < noisy / 3
+    assert _peak_after_handover(simulate_lcl(s.replace(adc=IDEAL)), s) < 0.04
+
+
+def test_fig22_peak_is_adc_noise():
+    """Without ADC noise the reversal's peak error is inside the claim's bound."""
+    s = y.fig22_scenario()
+    r = simulate_lcl(s.replace(adc=GAINS_ONLY))
+    m = r.window(0.05, s.duration) & (np.abs(r.n_rpm) > y.REVERSAL_BAND)
+    assert np.max(np.abs(r.theta_error[m])) <= 0.2
+
+
+def test_linear_observer_keeps_its_poles_with_a_capacitance_error():
+    """Theta = G22 - L G12 designed with 2 C has the designed poles; the true
+    plant only biases the estimate (the reason the Fig. 23 claim fails)."""
+    p = dz.LclMotorPars()
+    lo = dz.linear_observer(dz.dataclasses.replace(p, C1=2 * p.C1), 2 * math.pi * 1000,
+                            (0.4, 0.4, 0.5, 0.5))
+    eig = np.sort(np.abs(np.linalg.eigvals(lo.Theta)))
+    np.testing.assert_allclose(eig, [0.4, 0.4, 0.5, 0.5], atol=1e-6)
