@@ -341,10 +341,9 @@ class LclEngine:
         ptr = out[row0:].ctypes.data_as(ct.POINTER(ct.c_double))
         return int(lib.smd_lcl_engine_run(self._buf, n, ptr, stride))
 
-    def lin_status(self) -> int:
-        # smd_lcl_engine.lin_status sits right after lin_on; read it via a mirror-free
-        # route: the engine logs lin_e_* as 0 after a reset (see simulate_lcl)
-        return 0
+    def run_nolog(self, n: int) -> None:
+        """Run n samples without logging (benchmarks)."""
+        lib.smd_lcl_engine_run(self._buf, n, None, 1)
 
 
 def _describe(rc: int) -> str:
