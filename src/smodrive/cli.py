@@ -88,17 +88,42 @@ def run(scenario: Path, out: Path) -> None:
     except ParameterError as exc:
         console.print(f"[red]error:[/red] {exc}")
         sys.exit(2)
+    from .lcl import CHANNELS as LCL_CHANNELS
+    from .lcl import LclScenario, simulate_lcl
+
+    lcl = isinstance(s, LclScenario)
     out.mkdir(parents=True, exist_ok=True)
     with _progress() as prog:
         task = prog.add_task(s.name, total=1.0)
         try:
-            r = simulate(s, progress=lambda f: prog.update(task, completed=f))
+            sim = simulate_lcl if lcl else simulate
+            r = sim(s, progress=lambda f: prog.update(task, completed=f))
         except (SimulationError, ParameterError) as exc:
             console.print(f"[red]error:[/red] {exc}")
             sys.exit(1)
-    np.savez_compressed(out / "signals.npz", **{c: r[c] for c in _channels()})
+    channels = LCL_CHANNELS if lcl else _channels()
+    np.savez_compressed(out / "signals.npz", **{c: r[c] for c in channels})
     (out / "scenario.toml").write_text(scenario_to_toml(s))
     last = r.window(0.8 * s.duration, s.duration)
+    if lcl:
+        summary = {
+            "name": s.name,
+            "samples": int(r.data.shape[0] * s.log_stride),
+            "status": r.status,
+            "speed_rpm_mean_last_20pct": float(np.mean(r.n_rpm[last])),
+            "speed_estimate_rpm_mean_last_20pct": float(np.mean(r.n_hat_rpm[last])),
+            "i2_delta_mean_last_20pct": float(np.mean(r["i2_dl"][last])),
+            "theta_error_rms_rad_last_20pct": float(np.sqrt(np.mean(r.theta_error[last] ** 2))),
+        }
+        (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+        plots.lcl_time_panels(
+            out, s.name.replace(".", "_"), [r], [s.name], s.name,
+            [("speed (r/min)", [("n_ref_rpm", "reference"), ("n_rpm", "true"),
+                                ("n_hat_rpm", "estimated")]),
+             ("i_2 (A)", [("i2_g", "gamma"), ("i2_dl", "delta")]),
+             ("position error (rad)", [("theta_error", "true")])])
+        console.print(json.dumps(summary, indent=2))
+        return
     summary = {
         "name": s.name,
         "samples": int(r.data.shape[0] * s.log_stride),

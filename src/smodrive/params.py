@@ -317,7 +317,28 @@ _SECTIONS = {
     "adc": AdcCfg,
     "load": LoadCfg,
 }
-_PROFILE_KEYS = {"w_M_ref", "i_d_ref", "i_q_ref", "T_brake", "T_ext"}
+
+
+def _scenario_classes() -> dict[str, type]:
+    """Scenario kinds by the TOML key `kind` (default "pmsm")."""
+    from .lcl import LclScenario  # late: lcl imports this module
+
+    return {"pmsm": Scenario, "lcl": LclScenario}
+
+
+def _sections_of(cls: type) -> dict[str, type]:
+    """Fields of cls that are parameter sections (nested dataclasses)."""
+    obj = cls()
+    out = {}
+    for f in dataclasses.fields(cls):
+        v = getattr(obj, f.name)
+        if dataclasses.is_dataclass(v) and not isinstance(v, Profile):
+            out[f.name] = type(v)
+    return out
+
+
+def _is_profile(cls: type, name: str) -> bool:
+    return isinstance(getattr(cls(), name, None), Profile)
 
 
 def _profile_from(name: str, v: Any, scale: float = 1.0) -> Profile:
@@ -347,7 +368,7 @@ def _build(cls: type, section: str, data: dict[str, Any]) -> Any:
             raise ParameterError(
                 f"{section}.{key}: unknown parameter (known: {', '.join(sorted(names))})"
             )
-        if key in _PROFILE_KEYS:
+        if _is_profile(cls, key):
             kwargs[key] = _profile_from(f"{section}.{key}", value)
         elif isinstance(value, list):
             kwargs[key] = tuple(value)
@@ -356,16 +377,24 @@ def _build(cls: type, section: str, data: dict[str, Any]) -> Any:
     return cls(**kwargs)
 
 
-def scenario_from_dict(data: dict[str, Any]) -> Scenario:
+def scenario_from_dict(data: dict[str, Any]) -> Any:
+    """A Scenario (or, with kind = "lcl", an LclScenario) from parsed TOML."""
+    data = dict(data)
+    kinds = _scenario_classes()
+    kind = data.pop("kind", "pmsm")
+    if kind not in kinds:
+        raise ParameterError(f"kind = {kind!r} is not one of {', '.join(kinds)}")
+    cls = kinds[kind]
+    sections = _sections_of(cls)
     top: dict[str, Any] = {}
     for key, value in data.items():
-        if key in _SECTIONS:
+        if key in sections:
             if not isinstance(value, dict):
                 raise ParameterError(f"[{key}] must be a table")
-            top[key] = _build(_SECTIONS[key], key, value)
+            top[key] = _build(sections[key], key, value)
         else:
             top[key] = value
-    return _build(Scenario, "scenario", top)
+    return _build(cls, "scenario", top)
 
 
 def load_scenario(path: str | Path) -> Scenario:
@@ -376,7 +405,8 @@ def load_scenario(path: str | Path) -> Scenario:
     except tomllib.TOMLDecodeError as exc:
         raise ParameterError(f"{path}: not valid TOML: {exc}") from exc
     s = scenario_from_dict(data)
-    s.check_controller()
+    if isinstance(s, Scenario):
+        s.check_controller()
     return s
 
 
@@ -395,12 +425,13 @@ def scenario_to_toml(s: Scenario) -> str:
             return "{ t = " + val(v.t) + ", y = " + val(v.y) + " }"
         return repr(v)
 
-    lines = []
+    sections = _sections_of(type(s))
+    lines = [] if isinstance(s, Scenario) else ['kind = "lcl"']
     for f in dataclasses.fields(s):
         v = getattr(s, f.name)
-        if f.name not in _SECTIONS:
+        if f.name not in sections:
             lines.append(f"{f.name} = {val(v)}")
-    for sec in _SECTIONS:
+    for sec in sections:
         lines.append(f"\n[{sec}]")
         obj = getattr(s, sec)
         for f in dataclasses.fields(obj):
