@@ -34,7 +34,6 @@ REQUIRED = (
 )
 
 KNOWN_FAILING = {
-    "yao2022.fig10.pos_error_rad_100k": "ADC gain error against the 30 A delta current",
     **{f"yao2022.table5.ripple_rpm_{law}_{t}": "the PLL attenuates the chattering"
        for law in ("baseline", "proposed") for t in ("30k", "60k", "100k")},
     "yao2022.table5.ripple_reduction_100k": "ripple set by noise, not chattering",
@@ -77,15 +76,17 @@ def test_claim_verdict(claims, cid):
 # ---------------------------------------------------------- the reasons ----
 
 def test_injection_method_is_exact_without_adc_gain_error():
-    """At 100 kr/min the injection reading matches the true error within the
-    claim's 0.005 rad when the ADC has no gain error, and misses it by more
-    than that with the +-1 % gains alone (no noise)."""
+    """At 100 kr/min, without ADC noise, the injection reading matches the
+    true error within 5 mrad when the ADC has no gain error, and misses it by
+    more than that with the +-1 % gains alone: the ADC scaling error is what
+    limits the method at high current (the 0.3 A it puts on a 30 A delta
+    current is 0.06 A-equivalent after averaging against a 5 A injection)."""
 
     def reading(adc):
         s = y.steady(100e3, name="x").replace(
-            duration=0.3, i_d_ref=Profile.steps(0.0, (y.INJ_T, 5.0)), adc=adc)
+            duration=y.INJ_T + 0.2, i_d_ref=Profile.steps(0.0, (y.INJ_T, 5.0)), adc=adc)
         r = simulate_lcl(s)
-        b, a = r.window(0.05, y.INJ_T), r.window(y.INJ_T + 0.05, 0.3)
+        b, a = r.window(y.INJ_T - 0.15, y.INJ_T), r.window(y.INJ_T + 0.05, s.duration)
         inj = math.atan((r["i2_dl"][b].mean() - r["i2_dl"][a].mean()) / r["i2_g"][a].mean())
         return abs(inj + r.theta_error[b].mean())
 

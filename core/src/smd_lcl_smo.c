@@ -129,7 +129,9 @@ static smd_cplx harmonic(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, smd_
     if (!(D < (smd_real)(SMD_LCL_SMO_DELAY - 2)) || D < SMD_R(0.0)) {
         return smd_c(SMD_R(0.0), SMD_R(0.0));
     }
-    smd_bandpass_set(bp, h * w_abs, bw, p->T);
+    if (smd_bandpass_set(bp, h * w_abs, bw, p->T) != SMD_OK) {
+        return smd_c(SMD_R(0.0), SMD_R(0.0));
+    }
     return smd_bandpass_step(bp, delayed(s, D, W));
 }
 

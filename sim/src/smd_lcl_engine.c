@@ -49,7 +49,6 @@ int smd_lcl_engine_init(smd_lcl_engine *e, const smd_lcl_config *plant,
     e->k = 0;
     e->T = plant->T_sw;
     e->last_status = 0;
-    e->lin_status = 0;
     return 0;
 }
 

@@ -27,7 +27,12 @@ class Claim:
     why_fail: str = ""  # the reason, stated in the claim if it fails
 
     def __post_init__(self) -> None:
-        self.passed = self.evaluate()
+        # plain Python numbers (NumPy scalars do not serialise to JSON)
+        for name in ("paper", "expected", "reproduced", "tolerance"):
+            v = getattr(self, name)
+            if v is not None:
+                setattr(self, name, float(v))
+        self.passed = bool(self.evaluate())
         if not self.passed and "FAILS" not in self.statement:
             self.statement += f" FAILS: {self.describe_check()}, reproduced {self.reproduced:.4g}."
             if self.why_fail:

@@ -244,7 +244,6 @@ class LclResult:
     scenario: LclScenario
     data: np.ndarray
     status: int
-    lin_status: int
 
     def __getitem__(self, name: str) -> np.ndarray:
         return self.data[:, CHANNELS.index(name)]
@@ -296,8 +295,15 @@ class LclEngine:
         k_t = 1.5 * p.n_p * p.psi_m
         i_q0 = 0.0 if s.start_open_loop or k_t == 0 else T_L0 / k_t
         if not s.start_open_loop:
+            # steady state of the LCL in the rotor frame with i_2 = j i_q0:
+            # u_c = j w psi + (R + j w L2) i_2, i_1 = i_2 + j w C1 u_c
+            w_e = w_M0 * p.n_p
+            L2 = p.L2o + p.Ls
+            uc = 1j * w_e * p.psi_m + (p.R + 1j * w_e * L2) * 1j * i_q0
+            i1 = 1j * i_q0 + 1j * w_e * p.C1 * uc
             pc.i2_q0 = i_q0
-            pc.i1_q0 = i_q0
+            pc.uc_d0, pc.uc_q0 = uc.real, uc.imag
+            pc.i1_d0, pc.i1_q0 = i1.real, i1.imag
         self._pc = pc
         L_tot = p.L1 + p.L2o + p.Ls
         b = 1.5 * p.n_p**2 * p.psi_m / p.J
@@ -383,4 +389,4 @@ def simulate_lcl(s: LclScenario, progress: Callable[[float], None] | None = None
         first = int(np.argmax(bad.any(axis=1)))
         raise SimulationError(f"{s.name}: non-finite values at t = {out[first, 0]:.6f} s")
     status = int(np.max(out[:, -1])) if row else 0
-    return LclResult(s, out, status, 0)
+    return LclResult(s, out, status)

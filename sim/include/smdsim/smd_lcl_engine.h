@@ -1,9 +1,9 @@
 /*
  * Engine for the LCL-filtered drive (yao2022): couples smd_lcl_plant (double)
  * with the firmware controller smd_lcl_drive (float) with one sample of
- * computational delay, optionally runs the linear reduced-order observer
- * (64)-(65) alongside on the same measurements (robustness comparison), and
- * logs into a caller-owned buffer. Same timeline as smd_engine.h.
+ * computational delay and logs into a caller-owned buffer. Same timeline as
+ * smd_engine.h. Given a table for it, the drive also runs the linear
+ * reduced-order observer (64)-(65), alongside or as its position source.
  */
 #ifndef SMD_LCL_ENGINE_H
 #define SMD_LCL_ENGINE_H
@@ -50,7 +50,6 @@ typedef struct smd_lcl_engine {
     smd_lcl_drive_state ctrl_s;
     smd_linobs_params lin_p;
     int lin_on;
-    int lin_status;
     smd_profiles prof;
     double d_abc[3];
     long k;

@@ -183,20 +183,27 @@ def run_fig7(progress: ProgressFn) -> Outcome:
 # ------------------------------------------------------ Figs. 9 and 10 ------
 
 PAPER_FIG10 = {30e3: 0.018, 60e3: 0.008, 100e3: 0.024}  # rad, Sec. VII-A
-INJ_T = 0.15  # +5 A on gamma from here
+INJ_T = 0.3  # +5 A on gamma from here (after the start transient has settled)
 
 
 def run_fig9_10(progress: ProgressFn) -> Outcome:
     claims, res = [], {}
     for n in SPEEDS:
         s = steady(n, name=f"yao2022.fig10.{TAG[n]}").replace(
-            duration=0.3, i_d_ref=Profile.steps(0.0, (INJ_T, 5.0)))
+            duration=INJ_T + 0.2, i_d_ref=Profile.steps(0.0, (INJ_T, 5.0)))
         r = _sim(s, progress)
         res[s.name] = r
-        before, after = r.window(0.05, INJ_T), r.window(INJ_T + 0.05, s.duration)
+        before, after = r.window(INJ_T - 0.15, INJ_T), r.window(INJ_T + 0.05, s.duration)
         i_dl1, i_dl2 = np.mean(r["i2_dl"][before]), np.mean(r["i2_dl"][after])
         i_g2 = np.mean(r["i2_g"][after])
         inj = float(math.atan((i_dl1 - i_dl2) / i_g2))  # eq. (60)
+        # standard error of each window mean by batch means (10 batches): the
+        # delta current carries the speed loop's noise-driven wander
+        def sem(x: np.ndarray) -> float:
+            b = np.array_split(x, 10)
+            return float(np.std([np.mean(v) for v in b], ddof=1) / math.sqrt(len(b)))
+
+        sigma = math.hypot(sem(r["i2_dl"][before]), sem(r["i2_dl"][after])) / abs(i_g2)
         # eq. (59) holds for the error theta_hat - theta (eq. (47) uses the
         # opposite sign, theta - theta_hat, as r.theta_error does)
         true_err = -float(np.mean(r.theta_error[before]))
@@ -208,10 +215,11 @@ def run_fig9_10(progress: ProgressFn) -> Outcome:
                        "expected: the simulation's true mean error before the injection, "
                        "which the method measures."),
             paper=PAPER_FIG10[n], expected=true_err, reproduced=inj, unit="rad",
-            tolerance=0.005,
-            basis="the method divides a difference of mean delta currents (resolved to about "
-                  "0.01 A over 0.1 s) by 5 A: 0.002 rad, and the injection itself shifts the "
-                  "operating point of the observer: 0.005 rad in all",
+            tolerance=round(0.003 + 3 * sigma, 4),
+            basis=(f"the method divides a difference of two mean delta currents by 5 A; their "
+                   f"standard error (batch means) gives sigma = {sigma:.4f} rad, and the "
+                   "injection shifts the observer's own error by up to about 3 mrad: "
+                   "3 mrad + 3 sigma"),
             why_fail="at 100 kr/min the injected 5 A moves the observer's own error by about "
                      "3 mrad and the +-1 % ADC gain errors act on a 30 A delta current "
                      "(0.3 A against the 5 A injection), so the method's reading is off by "
@@ -233,7 +241,7 @@ def run_fig9_10(progress: ProgressFn) -> Outcome:
         rs = list(res.values())
         return plots.lcl_time_panels(
             fig_dir, "yao2022_fig10", rs, [f"{n / 1e3:g} kr/min" for n in SPEEDS],
-            "Figs. 9-10: position accuracy by +5 A gamma injection at 0.15 s",
+            f"Figs. 9-10: position accuracy by +5 A gamma injection at {INJ_T:g} s",
             [("i_2 gamma, delta (A)", [("i2_g", "gamma"), ("i2_dl", "delta")]),
              ("position error (rad)", [("theta_error", "true"),
                                        ("theta_err_est", "estimated, eq. (47)")]),
