@@ -46,5 +46,11 @@ test: ctest pytest
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_engine.py
 
+# Side by side with motulator (issue 4): installs motulator into its own venv
+# (benchmarks/.motulator-venv), never into .venv; see benchmarks/README.md.
+.PHONY: bench-motulator
+bench-motulator: $(STAMP)
+	$(BIN)/python benchmarks/vs_motulator.py --out benchmarks/results
+
 clean:
 	rm -rf build $(VENV) $(OUT)
