@@ -106,8 +106,9 @@ def main() -> None:
               f"{r['steps_per_s_median']:12,.0f} {r['steps_per_s_max']:12,.0f} "
               f"{r['sim_s_per_wall_s']:12.1f} {r['vs_motulator']:12,.0f}")
     print("x motulator: against the ~330 (carrier) / ~1000 (averaged) steps/s quoted for "
-          "motulator; issue 4 measures it side by side. Targets: >= 1,000,000 steps/s for the "
-          "yang2018 drive with carrier PWM, >= 400,000 for the LCL drive at 20 kHz")
+          "motulator; benchmarks/vs_motulator.py measures it side by side. Targets: "
+          ">= 1,000,000 steps/s for the yang2018 drive with carrier PWM, "
+          ">= 400,000 for the LCL drive at 20 kHz")
     if a.json:
         with open(a.json, "w") as f:
             json.dump(rows, f, indent=2)
