@@ -148,8 +148,9 @@ def setup_motulator(venv: Path, forced_python: str | None, spec: str | None) -> 
             "venv": str(venv)}
     stamp.write_text(json.dumps(info, indent=2))
     if ver < (3, 12):
-        log("note: Python 3.11 only: motulator_side.py is written for motulator's 0.18 API; "
-            "an older release may not run it (see benchmarks/README.md)")
+        log("note: Python 3.11 only: motulator_side.py bridges motulator 0.5's older API to "
+            "the same conventions (see benchmarks/README.md); other releases before 0.18 "
+            "are not supported")
     return info
 
 
@@ -469,6 +470,13 @@ def _k(x: float) -> str:
     return f"{x:.0f}"
 
 
+def _motulator_controller(version: str | None) -> str:
+    """The class motulator_side.py runs for the closed loop of this release."""
+    if version and version.startswith("0.5."):
+        return "CurrentVectorControl with a SpeedController at 60 rad/s"
+    return "VectorControlSystem"
+
+
 def markdown(R: dict) -> str:
     mpy = R["meta"].get("motulator_python")
     L = [f"# smodrive vs motulator ({R['meta']['date']})", "",
@@ -506,7 +514,7 @@ def markdown(R: dict) -> str:
               f"{sp['seconds']:g} s simulated ({int(round(sp['seconds'] / T_SP)):,} control "
               f"steps), {sp['repeat']} repetitions, alternating. smodrive: sensorless robust "
               "DBPC + SMDO (simulate()); motulator: sensorless current-vector control "
-              "(VectorControlSystem), default solver.", "",
+              f"({_motulator_controller(R['meta'].get('motulator'))}), default solver.", "",
               "| PWM | smodrive steps/s min / median / max | motulator steps/s min / median / "
               "max | ratio (medians) | target | | end speed r/min (smodrive / motulator) |",
               "|---|---|---|---|---|---|---|"]
