@@ -17,6 +17,7 @@ from .params import RPM, MotorPars  # noqa: E402
 from .simulate import Result  # noqa: E402
 
 plt.rcParams.update({"figure.dpi": 110, "font.size": 8, "axes.grid": True, "grid.alpha": 0.3,
+                     "figure.constrained_layout.use": True,
                      "lines.linewidth": 0.9})
 
 
