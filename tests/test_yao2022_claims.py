@@ -64,7 +64,8 @@ def test_claims_json(claims, tmp_path):
     assert {d["id"] for d in data} == set(claims)
 
 
-@pytest.mark.parametrize("cid", REQUIRED + ["yao2022.fig12_13.chattering_ratio_100k"])
+@pytest.mark.parametrize("cid", REQUIRED + ["yao2022.fig12_13.chattering_ratio_100k",
+                                            "yao2022.table5.harmonic_ripple_reduction_100k"])
 def test_claim_verdict(claims, cid):
     c = claims[cid]
     if cid in KNOWN_FAILING:
