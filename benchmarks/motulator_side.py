@@ -260,20 +260,13 @@ def _parts_05(job: dict, tau_L):
     return model, par, mdl
 
 
-class OpenLoop05:
+class OpenLoop05(OpenLoop):
     """OpenLoop for 0.5 (called once per sampling period through
     `_SingleUpdate`): records the plant at t_k, holds the k-th load torque for
     the mechanics' tau_L(t) and returns the k-th duties."""
 
     def __init__(self, T_s: float, d: np.ndarray, T_L: np.ndarray):
-        self.T_s, self.d, self.T_L = T_s, d, T_L
-        n = len(d)
-        self.k = 0
-        self.i_s = np.zeros(n, complex)
-        self.w_M = np.zeros(n)
-        self.theta_m = np.zeros(n)
-        self.theta_M = np.zeros(n)
-        self.t = np.zeros(n)
+        super().__init__(T_s, d, T_L)
         self._tau_L = 0.0
 
     def tau_L(self, t):
@@ -292,9 +285,6 @@ class OpenLoop05:
         self._tau_L = float(self.T_L[k])
         self.k += 1
         return self.T_s, list(self.d[k])
-
-    def post_process(self):
-        return None
 
 
 def agree_05(job: dict) -> None:
