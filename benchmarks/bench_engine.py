@@ -44,15 +44,19 @@ def bench(pwm: str, seconds: float, repeat: int, log: bool) -> dict:
             _ffi.lib.smd_engine_run(eng._buf, n, None, 1)
         dt = time.perf_counter() - t0
         rates.append(n / dt)
+    return _summary(pwm, pwm, log, n, rates, s.T_sp)
+
+
+def _summary(label: str, pwm: str, log: bool, n: int, rates: list[float], T_sp: float) -> dict:
     med = statistics.median(rates)
     return {
-        "pwm": pwm,
+        "pwm": label,
         "logging": log,
         "steps": n,
         "steps_per_s_min": min(rates),
         "steps_per_s_median": med,
         "steps_per_s_max": max(rates),
-        "sim_s_per_wall_s": med * s.T_sp,
+        "sim_s_per_wall_s": med * T_sp,
         "vs_motulator": med / MOTULATOR_STEPS_PER_S[pwm],
     }
 
@@ -74,17 +78,7 @@ def bench_lcl(pwm: str, seconds: float, repeat: int, log: bool) -> dict:
             eng.run_nolog(n)
         dt = time.perf_counter() - t0
         rates.append(n / dt)
-    med = statistics.median(rates)
-    return {
-        "pwm": f"{pwm} (LCL)",
-        "logging": log,
-        "steps": n,
-        "steps_per_s_min": min(rates),
-        "steps_per_s_median": med,
-        "steps_per_s_max": max(rates),
-        "sim_s_per_wall_s": med * s.T_sp,
-        "vs_motulator": med / MOTULATOR_STEPS_PER_S[pwm],
-    }
+    return _summary(f"{pwm} (LCL)", pwm, log, n, rates, s.T_sp)
 
 
 def main() -> None:

@@ -94,6 +94,14 @@ class OpenLoop:
         return None
 
 
+def _write_open_loop(job: dict, ctrl: OpenLoop, n: int, wall: float) -> None:
+    """The signals recorded at t_0 .. t_{n-1} (.npz) and the timing (JSON)."""
+    np.savez(job["output"], t=ctrl.t, i_s=ctrl.i_s, w_M=ctrl.w_M, theta_m=ctrl.theta_m,
+             theta_M=ctrl.theta_M, n=min(ctrl.k, n))
+    with open(job["output_json"], "w") as f:
+        json.dump({"wall_s": wall, "samples": int(min(ctrl.k, n)), "motulator": _version()}, f)
+
+
 def agree(job: dict) -> None:
     from motulator.common.model._simulation import SolverCfg
 
@@ -113,16 +121,12 @@ def agree(job: dict) -> None:
     # t_0 .. t_{n-1} are recorded (and period n-1 integrated) for t_stop = (n - 0.5) T
     sim.simulate(t_stop=(n - 0.5) * T)
     wall = time.perf_counter() - t0
-    np.savez(job["output"], t=ctrl.t, i_s=ctrl.i_s, w_M=ctrl.w_M, theta_m=ctrl.theta_m,
-             theta_M=ctrl.theta_M, n=min(ctrl.k, n))
-    with open(job["output_json"], "w") as f:
-        json.dump({"wall_s": wall, "samples": int(min(ctrl.k, n)), "motulator": _version()}, f)
+    _write_open_loop(job, ctrl, n, wall)
 
 
 def _pwl(points: list[list[float]]):
-    tt = [p[0] for p in points]
-    yy = [p[1] for p in points]
-    return lambda t: float(np.interp(t, tt, yy))
+    f = _pwl_array(points)
+    return lambda t: float(f(t))
 
 
 def closed(job: dict) -> None:
@@ -304,10 +308,7 @@ def agree_05(job: dict) -> None:
         sim.simulate(t_stop=(n - 0.25) * T,
                      max_step=s["max_step"] if s["max_step"] > 0 else np.inf)
     wall = time.perf_counter() - t0
-    np.savez(job["output"], t=ctrl.t, i_s=ctrl.i_s, w_M=ctrl.w_M, theta_m=ctrl.theta_m,
-             theta_M=ctrl.theta_M, n=min(ctrl.k, n))
-    with open(job["output_json"], "w") as f:
-        json.dump({"wall_s": wall, "samples": int(min(ctrl.k, n)), "motulator": _version()}, f)
+    _write_open_loop(job, ctrl, n, wall)
 
 
 def _pwl_array(points: list[list[float]]):
