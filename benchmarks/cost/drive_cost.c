@@ -18,7 +18,6 @@
 #include <string.h>
 
 #include "smodrive/smd_drive.h"
-#include "smodrive/smd_lcl_drive.h"
 
 #define N 1000
 
@@ -26,8 +25,13 @@ static smd_drive_config config(int mode)
 {
     smd_drive_config c;
     const float b = 1.5f * 16.0f * 0.4f / 0.012f; /* 1.5 n_p^2 psi / J */
+    /* yang2018's conventional, robust and sensorless drives */
+    static const int current[3] = {SMD_CC_DBPC, SMD_CC_ROBUST_DBPC, SMD_CC_ROBUST_DBPC};
+    static const int position[3] = {SMD_POS_ENCODER, SMD_POS_ENCODER, SMD_POS_SMDO_EMF};
     memset(&c, 0, sizeof c);
-    c.mode = mode;
+    c.current = current[mode];
+    c.position = position[mode];
+    c.start = SMD_START_RUNNING;
     c.T_sp = 100e-6f;
     c.L_s_hat = 23.45e-3f;
     c.R_s_hat = 2.25f;
@@ -36,8 +40,8 @@ static smd_drive_config config(int mode)
     c.l = 1200.0f;
     c.w_c = 1500.0f;
     c.rho = 0.2f;
-    c.k_p = 2.0f * 60.0f / b;
-    c.k_i = 60.0f * 60.0f / b;
+    c.k_p_w = 2.0f * 60.0f / b;
+    c.k_i_w = 60.0f * 60.0f / b;
     c.i_max = 15.0f;
     c.speed_decimation = 1;
     c.speed_loop = 1;
@@ -67,10 +71,10 @@ static void make_inputs(void)
         const float ia = -iq * sinf(th), i_beta = iq * cosf(th);
         inputs[k].i_a = ia;
         inputs[k].i_b = -0.5f * ia + 0.8660254f * i_beta;
-        inputs[k].theta_r = smd_wrap_pi(th);
-        inputs[k].w_r = w;
+        inputs[k].theta_enc = smd_wrap_pi(th);
+        inputs[k].w_enc = w;
         inputs[k].u_dc = 540.0f;
-        inputs[k].w_r_ref = w;
+        inputs[k].w_ref = w;
         inputs[k].i_dq_ref = smd_c(0.0f, 0.0f);
     }
 }
@@ -103,8 +107,6 @@ static int sizes(void)
     SZ(smd_smdo_state);
     SZ(smd_emf_pos_state);
     SZ(smd_pi_state);
-    SZ(smd_lcl_drive_params);
-    SZ(smd_lcl_drive_state);
     SZ(smd_lcl_smo_params);
     SZ(smd_lcl_smo_state);
     SZ(smd_lcl_model);
@@ -132,8 +134,7 @@ int main(int argc, char **argv)
             fprintf(stderr, "init failed for mode %d\n", mode);
             return 1;
         }
-        smd_drive_reset(&p, &s, 0.0f, 628.3185f);
-        smd_drive_set_speed_integrator(&s, 6.37f);
+        smd_drive_reset(&p, &s, 0.0f, 628.3185f, 6.37f);
         for (k = 0; k < N; k++) {
             smd_drive_out out;
             if (wrappers[mode](&p, &s, &inputs[k], &out) != SMD_OK) {

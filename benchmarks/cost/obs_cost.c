@@ -48,13 +48,14 @@ int main(void)
     smd_pll_state ps;
     smd_lcl_model m;
     const smd_real w = 10471.98f; /* 100 kr/min, one pole pair */
+    smd_lcl_smo_config oc = {50e-6f, SMD_LCL_SMO_PROPOSED, table, NTAB, 0.0f, 4000.0f,
+                             0.5f, 0.5f, 0.2f, 0.2f, 500.0f};
     int k, i;
     float *f = (float *)table;
     for (i = 0; i < (int)(sizeof(table) / sizeof(float)); i++) {
         f[i] = 0.01f * (float)((i * 7919) % 13 - 6);
     }
-    if (smd_lcl_smo_init(&p, 50e-6f, SMD_LCL_SMO_PROPOSED, table, NTAB, 0.0f, 4000.0f, 0.5f,
-                         0.5f, 0.2f, 0.2f, 500.0f) != SMD_OK ||
+    if (smd_lcl_smo_init(&p, &oc) != SMD_OK ||
         smd_pll_init(&pp, 50e-6f, 0.1f, 10.0f, 10.0f) != SMD_OK) {
         fprintf(stderr, "init failed\n");
         return 1;

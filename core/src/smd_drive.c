@@ -1,5 +1,37 @@
 #include "smodrive/smd_drive.h"
+
 #include "smodrive/smd_transforms.h"
+
+static int is_flag(int x) { return x == 0 || x == 1; }
+
+static int lcl_source(int position)
+{
+    return position == SMD_POS_LCL_SMO_PLL || position == SMD_POS_LCL_LINEAR;
+}
+
+/* Which parts fit together (SMD_ERR_COMBINATION otherwise). */
+static smd_status check_parts(const smd_drive_config *c)
+{
+    if (c->current < SMD_CC_PI || c->current > SMD_CC_ROBUST_DBPC ||
+        c->position < SMD_POS_ENCODER || c->position > SMD_POS_LCL_LINEAR ||
+        c->start < SMD_START_RUNNING || c->start > SMD_START_IF || !is_flag(c->lcl) ||
+        !is_flag(c->speed_loop) || !is_flag(c->emf_ff) || !is_flag(c->smdo_euler)) {
+        return SMD_ERR_MODE;
+    }
+    if (lcl_source(c->position) && !c->lcl) {
+        return SMD_ERR_COMBINATION; /* the LCL observers model the filter */
+    }
+    if (c->lcl && c->current != SMD_CC_PI) {
+        return SMD_ERR_COMBINATION; /* DBPC of i_2 through the filter is not designed */
+    }
+    if (c->lcl && c->position == SMD_POS_SMDO_EMF) {
+        return SMD_ERR_COMBINATION; /* the SMDO's model (15) has no filter */
+    }
+    if (!c->lcl && smd_in_range(c->R_v, SMD_R(0.0), SMD_R(1e4)) && c->R_v > SMD_R(0.0)) {
+        return SMD_ERR_COMBINATION; /* active damping needs the filter current i_1 */
+    }
+    return SMD_OK;
+}
 
 smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
 {
@@ -7,33 +39,59 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
     if (p == 0 || c == 0) {
         return SMD_ERR_NULL;
     }
-    if (c->mode < SMD_DRIVE_CONVENTIONAL || c->mode > SMD_DRIVE_SENSORLESS) {
-        return SMD_ERR_MODE;
+    st = check_parts(c);
+    if (st != SMD_OK) {
+        return st;
+    }
+    if (!smd_in_pos_range(c->T_sp, SMD_R(1.0))) {
+        return SMD_ERR_TS;
     }
     if (c->speed_decimation < 1 || c->speed_decimation > 1000) {
         return SMD_ERR_DECIMATION;
     }
-    if (c->speed_loop != 0 && c->speed_loop != 1) {
-        return SMD_ERR_MODE;
-    }
-    p->mode = c->mode;
-    p->speed_decimation = c->speed_decimation;
-    p->speed_loop = c->speed_loop;
     if (c->handover < 0) {
         return SMD_ERR_HANDOVER;
     }
-    p->handover = c->handover;
     if (!smd_in_range(c->t_dead_comp, SMD_R(0.0), SMD_R(0.25) * c->T_sp) ||
         !(smd_in_range(c->i_dtc, SMD_R(0.0), SMD_R(1e5)) && c->i_dtc > SMD_R(0.0))) {
         return SMD_ERR_DEADTIME;
     }
+    if (!smd_in_range(c->psi_r_hat, SMD_R(0.0), SMD_R(100.0))) {
+        return SMD_ERR_PSI;
+    }
+    p->current = c->current;
+    p->position = c->position;
+    p->start = c->start;
+    p->lcl = c->lcl;
+    p->T_sp = c->T_sp;
+    p->use_smdo = c->current == SMD_CC_ROBUST_DBPC || c->position == SMD_POS_SMDO_EMF;
+    p->speed_loop = c->speed_loop;
+    p->speed_decimation = c->speed_decimation;
+    p->handover = c->handover;
+    p->emf_ff = c->emf_ff;
+    p->psi_r_hat = c->psi_r_hat;
     p->dtc_ratio = c->t_dead_comp / c->T_sp;
     p->i_dtc = c->i_dtc;
-    st = smd_dbpc_init(&p->dbpc, c->T_sp, c->L_s_hat, c->R_s_hat, c->psi_r_hat);
-    if (st != SMD_OK) {
-        return st;
+
+    if (c->current != SMD_CC_PI) {
+        st = smd_dbpc_init(&p->dbpc, c->T_sp, c->L_s_hat, c->R_s_hat, c->psi_r_hat);
+        if (st != SMD_OK) {
+            return st;
+        }
     }
-    if (c->mode != SMD_DRIVE_CONVENTIONAL) {
+    if (c->current == SMD_CC_PI) {
+        if (!smd_in_range(c->k_p_i, SMD_R(0.0), SMD_R(1e4)) ||
+            !smd_in_range(c->k_i_i, SMD_R(0.0), SMD_R(1e9)) ||
+            !smd_in_range(c->L_dec, SMD_R(0.0), SMD_R(10.0)) ||
+            !smd_in_range(c->R_v, SMD_R(0.0), SMD_R(1e4))) {
+            return SMD_ERR_CURRENT_PI;
+        }
+    }
+    p->k_p_i = c->k_p_i;
+    p->k_i_i = c->k_i_i;
+    p->L_dec = c->L_dec;
+    p->R_v = c->lcl ? c->R_v : SMD_R(0.0);
+    if (p->use_smdo) {
         st = smd_smdo_init(&p->smdo, c->T_sp, c->L_s_hat, c->R_s_hat, c->lambda_min, c->l,
                            c->w_c, c->rho);
         if (st != SMD_OK) {
@@ -44,8 +102,8 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
             return st;
         }
     }
-    if (c->mode == SMD_DRIVE_SENSORLESS) {
-        st = smd_emf_pos_init(&p->pos, c->T_sp, c->w_lpf, c->w_hys, c->w_max);
+    if (c->position == SMD_POS_SMDO_EMF) {
+        st = smd_emf_pos_init(&p->emf, c->T_sp, c->w_lpf, c->w_hys, c->w_max);
         if (st != SMD_OK) {
             return st;
         }
@@ -60,118 +118,336 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
             }
         }
     }
-    st = smd_pi_init(&p->pi, c->k_p, c->k_i, c->T_sp * (smd_real)c->speed_decimation, c->i_max);
+    if (lcl_source(c->position)) {
+        st = smd_pll_init(&p->pll, c->T_sp, c->k_theta, c->k_omega, c->k_a);
+        if (st != SMD_OK) {
+            return st;
+        }
+    }
+    if (c->position == SMD_POS_LCL_SMO_PLL) {
+        if (!(c->smo.T_sp == c->T_sp)) {
+            return SMD_ERR_TS;
+        }
+        st = smd_lcl_smo_init(&p->smo, &c->smo);
+        if (st != SMD_OK) {
+            return st;
+        }
+    }
+    if (c->position == SMD_POS_LCL_LINEAR) {
+        st = smd_linobs_init(&p->lin, &c->lin);
+        if (st != SMD_OK) {
+            return st;
+        }
+    }
+    if (c->start == SMD_START_IF) {
+        if (!smd_in_range(c->i_start, SMD_R(0.0), SMD_R(1e5)) ||
+            !smd_in_range(c->a_start, SMD_R(0.0), SMD_R(1e9)) ||
+            !smd_in_range(c->w_handover, SMD_R(0.0), SMD_PI / c->T_sp)) {
+            return SMD_ERR_START;
+        }
+    }
+    p->i_start = c->i_start;
+    p->a_start = c->a_start;
+    p->w_handover = c->w_handover;
+    p->i_max = c->i_max;
+    st = smd_pi_init(&p->speed_pi, c->k_p_w, c->k_i_w, c->T_sp * (smd_real)c->speed_decimation,
+                     c->i_max);
     if (st != SMD_OK) {
         return st;
     }
     return smd_svm_init(&p->svm, c->svm_limit, SMD_R(0.0));
 }
 
-void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real theta_r0,
-                     smd_real w_r0)
+void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real theta0,
+                     smd_real w0, smd_real i_q0)
 {
     smd_cplx zero = smd_c(SMD_R(0.0), SMD_R(0.0));
-    s->u_s_ab = zero;
-    s->u_s_ab_ref = zero;
-    s->i_s_ab = zero;
-    s->i_dq_ref = zero;
-    s->theta_r = theta_r0;
-    s->w_r = w_r0;
+    if (p->start == SMD_START_IF) {
+        s->phase = SMD_PHASE_FORCED;
+    } else if (p->start == SMD_START_HANDOVER && p->handover > 0) {
+        s->phase = SMD_PHASE_ENCODER;
+    } else {
+        s->phase = SMD_PHASE_SOURCE;
+    }
+    s->samples = 0;
     s->count = 0;
     s->primed = 0;
-    s->samples = 0;
+    s->theta = smd_wrap_pi(theta0);
+    s->w = w0;
+    s->theta_k = s->theta;
+    s->w_k = w0;
+    s->theta_f = s->theta;
+    s->w_f = w0;
+    s->i_s_ab = zero;
+    s->i_dq = zero;
+    s->i_dq_ref = smd_c(SMD_R(0.0), i_q0);
+    s->x_i = zero;
+    s->u_ab = zero;
+    s->u_ab_next = zero;
+    s->u_ab_ref = zero;
+    smd_pi_reset(&s->speed_pi, i_q0);
     /* The disturbance of a running machine with an exact model is its back
-     * EMF, eq. (43); starting from it is what a flying start would do. */
-    smd_smdo_reset(&s->smdo, zero,
-                   smd_cj(smd_cscale(smd_cexpj(theta_r0), -w_r0 * p->dbpc.psi_r_hat)));
-    smd_emf_pos_reset(&s->pos, w_r0);
-    smd_pi_reset(&s->pi, SMD_R(0.0));
+     * EMF, yang2018 eq. (43); starting from it is what a flying start does. */
+    smd_smdo_reset(&s->smdo, zero, smd_cj(smd_cscale(smd_cexpj(theta0), -w0 * p->psi_r_hat)));
+    s->pos.theta_err = SMD_R(0.0);
+    smd_pll_reset(&s->pos.pll, theta0, w0);
+    switch (p->position) {
+    case SMD_POS_SMDO_EMF: smd_emf_pos_reset(&s->pos.u.emf, w0); break;
+    case SMD_POS_LCL_SMO_PLL: smd_lcl_smo_reset(&s->pos.u.smo, theta0); break;
+    case SMD_POS_LCL_LINEAR: smd_linobs_reset(&s->pos.u.lin); break;
+    default: break;
+    }
+}
+
+static smd_real clampr(smd_real x, smd_real lim)
+{
+    return x > lim ? lim : (x < -lim ? -lim : x);
+}
+
+/* The LCL observers, in the frame predicted for sample k (theta_o, w_o):
+ * the angle error of eq. (47) into s->pos.theta_err. */
+static smd_status observe_lcl(const smd_drive_params *p, smd_drive_state *s, smd_cplx i1_ab,
+                              smd_cplx i2_ab, smd_real theta_o, smd_real w_o)
+{
+    smd_status st;
+    if (p->position == SMD_POS_LCL_SMO_PLL) {
+        st = smd_lcl_smo_step(&p->smo, &s->pos.u.smo, i1_ab, i2_ab, s->u_ab, theta_o, w_o);
+        s->pos.theta_err = smd_lcl_smo_theta_err(&s->pos.u.smo, w_o);
+    } else {
+        /* angle of the linear observer's EMF, e = j w psi e^{j theta} */
+        const smd_linobs_state *l = &s->pos.u.lin;
+        smd_real sg;
+        st = smd_linobs_step(&p->lin, &s->pos.u.lin, i1_ab, i2_ab, s->u_ab, w_o);
+        sg = w_o < SMD_R(0.0) ? SMD_R(-1.0) : SMD_R(1.0);
+        s->pos.theta_err = smd_wrap_pi(SMD_ATAN2(-sg * l->x2[2], sg * l->x2[3]) - theta_o);
+    }
+    return st;
+}
+
+/* The source's back-EMF estimate in the frame of sample k (feed-forward of
+ * the current PI). */
+static smd_cplx emf_estimate(const smd_drive_params *p, const smd_drive_state *s,
+                             smd_real theta_k, smd_real w_k)
+{
+    switch (p->position) {
+    case SMD_POS_LCL_SMO_PLL:
+        return smd_c(s->pos.u.smo.e_hat[0], s->pos.u.smo.e_hat[1]);
+    case SMD_POS_LCL_LINEAR:
+        return smd_ab_to_dq(smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3]), theta_k);
+    case SMD_POS_SMDO_EMF:
+        /* u_d_hat^{k+1} belongs to the middle of [t_{k+1}, t_{k+2}) */
+        return smd_ab_to_dq(s->smdo.u_d_hat, theta_k + SMD_R(1.5) * w_k * p->T_sp);
+    default:
+        return smd_c(SMD_R(0.0), w_k * p->psi_r_hat); /* e = j w psi, rotor frame */
+    }
 }
 
 smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
                           smd_drive_out *out)
 {
+    const smd_real T = p->T_sp;
+    const int lcl_src = lcl_source(p->position);
     smd_status st = SMD_OK;
-    smd_cplx u_ref;
     smd_cplx i_s_ab = smd_ab2_to_ab(in->i_a, in->i_b);
+    smd_cplx i1_ab = p->lcl ? smd_ab2_to_ab(in->i1_a, in->i1_b) : i_s_ab;
+    smd_cplx u_ref;
+    smd_real theta_o = s->theta, w_o = s->w; /* frame predicted for k */
+    smd_real theta_k, w_k, theta_next, w_next;
+
     s->i_s_ab = i_s_ab;
+    s->u_ab = s->u_ab_next; /* the voltage computed last time is the one applied now */
     if (!s->primed) {
-        /* The observer's current starts at the first sample, so that a start
+        /* The SMDO's current starts at the first sample, so that a start
          * under load does not begin with a large sliding error. */
         s->smdo.i_s_hat = i_s_ab;
         s->primed = 1;
     }
 
-    if (p->mode == SMD_DRIVE_SENSORLESS) {
-        /* eq. (44)-(45) from u_d_hat^k, before the observer's update */
-        smd_emf_pos_step(&p->pos, &s->pos, s->smdo.u_d_hat);
-        if (s->samples < p->handover) {
-            /* sensored start: the observer converges on the encoder's angle */
-            s->samples++;
-            s->theta_r = in->theta_r;
-            s->w_r = in->w_r;
+    /* 1. the position source's estimates at k */
+    if (p->position == SMD_POS_SMDO_EMF) {
+        /* eq. (44)-(45) from u_d_hat^k, before the SMDO's update */
+        smd_emf_pos_step(&p->emf, &s->pos.u.emf, s->smdo.u_d_hat);
+    } else if (lcl_src) {
+        st = observe_lcl(p, s, i1_ab, i_s_ab, theta_o, w_o);
+    }
+
+    /* 2. the frame of sample k */
+    if (s->phase == SMD_PHASE_FORCED) {
+        theta_k = theta_o;
+        w_k = w_o;
+    } else if (s->phase == SMD_PHASE_ENCODER || p->position == SMD_POS_ENCODER) {
+        theta_k = in->theta_enc;
+        w_k = in->w_enc;
+    } else if (p->position == SMD_POS_SMDO_EMF) {
+        theta_k = s->pos.u.emf.theta_r_hat;
+        w_k = s->pos.u.emf.w_r_hat;
+    } else {
+        theta_k = theta_o;
+        w_k = w_o;
+    }
+
+    /* 3. the frame of sample k+1 (forced angle, PLL), start-up transitions */
+    if (s->phase == SMD_PHASE_FORCED) {
+        s->w_f += p->a_start * T;
+        s->theta_f = smd_wrap_pi(s->theta_f + s->w_f * T);
+        theta_next = s->theta_f;
+        w_next = s->w_f;
+        if (s->w_f >= p->w_handover) {
+            /* handover: the PLL starts on the observer's angle (forced angle
+             * plus the measured angle error) at the forced speed, the speed
+             * loop on the current that was flowing */
+            s->phase = SMD_PHASE_SOURCE;
+            smd_pll_reset(&s->pos.pll, theta_k + s->pos.theta_err + w_k * T, w_k);
+            smd_pi_reset(&s->speed_pi, s->i_dq_ref.im);
+            s->count = 0;
+            if (lcl_src) {
+                theta_next = s->pos.pll.theta;
+                w_next = s->pos.pll.w;
+            }
+        }
+    } else if (s->phase == SMD_PHASE_ENCODER) {
+        theta_next = smd_wrap_pi(in->theta_enc + in->w_enc * T);
+        w_next = in->w_enc;
+        s->samples++;
+        if (s->samples >= p->handover) {
+            s->phase = SMD_PHASE_SOURCE;
+            smd_pll_reset(&s->pos.pll, theta_next, w_next);
+        }
+    } else if (lcl_src) {
+        /* eq. (48) on the error of eq. (47) */
+        smd_pll_step(&p->pll, &s->pos.pll, s->pos.theta_err);
+        theta_next = s->pos.pll.theta;
+        w_next = s->pos.pll.w;
+    } else {
+        theta_next = theta_k;
+        w_next = w_k;
+    }
+    if (p->position == SMD_POS_LCL_SMO_PLL) {
+        smd_lcl_smo_reframe(&s->pos.u.smo, smd_wrap_pi(theta_next - theta_o - w_o * T));
+    }
+
+    /* 4. current reference: forced, speed loop or input */
+    if (s->phase == SMD_PHASE_FORCED) {
+        s->i_dq_ref = smd_c(SMD_R(0.0), p->i_start);
+    } else {
+        s->i_dq_ref.re = in->i_dq_ref.re;
+        if (p->speed_loop) {
+            if (s->count == 0) {
+                s->i_dq_ref.im = smd_pi_step(&p->speed_pi, &s->speed_pi, in->w_ref - w_k);
+            }
+            s->count = (s->count + 1) % p->speed_decimation;
         } else {
-            s->theta_r = s->pos.theta_r_hat;
-            s->w_r = s->pos.w_r_hat;
+            s->i_dq_ref.im = in->i_dq_ref.im;
         }
-    } else {
-        s->theta_r = in->theta_r;
-        s->w_r = in->w_r;
+    }
+    s->i_dq_ref.re = clampr(s->i_dq_ref.re, p->i_max);
+    s->i_dq_ref.im = clampr(s->i_dq_ref.im, p->i_max);
+
+    /* 5. the SMDO (robust DBPC, and the smdo_emf source) */
+    if (p->use_smdo) {
+        smd_status ss = smd_smdo_step(&p->smdo, &s->smdo, i_s_ab, s->u_ab, w_k);
+        if (ss != SMD_OK) {
+            st = ss;
+        }
     }
 
-    s->i_dq_ref.re = in->i_dq_ref.re;
-    if (p->speed_loop) {
-        if (s->count == 0) {
-            s->i_dq_ref.im = smd_pi_step(&p->pi, &s->pi, in->w_r_ref - s->w_r);
-        }
-        s->count = (s->count + 1) % p->speed_decimation;
-    } else {
-        s->i_dq_ref.im = in->i_dq_ref.im;
-    }
-
-    if (p->mode == SMD_DRIVE_CONVENTIONAL) {
-        u_ref = smd_dbpc_conventional(&p->dbpc, i_s_ab, s->u_s_ab, s->i_dq_ref, s->theta_r,
-                                      s->w_r);
-    } else {
-        smd_cplx i_ref_k2;
-        st = smd_smdo_step(&p->smdo, &s->smdo, i_s_ab, s->u_s_ab, s->w_r);
-        i_ref_k2 = smd_dbpc_ref_k2(&p->dbpc, s->i_dq_ref, s->theta_r, s->w_r);
+    /* 6. current control */
+    s->i_dq = smd_ab_to_dq(i_s_ab, theta_k);
+    switch (p->current) {
+    case SMD_CC_DBPC:
+        u_ref = smd_dbpc_conventional(&p->dbpc, i_s_ab, s->u_ab, s->i_dq_ref, theta_k, w_k);
+        break;
+    case SMD_CC_ROBUST_DBPC: {
+        smd_cplx i_ref_k2 = smd_dbpc_ref_k2(&p->dbpc, s->i_dq_ref, theta_k, w_k);
         u_ref = smd_dbpc_robust(&p->dbpc, s->smdo.i_s_hat, s->smdo.u_d_hat, i_ref_k2);
+        break;
+    }
+    default: {
+        /* PI in the frame of k with cross-coupling decoupling, EMF
+         * feed-forward and (LCL) active damping by a virtual resistance on
+         * the capacitor current i_1 - i_2 */
+        const smd_cplx i2 = s->i_dq;
+        const smd_cplx e = smd_csub(s->i_dq_ref, i2);
+        const smd_cplx x_i = smd_cadd(s->x_i, smd_cscale(e, p->k_i_i * T));
+        smd_cplx u = smd_cadd(smd_cscale(e, p->k_p_i), x_i);
+        u = smd_cadd(u, smd_cscale(smd_cj(i2), w_k * p->L_dec));
+        if (p->emf_ff && s->phase != SMD_PHASE_FORCED) {
+            u = smd_cadd(u, emf_estimate(p, s, theta_k, w_k));
+        }
+        if (p->lcl) {
+            u = smd_csub(u, smd_cscale(smd_csub(smd_ab_to_dq(i1_ab, theta_k), i2), p->R_v));
+        }
+        s->x_i = x_i;
+        /* to the stationary frame at the middle of the application period */
+        u_ref = smd_dq_to_ab(u, theta_k + SMD_R(1.5) * w_k * T);
+        break;
+    }
     }
 
     if (!smd_cfinite(u_ref)) {
         st = SMD_ERR_NONFINITE;
         u_ref = smd_c(SMD_R(0.0), SMD_R(0.0));
+        s->x_i = u_ref;
     }
-    s->u_s_ab_ref = u_ref;
-    smd_svm_step(&p->svm, u_ref, in->u_dc, out->d_abc, &s->u_s_ab);
+    s->u_ab_ref = u_ref;
+    smd_svm_step(&p->svm, u_ref, in->u_dc, out->d_abc, &s->u_ab_next);
+    if (p->current == SMD_CC_PI) {
+        /* anti-windup: keep the integrator where the limited voltage is what
+         * the law would have given */
+        smd_cplx du = smd_csub(s->u_ab_next, u_ref);
+        if (smd_cabs(du) > SMD_R(1e-6) * (SMD_R(1.0) + smd_cabs(u_ref))) {
+            s->x_i = smd_cadd(s->x_i, smd_ab_to_dq(du, theta_k + SMD_R(1.5) * w_k * T));
+        }
+    }
     if (p->dtc_ratio > SMD_R(0.0)) {
         /* current expected in the middle of the next period, t_k + 1.5 T_sp */
         smd_real i_abc[3];
-        smd_cplx i_mid = smd_dq_to_ab(s->i_dq_ref, s->theta_r + SMD_R(1.5) * s->w_r * p->dbpc.T_sp);
+        smd_cplx i_mid = smd_dq_to_ab(s->i_dq_ref, theta_k + SMD_R(1.5) * w_k * T);
         smd_ab_to_abc(i_mid, i_abc);
         smd_svm_deadtime_comp(out->d_abc, i_abc, p->dtc_ratio, p->i_dtc);
+    }
+
+    s->theta_k = theta_k;
+    s->w_k = w_k;
+    s->theta = theta_next;
+    s->w = w_next;
+    if (!smd_cfinite(s->u_ab_next) || !isfinite(theta_next) || !isfinite(w_next)) {
+        s->u_ab_next = smd_c(SMD_R(0.0), SMD_R(0.0));
+        s->x_i = s->u_ab_next;
+        out->d_abc[0] = out->d_abc[1] = out->d_abc[2] = SMD_R(0.5);
+        st = SMD_ERR_NONFINITE;
     }
     return st;
 }
 
-void smd_drive_set_speed_integrator(smd_drive_state *s, smd_real i_q0)
-{
-    smd_pi_reset(&s->pi, i_q0);
-    s->i_dq_ref.im = i_q0;
-}
-
-smd_drive_view smd_drive_get_view(const smd_drive_state *s)
+smd_drive_view smd_drive_get_view(const smd_drive_params *p, const smd_drive_state *s)
 {
     smd_drive_view v;
-    v.i_s_ab = s->i_s_ab;
+    smd_cplx zero = smd_c(SMD_R(0.0), SMD_R(0.0));
     v.i_dq_ref = s->i_dq_ref;
-    v.u_s_ab = s->u_s_ab;
-    v.u_s_ab_ref = s->u_s_ab_ref;
-    v.i_s_hat = s->smdo.i_s_hat;
-    v.u_d_hat = s->smdo.u_d_hat;
-    v.theta_r = s->theta_r;
-    v.w_r = s->w_r;
-    v.lambda = s->smdo.lambda;
+    v.i_dq = s->i_dq;
+    v.u_ab = s->u_ab_next;
+    v.u_ab_ref = s->u_ab_ref;
+    v.i_s_hat = p->use_smdo ? s->smdo.i_s_hat : zero;
+    v.u_d_hat = p->use_smdo ? s->smdo.u_d_hat : zero;
+    v.lambda = p->use_smdo ? s->smdo.lambda : SMD_R(0.0);
+    v.theta = s->theta_k;
+    v.w = s->w_k;
+    v.theta_err = s->pos.theta_err;
+    v.e_hat = zero;
+    v.s = zero;
+    v.d_hat = zero;
+    v.v = zero;
+    v.e_lin = zero;
+    if (p->position == SMD_POS_LCL_SMO_PLL) {
+        const smd_lcl_smo_state *o = &s->pos.u.smo;
+        v.e_hat = smd_c(o->e_hat[0], o->e_hat[1]);
+        v.s = smd_c(o->s[0], o->s[1]);
+        v.d_hat = smd_c(o->d_hat[0], o->d_hat[1]);
+        v.v = smd_c(o->v_prev[0], o->v_prev[1]);
+    } else if (p->position == SMD_POS_LCL_LINEAR) {
+        v.e_lin = smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3]);
+    }
+    v.phase = s->phase;
     return v;
 }

@@ -1,18 +1,18 @@
 #include "smodrive/smd_lcl_linobs.h"
 
-smd_status smd_linobs_init(smd_linobs_params *p, const smd_linobs_model *table, int n,
-                           smd_real w_min, smd_real dw)
+smd_status smd_linobs_init(smd_linobs_params *p, const smd_linobs_config *c)
 {
-    if (p == 0 || table == 0) {
+    if (p == 0 || c == 0 || c->table == 0) {
         return SMD_ERR_NULL;
     }
-    if (n < 2 || !smd_in_range(w_min, SMD_R(-1e7), SMD_R(1e7)) || !smd_in_pos_range(dw, SMD_R(1e7))) {
-        return SMD_ERR_LIMIT;
+    if (c->n < 2 || !smd_in_range(c->w_min, SMD_R(-1e7), SMD_R(1e7)) ||
+        !smd_in_pos_range(c->dw, SMD_R(1e7))) {
+        return SMD_ERR_TABLE;
     }
-    p->table = table;
-    p->n = n;
-    p->w_min = w_min;
-    p->dw = dw;
+    p->table = c->table;
+    p->n = c->n;
+    p->w_min = c->w_min;
+    p->dw = c->dw;
     return SMD_OK;
 }
 

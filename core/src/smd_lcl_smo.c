@@ -2,43 +2,41 @@
 
 #include "smodrive/smd_transforms.h"
 
-smd_status smd_lcl_smo_init(smd_lcl_smo_params *p, smd_real T, int law,
-                            const smd_lcl_model *table, int n, smd_real w_min, smd_real dw,
-                            smd_real Q1, smd_real Q2, smd_real bw_rel2, smd_real bw_rel3,
-                            smd_real w_bp_min)
+smd_status smd_lcl_smo_init(smd_lcl_smo_params *p, const smd_lcl_smo_config *c)
 {
-    if (p == 0 || table == 0) {
+    if (p == 0 || c == 0 || c->table == 0) {
         return SMD_ERR_NULL;
     }
-    if (!smd_in_pos_range(T, SMD_R(1.0))) {
+    if (!smd_in_pos_range(c->T_sp, SMD_R(1.0))) {
         return SMD_ERR_TS;
     }
-    if (law < SMD_LCL_SMO_PROPOSED || law > SMD_LCL_SMO_TDE18) {
+    if (c->law < SMD_LCL_SMO_PROPOSED || c->law > SMD_LCL_SMO_TDE18) {
         return SMD_ERR_MODE;
     }
-    if (n < 2 || !smd_in_range(w_min, SMD_R(-1e7), SMD_R(1e7)) || !smd_in_pos_range(dw, SMD_R(1e7))) {
-        return SMD_ERR_LIMIT;
+    if (c->n < 2 || !smd_in_range(c->w_min, SMD_R(-1e7), SMD_R(1e7)) ||
+        !smd_in_pos_range(c->dw, SMD_R(1e7))) {
+        return SMD_ERR_TABLE;
     }
     /* Q must be convergent (eigenvalues inside the unit circle), eq. (33) */
-    if (!smd_in_range(Q1, SMD_R(-0.999), SMD_R(0.999)) ||
-        !smd_in_range(Q2, SMD_R(-0.999), SMD_R(0.999))) {
+    if (!smd_in_range(c->Q1, SMD_R(-0.999), SMD_R(0.999)) ||
+        !smd_in_range(c->Q2, SMD_R(-0.999), SMD_R(0.999))) {
         return SMD_ERR_STABILITY;
     }
-    if (!smd_in_pos_range(bw_rel2, SMD_R(2.0)) || !smd_in_pos_range(bw_rel3, SMD_R(2.0)) ||
-        !smd_in_range(w_bp_min, SMD_R(0.0), SMD_R(1e7))) {
+    if (!smd_in_pos_range(c->bw_rel2, SMD_R(2.0)) || !smd_in_pos_range(c->bw_rel3, SMD_R(2.0)) ||
+        !smd_in_range(c->w_bp_min, SMD_R(0.0), SMD_R(1e7))) {
         return SMD_ERR_LIMIT;
     }
-    p->T = T;
-    p->law = law;
-    p->table = table;
-    p->n = n;
-    p->w_min = w_min;
-    p->dw = dw;
-    p->Q1 = Q1;
-    p->Q2 = Q2;
-    p->bw_rel2 = bw_rel2;
-    p->bw_rel3 = bw_rel3;
-    p->w_bp_min = w_bp_min;
+    p->T_sp = c->T_sp;
+    p->law = c->law;
+    p->table = c->table;
+    p->n = c->n;
+    p->w_min = c->w_min;
+    p->dw = c->dw;
+    p->Q1 = c->Q1;
+    p->Q2 = c->Q2;
+    p->bw_rel2 = c->bw_rel2;
+    p->bw_rel3 = c->bw_rel3;
+    p->w_bp_min = c->w_bp_min;
     return SMD_OK;
 }
 
@@ -120,7 +118,7 @@ static smd_cplx delayed(const smd_lcl_smo_state *s, smd_real D, smd_real W)
 static smd_cplx harmonic(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, smd_bandpass *bp,
                          smd_real h, smd_real bw, smd_real w_abs)
 {
-    smd_real W = h * w_abs * p->T;
+    smd_real W = h * w_abs * p->T_sp;
     smd_real D;
     if (!(W < SMD_R(0.95) * SMD_PI)) {
         return smd_c(SMD_R(0.0), SMD_R(0.0));
@@ -129,7 +127,7 @@ static smd_cplx harmonic(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, smd_
     if (!(D < (smd_real)(SMD_LCL_SMO_DELAY - 2)) || D < SMD_R(0.0)) {
         return smd_c(SMD_R(0.0), SMD_R(0.0));
     }
-    if (smd_bandpass_set(bp, h * w_abs, bw, p->T) != SMD_OK) {
+    if (smd_bandpass_set(bp, h * w_abs, bw, p->T_sp) != SMD_OK) {
         return smd_c(SMD_R(0.0), SMD_R(0.0));
     }
     return smd_bandpass_step(bp, delayed(s, D, W));

@@ -19,13 +19,13 @@ static int pll_stable(smd_real T, smd_real kt, smd_real kw, smd_real ka)
            a_minus_b < SMD_R(0.0) && a_plus_b < SMD_R(0.0);
 }
 
-smd_status smd_pll_init(smd_pll_params *p, smd_real T, smd_real k_theta, smd_real k_omega,
+smd_status smd_pll_init(smd_pll_params *p, smd_real T_sp, smd_real k_theta, smd_real k_omega,
                         smd_real k_a)
 {
     if (p == 0) {
         return SMD_ERR_NULL;
     }
-    if (!smd_in_pos_range(T, SMD_R(1.0))) {
+    if (!smd_in_pos_range(T_sp, SMD_R(1.0))) {
         return SMD_ERR_TS;
     }
     if (!smd_in_range(k_theta, SMD_R(0.0), SMD_R(2.0)) ||
@@ -33,10 +33,10 @@ smd_status smd_pll_init(smd_pll_params *p, smd_real T, smd_real k_theta, smd_rea
         !smd_in_range(k_a, SMD_R(0.0), SMD_R(1e12))) {
         return SMD_ERR_KP;
     }
-    if (!pll_stable(T, k_theta, k_omega, k_a)) {
+    if (!pll_stable(T_sp, k_theta, k_omega, k_a)) {
         return SMD_ERR_STABILITY;
     }
-    p->T = T;
+    p->T_sp = T_sp;
     p->k_theta = k_theta;
     p->k_omega = k_omega;
     p->k_a = k_a;
@@ -57,8 +57,8 @@ void smd_pll_step(const smd_pll_params *p, smd_pll_state *s, smd_real e)
         e = SMD_R(0.0);
     }
     /* yao2022 eq. (48) */
-    th = s->theta + s->w * p->T + p->k_theta * e;
-    s->w += s->a * p->T + p->k_omega * e;
+    th = s->theta + s->w * p->T_sp + p->k_theta * e;
+    s->w += s->a * p->T_sp + p->k_omega * e;
     s->a += p->k_a * e;
     s->theta = smd_wrap_pi(th);
 }

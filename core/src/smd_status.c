@@ -27,6 +27,17 @@ const char *smd_status_str(smd_status s)
         return "t_dead_comp: must be in [0, T_sp/4] s, and i_dtc > 0 A";
     case SMD_ERR_HANDOVER: return "handover: must be >= 0 samples";
     case SMD_ERR_DMIN: return "d_min: minimum duty must be in [0, 0.49]";
+    case SMD_ERR_TABLE:
+        return "observer table: at least 2 models on a grid w_min + k dw with dw > 0";
+    case SMD_ERR_COMBINATION:
+        return "parts: lcl_smo_pll, lcl_linear and active damping need the LCL filter "
+               "(lcl = 1), and the LCL filter needs pi current control";
+    case SMD_ERR_CURRENT_PI:
+        return "current PI: k_p_i in [0, 1e4] V/A, k_i_i in [0, 1e9] V/(A s), "
+               "L_dec in [0, 10] H, R_v in [0, 1e4] V/A";
+    case SMD_ERR_START:
+        return "start-up: i_start in [0, 1e5] A, a_start in [0, 1e9] rad/s^2, "
+               "w_handover in [0, pi/T_sp] rad/s";
     default: return "unknown status";
     }
 }

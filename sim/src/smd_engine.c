@@ -6,7 +6,9 @@ static const char *CHANNELS[SMD_LOG_N] = {
     "t", "w_M", "theta_r", "i_alpha", "i_beta", "i_d", "i_q", "T_e", "T_L", "w_M_ref",
     "i_d_ref", "i_q_ref", "theta_hat", "w_hat", "u_d_hat_alpha", "u_d_hat_beta", "u_alpha",
     "u_beta", "u_cmd_alpha", "u_cmd_beta", "i_a_meas", "i_b_meas", "i_hat_alpha",
-    "i_hat_beta", "lambda", "status"};
+    "i_hat_beta", "lambda", "i_g", "i_dl", "theta_err_est", "e_hat_g", "e_hat_dl", "s_g",
+    "s_dl", "d_hat_g", "d_hat_dl", "v_g", "v_dl", "i1_alpha", "i1_beta", "uc_alpha",
+    "uc_beta", "lin_e_alpha", "lin_e_beta", "phase", "status"};
 
 const char *smd_log_channel_name(int ch)
 {
@@ -14,26 +16,6 @@ const char *smd_log_channel_name(int ch)
 }
 
 unsigned long smd_sizeof_engine(void) { return sizeof(smd_engine); }
-unsigned long smd_sizeof_plant(void) { return sizeof(smd_plant); }
-unsigned long smd_sizeof_plant_config(void) { return sizeof(smd_plant_config); }
-unsigned long smd_sizeof_drive_config(void) { return sizeof(smd_drive_config); }
-unsigned long smd_sizeof_profiles(void) { return sizeof(smd_profiles); }
-
-/* Sizes of the core's block structs, for the binding's layout check. */
-unsigned long smd_sizeof_block(int which)
-{
-    switch (which) {
-    case 0: return sizeof(smd_dbpc_params);
-    case 1: return sizeof(smd_smdo_params);
-    case 2: return sizeof(smd_smdo_state);
-    case 3: return sizeof(smd_pi_params);
-    case 4: return sizeof(smd_pi_state);
-    case 5: return sizeof(smd_svm_params);
-    case 6: return sizeof(smd_emf_pos_params);
-    case 7: return sizeof(smd_emf_pos_state);
-    default: return 0;
-    }
-}
 
 double smd_pwl_eval(const smd_pwl *p, double t)
 {
@@ -62,7 +44,7 @@ static int pwl_ok(const smd_pwl *p)
 }
 
 int smd_engine_init(smd_engine *e, const smd_plant_config *plant, const smd_drive_config *ctrl,
-                    const smd_profiles *prof)
+                    const smd_profiles *prof, const smd_engine_start *start)
 {
     int rc = smd_plant_init(&e->plant, plant);
     smd_status st;
@@ -73,16 +55,13 @@ int smd_engine_init(smd_engine *e, const smd_plant_config *plant, const smd_driv
         !pwl_ok(&prof->i_d_ref) || !pwl_ok(&prof->i_q_ref)) {
         return 3000;
     }
-    if (!isfinite(prof->i_d_sin_amp) || !isfinite(prof->i_d_sin_freq)) {
+    if (!isfinite(prof->i_d_sin_amp) || !isfinite(prof->i_d_sin_freq) ||
+        !isfinite(start->theta0) || !isfinite(start->w0) || !isfinite(start->i_q0)) {
         return 3000;
     }
     e->prof = *prof;
-    /* The controller starts from what a flying start (or a stopped drive)
-     * knows: the actual speed and angle at t = 0. */
-    smd_drive_reset(&e->ctrl_p, &e->ctrl_s, (smd_real)e->plant.theta_r,
-                    (smd_real)(plant->n_p * plant->w_M0));
-    /* Warm start: the speed loop holds the current that carries the load. */
-    smd_drive_set_speed_integrator(&e->ctrl_s, (smd_real)plant->i_q0);
+    smd_drive_reset(&e->ctrl_p, &e->ctrl_s, (smd_real)start->theta0, (smd_real)start->w0,
+                    (smd_real)start->i_q0);
     e->d_abc[0] = e->d_abc[1] = e->d_abc[2] = 0.5;
     e->k = 0;
     e->T_sp = plant->T_sw;
@@ -93,30 +72,34 @@ int smd_engine_init(smd_engine *e, const smd_plant_config *plant, const smd_driv
 long smd_engine_run(smd_engine *e, long n, double *log, long stride)
 {
     long j, rows = 0;
+    const double n_p = e->plant.c.n_p;
     if (stride < 1) stride = 1;
     for (j = 0; j < n; j++) {
         const double t = (double)e->k * e->T_sp;
-        double i_meas[3];
+        double i_meas[3], i1_meas[3], d_now[3];
         smd_drive_in in;
         smd_drive_out out;
         smd_status st;
         double w_ref = smd_pwl_eval(&e->prof.w_M_ref, t);
         double T_ext = smd_pwl_eval(&e->prof.T_ext, t);
         double T_brake = smd_pwl_eval(&e->prof.T_brake, t);
-        double d_now[3];
+        double i_d_ref = smd_pwl_eval(&e->prof.i_d_ref, t);
         int x;
 
         /* 1. measurements at t_k */
-        smd_plant_sample(&e->plant, i_meas);
+        smd_plant_sample(&e->plant, i_meas, i1_meas);
         in.i_a = (smd_real)i_meas[0];
         in.i_b = (smd_real)i_meas[1];
-        in.theta_r = (smd_real)e->plant.theta_r;
-        in.w_r = (smd_real)(e->plant.c.n_p * e->plant.w_M);
+        in.i1_a = (smd_real)i1_meas[0];
+        in.i1_b = (smd_real)i1_meas[1];
+        in.theta_enc = (smd_real)e->plant.theta_r;
+        in.w_enc = (smd_real)(n_p * e->plant.w_M);
         in.u_dc = (smd_real)e->plant.c.u_dc;
-        in.w_r_ref = (smd_real)(e->plant.c.n_p * w_ref);
-        in.i_dq_ref.re = (smd_real)(smd_pwl_eval(&e->prof.i_d_ref, t) +
-                                    e->prof.i_d_sin_amp * sin(6.283185307179586 *
-                                                              e->prof.i_d_sin_freq * t));
+        in.w_ref = (smd_real)(n_p * w_ref);
+        if (e->prof.i_d_sin_amp != 0.0) {
+            i_d_ref += e->prof.i_d_sin_amp * sin(6.283185307179586 * e->prof.i_d_sin_freq * t);
+        }
+        in.i_dq_ref.re = (smd_real)i_d_ref;
         in.i_dq_ref.im = (smd_real)smd_pwl_eval(&e->prof.i_q_ref, t);
 
         /* 2. controller: duties for the next period */
@@ -130,29 +113,48 @@ long smd_engine_run(smd_engine *e, long n, double *log, long stride)
         }
         if (log != 0 && (j % stride) == 0) {
             double *r = log + rows * SMD_LOG_N;
-            double c = cos(e->plant.theta_r), s = sin(e->plant.theta_r);
-            smd_drive_view v = smd_drive_get_view(&e->ctrl_s);
+            const smd_plant *pl = &e->plant;
+            double c = cos(pl->theta_r), s = sin(pl->theta_r);
+            smd_drive_view v = smd_drive_get_view(&e->ctrl_p, &e->ctrl_s);
             r[SMD_LOG_T] = t;
-            r[SMD_LOG_W_M] = e->plant.w_M;
-            r[SMD_LOG_THETA_R] = e->plant.theta_r;
-            r[SMD_LOG_I_ALPHA] = e->plant.i_re;
-            r[SMD_LOG_I_BETA] = e->plant.i_im;
-            r[SMD_LOG_I_D] = c * e->plant.i_re + s * e->plant.i_im;
-            r[SMD_LOG_I_Q] = -s * e->plant.i_re + c * e->plant.i_im;
+            r[SMD_LOG_W_M] = pl->w_M;
+            r[SMD_LOG_THETA_R] = pl->theta_r;
+            r[SMD_LOG_I_ALPHA] = pl->i_re;
+            r[SMD_LOG_I_BETA] = pl->i_im;
+            r[SMD_LOG_I_D] = c * pl->i_re + s * pl->i_im;
+            r[SMD_LOG_I_Q] = -s * pl->i_re + c * pl->i_im;
             r[SMD_LOG_W_M_REF] = w_ref;
             r[SMD_LOG_I_D_REF] = (double)v.i_dq_ref.re;
             r[SMD_LOG_I_Q_REF] = (double)v.i_dq_ref.im;
-            r[SMD_LOG_THETA_HAT] = (double)v.theta_r;
-            r[SMD_LOG_W_HAT] = (double)v.w_r;
+            r[SMD_LOG_THETA_HAT] = (double)v.theta;
+            r[SMD_LOG_W_HAT] = (double)v.w;
             r[SMD_LOG_UD_ALPHA] = (double)v.u_d_hat.re;
             r[SMD_LOG_UD_BETA] = (double)v.u_d_hat.im;
-            r[SMD_LOG_UCMD_ALPHA] = (double)v.u_s_ab.re;
-            r[SMD_LOG_UCMD_BETA] = (double)v.u_s_ab.im;
+            r[SMD_LOG_UCMD_ALPHA] = (double)v.u_ab.re;
+            r[SMD_LOG_UCMD_BETA] = (double)v.u_ab.im;
             r[SMD_LOG_I_A_MEAS] = i_meas[0];
             r[SMD_LOG_I_B_MEAS] = i_meas[1];
             r[SMD_LOG_IHAT_ALPHA] = (double)v.i_s_hat.re;
             r[SMD_LOG_IHAT_BETA] = (double)v.i_s_hat.im;
             r[SMD_LOG_LAMBDA] = (double)v.lambda;
+            r[SMD_LOG_I_G] = (double)v.i_dq.re;
+            r[SMD_LOG_I_DL] = (double)v.i_dq.im;
+            r[SMD_LOG_THETA_ERR] = (double)v.theta_err;
+            r[SMD_LOG_E_G] = (double)v.e_hat.re;
+            r[SMD_LOG_E_DL] = (double)v.e_hat.im;
+            r[SMD_LOG_S_G] = (double)v.s.re;
+            r[SMD_LOG_S_DL] = (double)v.s.im;
+            r[SMD_LOG_DHAT_G] = (double)v.d_hat.re;
+            r[SMD_LOG_DHAT_DL] = (double)v.d_hat.im;
+            r[SMD_LOG_V_G] = (double)v.v.re;
+            r[SMD_LOG_V_DL] = (double)v.v.im;
+            r[SMD_LOG_I1_ALPHA] = pl->i1_re;
+            r[SMD_LOG_I1_BETA] = pl->i1_im;
+            r[SMD_LOG_UC_ALPHA] = pl->uc_re;
+            r[SMD_LOG_UC_BETA] = pl->uc_im;
+            r[SMD_LOG_LIN_E_ALPHA] = (double)v.e_lin.re;
+            r[SMD_LOG_LIN_E_BETA] = (double)v.e_lin.im;
+            r[SMD_LOG_PHASE] = (double)v.phase;
             r[SMD_LOG_STATUS] = (double)st;
         }
         smd_plant_step(&e->plant, d_now, T_ext, T_brake);
@@ -167,4 +169,25 @@ long smd_engine_run(smd_engine *e, long n, double *log, long stride)
         e->k++;
     }
     return rows;
+}
+
+/* Closed-loop impulse response of the firmware PLL (eq. (48)) with unity
+ * feedback e = theta - theta_hat: theta = amp at k = 0 and 0 after; writes
+ * theta_hat(k) / amp for k = 1..n into out (analysis of yao2022 Fig. 7). */
+int smd_pll_impulse(double T_sp, double k_theta, double k_omega, double k_a, double amp, long n,
+                    double *out)
+{
+    smd_pll_params p;
+    smd_pll_state s;
+    long k;
+    smd_status st = smd_pll_init(&p, (smd_real)T_sp, (smd_real)k_theta, (smd_real)k_omega,
+                                 (smd_real)k_a);
+    if (st != SMD_OK) return (int)st;
+    smd_pll_reset(&s, SMD_R(0.0), SMD_R(0.0));
+    for (k = 0; k < n; k++) {
+        double theta = (k == 0) ? amp : 0.0;
+        smd_pll_step(&p, &s, (smd_real)(theta - (double)s.theta));
+        out[k] = (double)s.theta / amp;
+    }
+    return 0;
 }

@@ -1,4 +1,20 @@
-#include "smdsim/smd_lcl.h"
+/* Inverter -> LCL filter -> SPMSM (yao2022 Sec. II eq. (1)-(3), Table II),
+ * stationary frame, complex space vectors:
+ *
+ *   C1 du_c/dt = i_1 - i_2
+ *   L1 di_1/dt = u - u_c
+ *   L2 di_2/dt = u_c - R_s i_2 - e,   L2 = L2o + L_s,  e = j w psi_r e^{j theta}
+ *
+ * (the paper prints the first row of A_s with the wrong signs; these are the
+ * circuit's equations). The real 3x3 matrix A of d[u_c, i_1, i_2]/dt = A x +
+ * b u + f e is diagonalised once (closed-form eigenvectors, cubic roots by
+ * Newton), and each mode dz/dt = lambda z + beta u + phi e is solved in
+ * closed form over a carrier period: homogeneous decay e^{lambda t}, the
+ * rotating-EMF particular solution phi e / (j w - lambda), and the exact
+ * response (e^{lambda tau} - 1) / lambda to each switching edge. The torque's
+ * frame-weighted integral int i_2 e^{-j theta} dt is integrated the same way.
+ * Dead time acts by the sign of the inverter-side current i_1. */
+#include "smdsim/smd_plant.h"
 #include "smdsim/smd_pwm.h"
 
 #include <complex.h>
@@ -33,52 +49,6 @@ static double complex dexp1(double complex y, double complex ey)
     return (ey - 1.0) / y;
 }
 
-/* (1 - e^{-x}) / x and (x - 1 + e^{-x}) / x^2, real */
-static double phi1r(double x)
-{
-    if (fabs(x) < 1e-4) return 1.0 - x / 2.0 + x * x / 6.0 - x * x * x / 24.0;
-    return -expm1(-x) / x;
-}
-
-static double phi2r(double x)
-{
-    if (fabs(x) < 1e-3) {
-        return 0.5 - x / 6.0 + x * x / 24.0 - x * x * x / 120.0 + x * x * x * x / 720.0;
-    }
-    return (x + expm1(-x)) / (x * x);
-}
-
-/* Exact solution of J dw/dt = F - B w over tau from w0: end speed and the
- * integral of w (as in smd_plant). */
-static void lin_mech(double F, double Bv, double J, double w0, double tau, double *w1,
-                     double *th)
-{
-    double b = Bv / J;
-    double acc = F / J - b * w0;
-    *w1 = w0 + acc * tau * phi1r(b * tau);
-    *th = w0 * tau + acc * tau * tau * phi2r(b * tau);
-}
-
-static int bad(double x, double lo, double hi) { return !(isfinite(x) && x >= lo && x <= hi); }
-
-static const char *FIELDS[] = {
-    "ok", "R", "L1", "L2o", "Ls", "C1", "psi_m", "n_p", "J", "B", "k_fan", "u_dc", "T_sw",
-    "pwm_mode", "t_dead", "adc_gain_i1", "adc_offset_i1", "adc_gain_i2", "adc_offset_i2",
-    "adc_noise", "adc_bits", "adc_full_scale", "w_M0", "theta_r0", "uc_d0/uc_q0",
-    "i1_d0/i1_q0", "i2_d0/i2_q0", "R/L1/L2o/Ls/C1 (repeated filter modes)"};
-
-enum { F_MODES = 27 };
-
-const char *smd_lcl_field(int code)
-{
-    if (code < 0 || code >= (int)(sizeof(FIELDS) / sizeof(FIELDS[0]))) return "unknown";
-    return FIELDS[code];
-}
-
-unsigned long smd_sizeof_lcl_plant(void) { return sizeof(smd_lcl_plant); }
-unsigned long smd_sizeof_lcl_config(void) { return sizeof(smd_lcl_config); }
-
-/* Characteristic polynomial of A: s^3 + c2 s^2 + c1 s + c0. */
 static double complex cubic(const double c[3], double complex s, double complex *ds)
 {
     *ds = (3.0 * s + 2.0 * c[2]) * s + c[1];
@@ -137,57 +107,30 @@ static int eigenvalues(const double c[3], double complex lam[3])
     }
 }
 
-int smd_lcl_init(smd_lcl_plant *p, const smd_lcl_config *c)
+int smd_lcl_setup(smd_plant *p)
 {
+    const smd_plant_config *c = &p->c;
+    smd_lcl_modes *md = &p->m;
     int k, j;
     double L2, a2, cc[3], scale;
-    double complex x0[3], ejth;
-    if (bad(c->R, 1e-6, 1e3)) return 1;
-    if (bad(c->L1, 1e-8, 10.0)) return 2;
-    if (bad(c->L2o, 0.0, 10.0)) return 3;
-    if (bad(c->Ls, 1e-8, 10.0)) return 4;
-    if (bad(c->C1, 1e-10, 1.0)) return 5;
-    if (bad(c->psi_m, 0.0, 100.0)) return 6;
-    if (bad(c->n_p, 1.0, 100.0)) return 7;
-    if (bad(c->J, 1e-9, 1e4)) return 8;
-    if (bad(c->B, 0.0, 1e3)) return 9;
-    if (bad(c->k_fan, 0.0, 1e3)) return 10;
-    if (bad(c->u_dc, 0.0, 1e5)) return 11;
-    if (bad(c->T_sw, 1e-8, 1.0)) return 12;
-    if (c->pwm_mode != 0 && c->pwm_mode != 1) return 13;
-    if (bad(c->t_dead, 0.0, 0.25 * c->T_sw)) return 14;
-    for (k = 0; k < 3; k++) {
-        if (bad(c->adc_gain_i1[k], 0.5, 2.0)) return 15;
-        if (bad(c->adc_offset_i1[k], -1e3, 1e3)) return 16;
-        if (bad(c->adc_gain_i2[k], 0.5, 2.0)) return 17;
-        if (bad(c->adc_offset_i2[k], -1e3, 1e3)) return 18;
-    }
-    if (bad(c->adc_noise, 0.0, 1e3)) return 19;
-    if (c->adc_bits < 0 || c->adc_bits > 24) return 20;
-    if (bad(c->adc_full_scale, 1e-6, 1e6)) return 21;
-    if (bad(c->w_M0, -1e5, 1e5)) return 22;
-    if (bad(c->theta_r0, -1e3, 1e3)) return 23;
-    if (bad(c->uc_d0, -1e5, 1e5) || bad(c->uc_q0, -1e5, 1e5)) return 24;
-    if (bad(c->i1_d0, -1e5, 1e5) || bad(c->i1_q0, -1e5, 1e5)) return 25;
-    if (bad(c->i2_d0, -1e5, 1e5) || bad(c->i2_q0, -1e5, 1e5)) return 26;
 
-    L2 = c->L2o + c->Ls;
-    a2 = c->R / L2;
+    L2 = c->L2o + c->L_s;
+    a2 = c->R_s / L2;
     /* det(sI - A) = s^3 + a2 s^2 + (1/L1 + 1/L2)/C1 s + a2/(C1 L1) */
     cc[2] = a2;
     cc[1] = (1.0 / c->L1 + 1.0 / L2) / c->C1;
     cc[0] = a2 / (c->C1 * c->L1);
-    p->kind = eigenvalues(cc, p->lam);
-    scale = fmax(cabs(p->lam[0]), fmax(cabs(p->lam[1]), cabs(p->lam[2])));
+    md->kind = eigenvalues(cc, md->lam);
+    scale = fmax(cabs(md->lam[0]), fmax(cabs(md->lam[1]), cabs(md->lam[2])));
     for (k = 0; k < 3; k++) {
         for (j = k + 1; j < 3; j++) {
-            if (!(cabs(p->lam[k] - p->lam[j]) > 1e-7 * scale)) return F_MODES;
+            if (!(cabs(md->lam[k] - md->lam[j]) > 1e-7 * scale)) return 29;
         }
-        if (!(creal(p->lam[k]) < 0.0) || !isfinite(cimag(p->lam[k]))) return F_MODES;
+        if (!(creal(md->lam[k]) < 0.0) || !isfinite(cimag(md->lam[k]))) return 29;
     }
 
     for (k = 0; k < 3; k++) {
-        const double complex l = p->lam[k];
+        const double complex l = md->lam[k];
         const double complex la = l + a2;
         /* right eigenvector (v_uc = 1): A v = lambda v */
         const double complex v1 = -1.0 / (l * c->L1);
@@ -196,56 +139,29 @@ int smd_lcl_init(smd_lcl_plant *p, const smd_lcl_config *c)
         const double complex w1 = 1.0 / (l * c->C1);
         const double complex w2 = -1.0 / (c->C1 * la);
         const double complex n = 1.0 + w1 * v1 + w2 * v2;
-        if (!(cabs(n) > 1e-9)) return F_MODES;
-        p->v[0][k] = 1.0;
-        p->v[1][k] = v1;
-        p->v[2][k] = v2;
-        p->w[k][0] = 1.0 / n;
-        p->w[k][1] = w1 / n;
-        p->w[k][2] = w2 / n;
-        p->beta[k] = p->w[k][1] / c->L1; /* b = [0, 1/L1, 0] */
-        p->phi[k] = -p->w[k][2] / L2;    /* f = [0, 0, -1/L2] */
-        p->lam_re[k] = creal(l);
-        p->lam_im[k] = cimag(l);
+        if (!(cabs(n) > 1e-9)) return 29;
+        md->v[0][k] = 1.0;
+        md->v[1][k] = v1;
+        md->v[2][k] = v2;
+        md->w[k][0] = 1.0 / n;
+        md->w[k][1] = w1 / n;
+        md->w[k][2] = w2 / n;
+        md->beta[k] = md->w[k][1] / c->L1; /* b = [0, 1/L1, 0] */
+        md->phi[k] = -md->w[k][2] / L2;    /* f = [0, 0, -1/L2] */
     }
     for (k = 0; k < 3; k++) {
-        if (cimag(p->lam[k]) == 0.0) {
-            double lr = creal(p->lam[k]);
+        if (cimag(md->lam[k]) == 0.0) {
+            double lr = creal(md->lam[k]);
             double em = expm1(lr * c->T_sw);
-            p->eT[k] = 1.0 + em;
-            p->gT[k] = em / lr;
+            md->eT[k] = 1.0 + em;
+            md->gT[k] = em / lr;
         } else {
-            p->eT[k] = cexp(p->lam[k] * c->T_sw);
-            p->gT[k] = (p->eT[k] - 1.0) / p->lam[k];
+            md->eT[k] = cexp(md->lam[k] * c->T_sw);
+            md->gT[k] = (md->eT[k] - 1.0) / md->lam[k];
         }
     }
 
-    p->c = *c;
-    p->L2 = L2;
-    p->theta_r = wrap_pi(c->theta_r0);
-    ejth = cexp(I * p->theta_r);
-    x0[0] = (c->uc_d0 + I * c->uc_q0) * ejth;
-    x0[1] = (c->i1_d0 + I * c->i1_q0) * ejth;
-    x0[2] = (c->i2_d0 + I * c->i2_q0) * ejth;
-    p->uc_re = creal(x0[0]);
-    p->uc_im = cimag(x0[0]);
-    p->i1_re = creal(x0[1]);
-    p->i1_im = cimag(x0[1]);
-    p->i2_re = creal(x0[2]);
-    p->i2_im = cimag(x0[2]);
-    p->w_M = c->w_M0;
-    p->T_e_mean = 0.0;
-    p->T_L_mean = 0.0;
-    p->u_re = 0.0;
-    p->u_im = 0.0;
-    smd_rng_seed(&p->rng, c->seed);
     return 0;
-}
-
-void smd_lcl_phase_currents(const smd_lcl_plant *p, double i1_abc[3], double i2_abc[3])
-{
-    smd_ab_to_abc_d(p->i1_re, p->i1_im, i1_abc);
-    smd_ab_to_abc_d(p->i2_re, p->i2_im, i2_abc);
 }
 
 /* Per-period constants of the edge responses. */
@@ -261,7 +177,7 @@ typedef struct lcl_kernel {
  *      = dU q [Q g_k + h] / (lambda_k - j w),
  * tau = T - t, q = e^{-j w t}, Q = e^{-j w tau}, h = (Q - 1) / (j w).
  * One sine/cosine pair, one exp and (complex pair) one complex exp. */
-static void edge(const smd_lcl_plant *p, const lcl_kernel *k, double t, double complex dU,
+static void edge(const smd_lcl_modes *md, const lcl_kernel *k, double t, double complex dU,
                  double complex G[3], double complex S[3])
 {
     const double tau = k->T - t;
@@ -278,26 +194,26 @@ static void edge(const smd_lcl_plant *p, const lcl_kernel *k, double t, double c
         h = (Q - 1.0) / (I * k->w);
     }
     {
-        double l0 = creal(p->lam[0]);
+        double l0 = creal(md->lam[0]);
         g[0] = expm1(l0 * tau) / l0;
     }
-    if (p->kind) {
-        double complex P = cexp(p->lam[1] * tau);
-        g[1] = (P - 1.0) / p->lam[1];
-        g[2] = conj(P - 1.0) / p->lam[2];
+    if (md->kind) {
+        double complex P = cexp(md->lam[1] * tau);
+        g[1] = (P - 1.0) / md->lam[1];
+        g[2] = conj(P - 1.0) / md->lam[2];
     } else {
-        double l1 = creal(p->lam[1]), l2 = creal(p->lam[2]);
+        double l1 = creal(md->lam[1]), l2 = creal(md->lam[2]);
         g[1] = expm1(l1 * tau) / l1;
         g[2] = expm1(l2 * tau) / l2;
     }
     for (m = 0; m < 3; m++) {
-        double complex d = p->lam[m] - I * k->w;
+        double complex d = md->lam[m] - I * k->w;
         double complex s;
         G[m] += dU * g[m];
         if (small(d * tau)) {
             /* near resonance (lambda ~ j w): (tau (e^{d tau} - 1)/(d tau) + h) / lambda */
             double complex y = d * tau;
-            s = (tau * (1.0 + y * (0.5 + y * (1.0 / 6.0 + y * (1.0 / 24.0)))) + h) / p->lam[m];
+            s = (tau * (1.0 + y * (0.5 + y * (1.0 / 6.0 + y * (1.0 / 24.0)))) + h) / md->lam[m];
         } else {
             s = (Q * g[m] + h) * k->inv_d[m];
         }
@@ -305,11 +221,12 @@ static void edge(const smd_lcl_plant *p, const lcl_kernel *k, double t, double c
     }
 }
 
-void smd_lcl_step(smd_lcl_plant *p, const double d_abc[3], double T_ext)
+void smd_lcl_step(smd_plant *p, const double d_abc[3], double T_ext, double T_brake)
 {
-    const smd_lcl_config *c = &p->c;
+    const smd_plant_config *c = &p->c;
+    const smd_lcl_modes *md = &p->m;
     const double T = c->T_sw;
-    const double Kt = 1.5 * c->n_p * c->psi_m;
+    const double Kt = 1.5 * c->n_p * c->psi_r;
     double complex x[3], z[3], zT[3], Sint[3], G[3] = {0.0, 0.0, 0.0}, S[3] = {0.0, 0.0, 0.0};
     double complex leg_dir[3], ejth0, E0, ejwT, u_mean = 0.0, i2_int;
     double i1_abc[3];
@@ -319,7 +236,7 @@ void smd_lcl_step(smd_lcl_plant *p, const double d_abc[3], double T_ext)
 
     x[0] = p->uc_re + I * p->uc_im;
     x[1] = p->i1_re + I * p->i1_im;
-    x[2] = p->i2_re + I * p->i2_im;
+    x[2] = p->i_re + I * p->i_im;
     ejth0 = cos(p->theta_r) + I * sin(p->theta_r);
 
     leg_dir[0] = 2.0 / 3.0 * c->u_dc;
@@ -327,7 +244,7 @@ void smd_lcl_step(smd_lcl_plant *p, const double d_abc[3], double T_ext)
     leg_dir[2] = 2.0 / 3.0 * c->u_dc * (A_RE - I * A_IM);
 
     /* Load (held over the period) and the mid-period speed prediction. */
-    T_L = T_ext + c->k_fan * p->w_M * fabs(p->w_M);
+    T_L = smd_load_torque(c, p->w_M, T_ext, T_brake);
     T_e0 = Kt * cimag(x[2] * conj(ejth0));
     w_mid = p->w_M + 0.5 * T * (T_e0 - T_L - c->B * p->w_M) / c->J;
     w_e = c->n_p * w_mid;
@@ -336,20 +253,20 @@ void smd_lcl_step(smd_lcl_plant *p, const double d_abc[3], double T_ext)
     k.T = T;
     ejwT = cos(w_e * T) + I * sin(w_e * T);
     k.emjwT = conj(ejwT);
-    for (m = 0; m < 3; m++) k.inv_d[m] = 1.0 / (p->lam[m] - I * w_e);
+    for (m = 0; m < 3; m++) k.inv_d[m] = 1.0 / (md->lam[m] - I * w_e);
 
     /* Free response: z_k(t) = c_k e^{lambda t} + Zp_k e^{j w t}, with the
      * rotating-EMF particular solution Zp_k = phi_k E0 / (j w - lambda_k),
      * E0 = e(0) = j w psi e^{j theta_0}; and its frame-weighted integral
      * int_0^T z_k e^{-j w t} dt = c_k T (e^{(lambda-jw)T} - 1)/((lambda-jw)T) + Zp_k T. */
-    E0 = I * w_e * c->psi_m * ejth0;
+    E0 = I * w_e * c->psi_r * ejth0;
     for (m = 0; m < 3; m++) {
-        double complex zp = -p->phi[m] * E0 * k.inv_d[m];
+        double complex zp = -md->phi[m] * E0 * k.inv_d[m];
         double complex ck;
-        z[m] = p->w[m][0] * x[0] + p->w[m][1] * x[1] + p->w[m][2] * x[2];
+        z[m] = md->w[m][0] * x[0] + md->w[m][1] * x[1] + md->w[m][2] * x[2];
         ck = z[m] - zp;
-        zT[m] = ck * p->eT[m] + zp * ejwT;
-        Sint[m] = ck * T * dexp1((p->lam[m] - I * w_e) * T, p->eT[m] * k.emjwT) + zp * T;
+        zT[m] = ck * md->eT[m] + zp * ejwT;
+        Sint[m] = ck * T * dexp1((md->lam[m] - I * w_e) * T, md->eT[m] * k.emjwT) + zp * T;
     }
 
     /* Inverter voltage: dead time by the sign of the inverter-side current. */
@@ -359,8 +276,8 @@ void smd_lcl_step(smd_lcl_plant *p, const double d_abc[3], double T_ext)
             double t_on, t_off;
             smd_pwm_edges(T, c->t_dead, d_abc[xl], i1_abc[xl], &t_on, &t_off);
             if (t_off > t_on) {
-                edge(p, &k, t_on, leg_dir[xl], G, S);
-                edge(p, &k, t_off, -leg_dir[xl], G, S);
+                edge(md, &k, t_on, leg_dir[xl], G, S);
+                edge(md, &k, t_off, -leg_dir[xl], G, S);
                 u_mean += leg_dir[xl] * (t_off - t_on) / T;
             }
         }
@@ -377,66 +294,42 @@ void smd_lcl_step(smd_lcl_plant *p, const double d_abc[3], double T_ext)
             h = (k.emjwT - 1.0) / (I * w_e);
         }
         for (m = 0; m < 3; m++) {
-            double complex d = p->lam[m] - I * w_e, s;
-            G[m] = u_mean * p->gT[m];
+            double complex d = md->lam[m] - I * w_e, s;
+            G[m] = u_mean * md->gT[m];
             if (small(d * T)) {
                 double complex y = d * T;
-                s = (T * (1.0 + y * (0.5 + y * (1.0 / 6.0 + y * (1.0 / 24.0)))) + h) / p->lam[m];
+                s = (T * (1.0 + y * (0.5 + y * (1.0 / 6.0 + y * (1.0 / 24.0)))) + h) / md->lam[m];
             } else {
-                s = (k.emjwT * p->gT[m] + h) * k.inv_d[m];
+                s = (k.emjwT * md->gT[m] + h) * k.inv_d[m];
             }
             S[m] = u_mean * s;
         }
     }
 
     for (m = 0; m < 3; m++) {
-        zT[m] += p->beta[m] * G[m];
-        Sint[m] += p->beta[m] * S[m];
+        zT[m] += md->beta[m] * G[m];
+        Sint[m] += md->beta[m] * S[m];
     }
     for (m = 0; m < 3; m++) {
-        x[m] = p->v[m][0] * zT[0] + p->v[m][1] * zT[1] + p->v[m][2] * zT[2];
+        x[m] = md->v[m][0] * zT[0] + md->v[m][1] * zT[1] + md->v[m][2] * zT[2];
     }
     /* int_0^T i_2 e^{-j theta(t)} dt, theta(t) = theta_0 + w t */
-    i2_int = conj(ejth0) * (p->v[2][0] * Sint[0] + p->v[2][1] * Sint[1] + p->v[2][2] * Sint[2]);
+    i2_int = conj(ejth0) * (md->v[2][0] * Sint[0] + md->v[2][1] * Sint[1] + md->v[2][2] * Sint[2]);
     T_e_mean = Kt * cimag(i2_int) / T;
 
     /* Mechanics: J dw/dt = T_e - T_L - B w, exact for the period's torque. */
-    lin_mech(T_e_mean - T_L, c->B, c->J, p->w_M, T, &w1, &th_int);
+    smd_mech_advance(c, T_e_mean, T_L, T_brake, p->w_M, T, &w1, &th_int, &T_L);
 
     p->uc_re = creal(x[0]);
     p->uc_im = cimag(x[0]);
     p->i1_re = creal(x[1]);
     p->i1_im = cimag(x[1]);
-    p->i2_re = creal(x[2]);
-    p->i2_im = cimag(x[2]);
+    p->i_re = creal(x[2]);
+    p->i_im = cimag(x[2]);
     p->theta_r = wrap_pi(p->theta_r + c->n_p * th_int);
     p->w_M = w1;
     p->T_e_mean = T_e_mean;
     p->T_L_mean = T_L;
     p->u_re = creal(u_mean);
     p->u_im = cimag(u_mean);
-}
-
-void smd_lcl_sample(smd_lcl_plant *p, double i1_abc[3], double i2_abc[3])
-{
-    const smd_lcl_config *c = &p->c;
-    double t1[3], t2[3];
-    smd_lcl_phase_currents(p, t1, t2);
-    smd_adc_sample3(t1, c->adc_gain_i1, c->adc_offset_i1, c->adc_noise, c->adc_bits,
-                    c->adc_full_scale, &p->rng, i1_abc);
-    smd_adc_sample3(t2, c->adc_gain_i2, c->adc_offset_i2, c->adc_noise, c->adc_bits,
-                    c->adc_full_scale, &p->rng, i2_abc);
-}
-
-void smd_lcl_run_open(smd_lcl_plant *p, long n, double m, double delta, double T_ext)
-{
-    long k;
-    for (k = 0; k < n; k++) {
-        double d[3], th = p->theta_r + delta;
-        int x;
-        for (x = 0; x < 3; x++) {
-            d[x] = 0.5 + 0.5 * m * cos(th - TWO_PI / 3.0 * x);
-        }
-        smd_lcl_step(p, d, T_ext);
-    }
 }

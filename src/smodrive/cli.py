@@ -13,8 +13,9 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from .params import ParameterError, load_scenario, scenario_to_toml
-from .scenarios import PAPERS
+from .params import ParameterError
+from .scenario_io import load_scenario, scenario_to_toml
+from .scenarios import PAPERS, catalogue
 
 console = Console(stderr=True)
 
@@ -81,87 +82,60 @@ def _f(x: float | None) -> str:
 def run(scenario: Path, out: Path) -> None:
     """Simulate one SCENARIO.toml; write signals.npz, summary.json and a figure."""
     from . import plots
-    from .simulate import SimulationError, simulate
+    from .simulate import CHANNELS, SimulationError, simulate
 
     try:
         s = load_scenario(scenario)
     except ParameterError as exc:
         console.print(f"[red]error:[/red] {exc}")
         sys.exit(2)
-    from .lcl import CHANNELS as LCL_CHANNELS
-    from .lcl import LclScenario, simulate_lcl
-
-    lcl = isinstance(s, LclScenario)
     out.mkdir(parents=True, exist_ok=True)
     with _progress() as prog:
         task = prog.add_task(s.name, total=1.0)
         try:
-            sim = simulate_lcl if lcl else simulate
-            r = sim(s, progress=lambda f: prog.update(task, completed=f))
+            r = simulate(s, progress=lambda f: prog.update(task, completed=f))
         except (SimulationError, ParameterError) as exc:
             console.print(f"[red]error:[/red] {exc}")
             sys.exit(1)
-    channels = LCL_CHANNELS if lcl else _channels()
-    np.savez_compressed(out / "signals.npz", **{c: r[c] for c in channels})
+    np.savez_compressed(out / "signals.npz", **{c: r[c] for c in CHANNELS})
     (out / "scenario.toml").write_text(scenario_to_toml(s))
     last = r.window(0.8 * s.duration, s.duration)
-    if lcl:
-        summary = {
-            "name": s.name,
-            "samples": int(r.data.shape[0] * s.log_stride),
-            "status": r.status,
-            "speed_rpm_mean_last_20pct": float(np.mean(r.n_rpm[last])),
-            "speed_estimate_rpm_mean_last_20pct": float(np.mean(r.n_hat_rpm[last])),
-            "i2_delta_mean_last_20pct": float(np.mean(r["i2_dl"][last])),
-            "theta_error_rms_rad_last_20pct": float(np.sqrt(np.mean(r.theta_error[last] ** 2))),
-        }
-        (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
-        plots.lcl_time_panels(
-            out, s.name.replace(".", "_"), [r], [s.name], s.name,
-            [("speed (r/min)", [("n_ref_rpm", "reference"), ("n_rpm", "true"),
-                                ("n_hat_rpm", "estimated")]),
-             ("i_2 (A)", [("i2_g", "gamma"), ("i2_dl", "delta")]),
-             ("position error (rad)", [("theta_error", "true")])])
-        console.print(json.dumps(summary, indent=2))
-        return
     summary = {
         "name": s.name,
         "samples": int(r.data.shape[0] * s.log_stride),
         "status": r.status,
-        "speed_rpm_mean_last_20pct": float(np.mean(r["w_M"][last]) * 60 / (2 * np.pi)),
+        "speed_rpm_mean_last_20pct": float(np.mean(r.n_rpm[last])),
+        "speed_estimate_rpm_mean_last_20pct": float(np.mean(r.n_hat_rpm[last])),
         "i_d_mean_last_20pct": float(np.mean(r["i_d"][last])),
         "i_q_mean_last_20pct": float(np.mean(r["i_q"][last])),
         "theta_error_rms_deg_last_20pct": float(np.degrees(np.sqrt(np.mean(
             r.theta_error[last] ** 2)))),
     }
     (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
-    plots.sensorless_panels(out, s.name.replace(".", "_"), [r], [s.name], s.name,
-                            [(0.0, s.duration)])
+    plots.lcl_time_panels(
+        out, s.name.replace(".", "_"), [r], [s.name], s.name,
+        [("speed (r/min)", [("n_ref_rpm", "reference"), ("n_rpm", "true"),
+                            ("n_hat_rpm", "estimated")]),
+         ("motor current (A)", [("i_d", "d"), ("i_q", "q")]),
+         ("position error (rad)", [("theta_error", "true")])])
     console.print(json.dumps(summary, indent=2))
-
-
-def _channels():
-    from .simulate import CHANNELS
-
-    return CHANNELS
 
 
 @main.command()
 def scenarios() -> None:
     """List the catalogue of paper scenarios."""
-    for paper, mod in PAPERS.items():
-        for name in mod.SCENARIOS:
-            click.echo(name)
+    for name in catalogue():
+        click.echo(name)
 
 
 @main.command()
 @click.argument("name")
 def show(name: str) -> None:
     """Print a catalogue scenario as TOML (a starting point for your own)."""
-    for mod in PAPERS.values():
-        if name in mod.SCENARIOS:
-            click.echo(scenario_to_toml(mod.SCENARIOS[name]()))
-            return
+    cat = catalogue()
+    if name in cat:
+        click.echo(scenario_to_toml(cat[name]()))
+        return
     raise click.BadParameter(f"unknown scenario {name}; see `smodrive scenarios`")
 
 

@@ -4,6 +4,12 @@ Every numeric field carries its valid range and unit; building a dataclass
 with a bad value raises :class:`ParameterError` naming the field, the value
 and the range, before anything is simulated.
 
+One :class:`Scenario` describes every drive smodrive simulates: the plant
+sections (``motor``, the optional ``lcl`` filter, ``inverter``, ``adc``,
+``load``) and the composed controller (``controller.current``,
+``controller.position``, ``controller.start``). Speeds are SI (rad/s) in
+Python; a TOML key whose unit is not SI says so in its name (``..._rpm``).
+
 Example
 -------
 >>> from smodrive.params import MotorPars
@@ -16,11 +22,8 @@ smodrive.params.ParameterError: motor.L_s = -1.0 is outside its valid range [1e-
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
-import tomllib
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 RPM = 2.0 * math.pi / 60.0  # rad/s per r/min
@@ -31,10 +34,11 @@ class ParameterError(ValueError):
 
 
 def num(default: Any, lo: float, hi: float, unit: str, doc: str, *, lo_open: bool = False,
-        integer: bool = False) -> Any:
+        integer: bool = False, n: int = 0) -> Any:
     """A numeric dataclass field with range metadata (a tuple default makes
-    it a per-phase vector of that length)."""
-    n = len(default) if isinstance(default, tuple) else 0
+    it a vector of that length; a None default makes the field optional:
+    None then means "derived", see the field's doc)."""
+    n = len(default) if isinstance(default, tuple) else n
     return field(default=default, metadata={"range": (lo, hi, lo_open), "unit": unit, "doc": doc,
                                              "integer": integer, "n": n})
 
@@ -63,6 +67,8 @@ class _Validated:
             name = f"{self._section}.{f.name}" if self._section else f.name
             if f.metadata.get("bool") and not isinstance(value, bool):
                 raise ParameterError(f"{name} = {value!r} is not true or false")
+            if "range" in f.metadata and value is None and f.default is None:
+                continue  # optional: derived
             if "range" in f.metadata:
                 lo, hi, lo_open = f.metadata["range"]
                 unit = f.metadata["unit"]
@@ -100,7 +106,7 @@ class MotorPars(_Validated):
 
     _section = "motor"
     R_s: float = num(2.25, 1e-6, 1e3, "ohm", "stator resistance", lo_open=True)
-    L_s: float = num(23.45e-3, 1e-7, 10.0, "H", "stator inductance")
+    L_s: float = num(23.45e-3, 1e-8, 10.0, "H", "stator inductance")
     psi_r: float = num(0.4, 0.0, 100.0, "Wb", "PM flux linkage")
     n_p: int = num(4, 1, 100, "", "pole pairs", integer=True)
     J: float = num(0.012, 1e-9, 1e4, "kg m^2", "inertia of motor and load (assumed)")
@@ -120,6 +126,17 @@ class MotorPars(_Validated):
 
 
 @dataclass(frozen=True)
+class LclFilterPars(_Validated):
+    """LCL filter between inverter and machine (yao2022 Fig. 1, Table II):
+    L1 on the inverter side, C1 across, L2o in series with the machine's L_s."""
+
+    _section = "lcl"
+    L1: float = num(54e-6, 1e-8, 10.0, "H", "inverter-side inductance")
+    L2o: float = num(27.5e-6, 0.0, 10.0, "H", "machine-side filter inductance")
+    C1: float = num(31.48e-6, 1e-10, 1.0, "F", "filter capacitance")
+
+
+@dataclass(frozen=True)
 class InverterCfg(_Validated):
     _section = "inverter"
     u_dc: float = num(540.0, 0.0, 1e5, "V", "DC-link voltage", lo_open=True)
@@ -130,43 +147,97 @@ class InverterCfg(_Validated):
 
 @dataclass(frozen=True)
 class AdcCfg(_Validated):
+    """Current sensors and ADC: the motor-current channels (i_s; i_2 with the
+    filter) and, with the LCL filter, the inverter-side ones (i_1)."""
+
     _section = "adc"
     gain: tuple[float, float, float] = num((1.0, 1.0, 1.0), 0.5, 2.0, "", "per-phase gain")
     offset: tuple[float, float, float] = num((0.0, 0.0, 0.0), -1e3, 1e3, "A", "per-phase offset")
+    gain_i1: tuple[float, float, float] = num((1.0, 1.0, 1.0), 0.5, 2.0, "",
+                                              "per-phase gain of the i_1 channels (LCL)")
+    offset_i1: tuple[float, float, float] = num((0.0, 0.0, 0.0), -1e3, 1e3, "A",
+                                                "per-phase offset of the i_1 channels (LCL)")
     noise: float = num(0.02, 0.0, 1e3, "A", "white-noise standard deviation (assumed)")
     bits: int = num(12, 0, 24, "", "resolution (0: none)", integer=True)
     full_scale: float = num(25.0, 1e-6, 1e6, "A", "+- input range (assumed)")
     seed: int = num(1, 0, 2**63 - 1, "", "noise seed", integer=True)
 
 
+CURRENT_CONTROL = ("pi", "dbpc", "robust_dbpc")
+POSITION_SOURCES = ("encoder", "smdo_emf", "lcl_smo_pll", "lcl_linear")
+STARTS = ("running", "handover", "if")
+
+# yang2018's three drives (Fig. 3) as compositions of parts
+YANG2018_MODES = {
+    "conventional": dict(current="dbpc", position="encoder", start="running"),
+    "robust": dict(current="robust_dbpc", position="encoder", start="running"),
+    "sensorless": dict(current="robust_dbpc", position="smdo_emf", start="handover"),
+}
+
+
 @dataclass(frozen=True)
 class ControllerCfg(_Validated):
-    """The controller's knowledge: parameter estimates and gains. Defaults:
-    yang2018 Table I and Sec. IV-C; speed-loop values assumed."""
+    """The controller: its parts and its knowledge (parameter estimates and
+    gains). Defaults: yang2018 Table I and Sec. IV-C; the values the papers
+    do not give are assumed (docs/assumptions.md)."""
 
     _section = "controller"
-    mode: str = choice("robust", ("conventional", "robust", "sensorless"), "control structure")
+    current: str = choice("robust_dbpc", CURRENT_CONTROL, "current control")
+    position: str = choice("encoder", POSITION_SOURCES, "position source")
+    start: str = choice("running", STARTS,
+                        "running: the source from t = 0; handover: encoder for t_handover "
+                        "first; if: I/f forced start up to n_handover")
+    # model estimates
     L_s_hat: float = num(23.45e-3, 0.0, 10.0, "H", "inductance estimate", lo_open=True)
     R_s_hat: float = num(2.25, 0.0, 1e3, "ohm", "resistance estimate")
-    psi_r_hat: float = num(0.4, 0.0, 100.0, "Wb", "PM flux estimate (conventional DBPC)")
+    psi_r_hat: float = num(0.4, 0.0, 100.0, "Wb", "PM flux estimate (DBPC, EMF feed-forward)")
+    # SMDO, yang2018 eq. (34)-(39)
     lambda_min: float = num(800.0, 0.0, 1e7, "A/s", "SMDO lambda_min, eq. (37)")
     l: float = num(1200.0, 0.0, 1e7, "1/s", "SMDO proportional gain l, eq. (21)", lo_open=True)
     w_c: float = num(1500.0, 0.0, 1e7, "rad/s", "SMDO filter gain omega_c, eq. (19)", lo_open=True)
     rho: float = num(0.2, 0.0, 1e3, "A", "SMDO smoothing rho, eq. (39)", lo_open=True)
-    speed_bw: float = num(60.0, 0.0, 1e4, "rad/s", "speed-loop bandwidth (assumed)", lo_open=True)
-    J_hat: float = num(0.012, 1e-9, 1e4, "kg m^2", "inertia used to tune the speed PI")
-    psi_r_pi: float = num(0.4, 0.0, 100.0, "Wb", "flux used to tune the speed PI", lo_open=True)
-    i_max: float = num(15.0, 0.0, 1e5, "A", "q-axis current limit (assumed)", lo_open=True)
-    speed_decimation: int = num(1, 1, 1000, "", "speed loop runs every N samples", integer=True)
+    smdo_euler: bool = flag(False, "eq. (36) as printed (forward-Euler rotation)")
+    # position from the disturbance, eq. (44)-(45)
     w_lpf: float = num(100.0, 0.0, 1e6, "rad/s", "sensorless speed LPF bandwidth (assumed)",
                        lo_open=True)
     w_hys: float = num(5.0, 0.0, 1e5, "rad/s", "direction hysteresis (electrical)")
-    t_handover: float = num(0.0, 0.0, 1e3, "s", "sensorless: time run on the encoder first")
+    n_max: float = num(3000.0, 0.0, 1e6, "r/min", "sensorless speed-estimate limit", lo_open=True)
+    # current PI (current = "pi")
+    current_bw: float = num(2500.0, 0.0, 1e6, "rad/s",
+                            "current-loop bandwidth: k_p_i = bw L, k_i_i = bw R (assumed)",
+                            lo_open=True)
+    k_p_i: float | None = num(None, 0.0, 1e4, "V/A", "current PI gain (None: current_bw L_s_hat)")
+    k_i_i: float | None = num(None, 0.0, 1e9, "V/(A s)",
+                              "current PI integral gain (None: current_bw R_s_hat)")
+    L_dec: float | None = num(None, 0.0, 10.0, "H",
+                              "decoupling inductance (None: L_s_hat, plus L1 + L2o with the filter)")
+    R_v: float = num(0.0, 0.0, 1e4, "V/A", "virtual resistance on i_1 - i_2 (LCL, assumed)")
+    emf_ff: bool = flag(True, "feed the position source's EMF estimate forward (PI)")
+    # speed loop
+    speed_loop: bool = flag(True, "i_q reference from the speed PI (else from i_q_ref)")
+    speed_bw: float = num(60.0, 0.0, 1e4, "rad/s", "speed-loop bandwidth (assumed)", lo_open=True)
+    J_hat: float = num(0.012, 1e-9, 1e4, "kg m^2", "inertia used to tune the speed PI")
+    psi_r_pi: float = num(0.4, 0.0, 100.0, "Wb", "flux used to tune the speed PI", lo_open=True)
+    i_max: float = num(15.0, 0.0, 1e5, "A", "current-reference limit (assumed)", lo_open=True)
+    speed_decimation: int = num(1, 1, 1000, "", "speed loop runs every N samples", integer=True)
+    # PLL, yao2022 eq. (48), (50)
+    k_theta: float = num(0.1, 0.0, 2.0, "", "PLL, eq. (50)")
+    k_omega: float = num(10.0, 0.0, 1e9, "1/s", "PLL, eq. (50)")
+    k_a: float = num(10.0, 0.0, 1e12, "1/s^2", "PLL, eq. (50)")
+    # yao2022 observers
+    law: str = choice("proposed", ("proposed", "tde17", "tde18"), "reaching law")
+    C1_hat_ratio: float = num(1.0, 0.1, 10.0, "", "observer's capacitance / true (Fig. 23)")
+    Q: tuple[float, float] = num((0.5, 0.5), -0.999, 0.999, "", "reaching-law Q (Table III)")
+    bw_rel: tuple[float, float] = num((0.2, 0.2), 1e-3, 1.9, "", "band-pass widths / f_e")
+    n_bp_min: float = num(5e3, 0.0, 1e6, "r/min", "band-pass suppression above (assumed)")
+    # start
+    t_handover: float = num(0.0, 0.0, 1e3, "s", "handover: time run on the encoder first")
+    i_start: float = num(10.0, 0.0, 1e5, "A", "I/f start current (assumed)")
+    a_start_rpm_s: float = num(3000.0, 0.0, 1e9, "r/min/s", "I/f acceleration (assumed)")
+    n_handover: float = num(150.0, 0.0, 1e7, "r/min", "I/f: speed of the handover (assumed)")
+    # modulator
     t_dead_comp: float = num(2e-6, 0.0, 1e-3, "s", "dead time compensated by the modulator")
     i_dtc: float = num(0.3, 0.0, 1e5, "A", "linear zone of the compensation", lo_open=True)
-    n_max: float = num(3000.0, 0.0, 1e6, "r/min", "sensorless speed-estimate limit", lo_open=True)
-    speed_loop: bool = flag(True, "i_q reference from the speed PI (else from i_q_ref)")
-    smdo_euler: bool = flag(False, "eq. (36) as printed (forward-Euler rotation)")
 
     def pi_gains(self, n_p: int) -> tuple[float, float]:
         """Speed PI gains in A per electrical rad/s: the loop
@@ -178,6 +249,22 @@ class ControllerCfg(_Validated):
                 f"controller.psi_r_pi = {self.psi_r_pi!r} with J_hat = {self.J_hat!r}: the "
                 "speed-loop gain 1.5 n_p^2 psi / J is not a positive finite number")
         return 2.0 * self.speed_bw / b, self.speed_bw**2 / b
+
+    def current_pi_gains(self) -> tuple[float, float]:
+        """(k_p_i, k_i_i): the set values, or the internal-model design
+        k_p = bw L_s_hat, k_i = bw R_s_hat (the PI zero cancels the R/L pole)."""
+        k_p = self.current_bw * self.L_s_hat if self.k_p_i is None else self.k_p_i
+        k_i = self.current_bw * self.R_s_hat if self.k_i_i is None else self.k_i_i
+        return k_p, k_i
+
+
+def yang2018_mode(mode: str) -> dict[str, str]:
+    """The parts of yang2018's conventional, robust or sensorless drive."""
+    try:
+        return dict(YANG2018_MODES[mode])
+    except KeyError:
+        raise ParameterError(
+            f"controller.mode = {mode!r} is not one of {', '.join(YANG2018_MODES)}") from None
 
 
 @dataclass(frozen=True)
@@ -210,6 +297,10 @@ class Profile:
             y += [y[-1], float(yc)]
         return Profile(tuple(t), tuple(y))
 
+    def scaled(self, k: float) -> "Profile":
+        """The profile with every value multiplied by k (e.g. RPM)."""
+        return Profile(self.t, tuple(y * k for y in self.y))
+
     def __call__(self, tq: float) -> float:
         import numpy as np
 
@@ -227,7 +318,8 @@ class LoadCfg(_Validated):
 
 @dataclass(frozen=True)
 class Scenario(_Validated):
-    """One runnable experiment."""
+    """One runnable experiment: a plant (motor, optional LCL filter,
+    inverter, ADC, load), a composed controller and the references."""
 
     _section = "scenario"
     name: str = "scenario"
@@ -243,6 +335,7 @@ class Scenario(_Validated):
     log_stride: int = num(1, 1, 10**6, "", "log every N samples", integer=True)
     warm_start: bool = flag(True, "start in steady state: current and speed PI carry the load")
     motor: MotorPars = field(default_factory=MotorPars)
+    lcl: LclFilterPars | None = None
     controller: ControllerCfg = field(default_factory=ControllerCfg)
     inverter: InverterCfg = field(default_factory=InverterCfg)
     adc: AdcCfg = field(default_factory=AdcCfg)
@@ -250,11 +343,28 @@ class Scenario(_Validated):
 
     def __post_init__(self) -> None:
         super().__post_init__()
+        if self.lcl is not None and not isinstance(self.lcl, LclFilterPars):
+            raise ParameterError(f"scenario.lcl = {self.lcl!r} is not an LclFilterPars or None")
         # plant limits that depend on more than one field
         if self.inverter.t_dead > 0.25 * self.T_sp:
             raise ParameterError(
                 f"inverter.t_dead = {self.inverter.t_dead!r} is outside its valid range "
                 f"[0, T_sp/4 = {0.25 * self.T_sp:g}] s")
+
+    @property
+    def w_M0(self) -> float:
+        """Initial mechanical speed, rad/s."""
+        return self.n_M0 * RPM
+
+    @property
+    def L_dec(self) -> float:
+        """Decoupling inductance of the current PI, H."""
+        c = self.controller
+        if c.L_dec is not None:
+            return c.L_dec
+        if self.lcl is None:
+            return c.L_s_hat
+        return self.lcl.L1 + self.lcl.L2o + c.L_s_hat
 
     def check_controller(self) -> None:
         """Controller limits that depend on more than one field (the ones the
@@ -262,6 +372,23 @@ class Scenario(_Validated):
         simulation, not for plant-only use."""
         T, c = self.T_sp, self.controller
         nyq = math.pi / T
+        lcl_src = c.position in ("lcl_smo_pll", "lcl_linear")
+        if lcl_src and self.lcl is None:
+            raise ParameterError(
+                f"controller.position = {c.position!r} needs the LCL filter: add an [lcl] "
+                "section (L1, L2o, C1) or choose encoder / smdo_emf")
+        if self.lcl is not None and c.current != "pi":
+            raise ParameterError(
+                f"controller.current = {c.current!r} with the LCL filter: only 'pi' (with "
+                "active damping) is designed for the filtered drive")
+        if self.lcl is not None and c.position == "smdo_emf":
+            raise ParameterError(
+                "controller.position = 'smdo_emf' with the LCL filter: the SMDO's model "
+                "(yang2018 eq. (15)) has no filter; choose lcl_smo_pll, lcl_linear or encoder")
+        if self.lcl is None and c.R_v > 0.0:
+            raise ParameterError(
+                f"controller.R_v = {c.R_v!r}: active damping needs the LCL filter's current "
+                "i_1; set it to 0 without the filter")
         if c.t_handover / T > 2**31 - 1:
             raise ParameterError(
                 f"controller.t_handover = {c.t_handover!r} is too long: at most "
@@ -271,11 +398,24 @@ class Scenario(_Validated):
             raise ParameterError(
                 f"controller.speed_bw = {c.speed_bw!r} with J_hat = {c.J_hat!r} gives speed-PI "
                 f"gains k_p = {k_p:g}, k_i = {k_i:g}, beyond the core's limits 1e6 and 1e9")
+        if c.current == "pi":
+            k_p, k_i = c.current_pi_gains()
+            if not (k_p <= 1e4 and k_i <= 1e9):
+                raise ParameterError(
+                    f"controller.current_bw = {c.current_bw!r} gives current-PI gains "
+                    f"k_p_i = {k_p:g} V/A, k_i_i = {k_i:g} V/(A s), beyond the core's limits "
+                    "1e4 and 1e9")
+            if self.L_dec > 10.0:
+                raise ParameterError(f"the decoupling inductance {self.L_dec:g} H exceeds 10 H")
         if c.t_dead_comp > 0.25 * T:
             raise ParameterError(
                 f"controller.t_dead_comp = {c.t_dead_comp!r} is outside its valid range "
                 f"[0, T_sp/4 = {0.25 * T:g}] s")
-        if c.mode == "sensorless":
+        if c.start == "if" and c.n_handover * RPM * self.motor.n_p > nyq:
+            raise ParameterError(
+                f"controller.n_handover = {c.n_handover!r} is outside its valid range: "
+                f"n_handover n_p must be at most pi/T_sp = {nyq:g} rad/s")
+        if c.position == "smdo_emf":
             if c.w_lpf >= nyq:
                 raise ParameterError(
                     f"controller.w_lpf = {c.w_lpf!r} is outside its valid range "
@@ -291,11 +431,12 @@ class Scenario(_Validated):
                 raise ParameterError(
                     f"controller.w_c = {c.w_c!r} with n_max = {c.n_max!r}: the filter (36) "
                     "would be unstable, |1 - w_c T_sp + j w_max T_sp| must be below 1")
-        if c.mode != "conventional" and (c.l + c.lambda_min / c.rho) * T >= 2.0:
+        uses_smdo = c.current == "robust_dbpc" or c.position == "smdo_emf"
+        if uses_smdo and (c.l + c.lambda_min / c.rho) * T >= 2.0:
             raise ParameterError(
                 f"controller.l = {c.l!r}, lambda_min = {c.lambda_min!r}, rho = {c.rho!r}: "
                 "(l + lambda_min/rho) T_sp must be below 2 for a stable SMDO")
-        if c.mode != "conventional" and c.w_c * T >= 1.0:
+        if uses_smdo and c.w_c * T >= 1.0:
             raise ParameterError(
                 f"controller.w_c = {c.w_c!r} is outside its valid range (0, 1/T_sp = {1 / T:g})"
                 " rad/s")
@@ -307,133 +448,11 @@ class Scenario(_Validated):
     def replace(self, **changes: Any) -> "Scenario":
         return dataclasses.replace(self, **changes)
 
-
-# ---------------------------------------------------------------- TOML -----
-
-_SECTIONS = {
-    "motor": MotorPars,
-    "controller": ControllerCfg,
-    "inverter": InverterCfg,
-    "adc": AdcCfg,
-    "load": LoadCfg,
-}
+    def with_controller(self, **changes: Any) -> "Scenario":
+        """A copy with controller fields changed (``mode`` expands to yang2018's
+        parts)."""
+        if "mode" in changes:
+            changes = {**yang2018_mode(changes.pop("mode")), **changes}
+        return self.replace(controller=dataclasses.replace(self.controller, **changes))
 
 
-def _scenario_classes() -> dict[str, type]:
-    """Scenario kinds by the TOML key `kind` (default "pmsm")."""
-    from .lcl import LclScenario  # late: lcl imports this module
-
-    return {"pmsm": Scenario, "lcl": LclScenario}
-
-
-def _sections_of(cls: type) -> dict[str, type]:
-    """Fields of cls that are parameter sections (nested dataclasses)."""
-    obj = cls()
-    out = {}
-    for f in dataclasses.fields(cls):
-        v = getattr(obj, f.name)
-        if dataclasses.is_dataclass(v) and not isinstance(v, Profile):
-            out[f.name] = type(v)
-    return out
-
-
-def _is_profile(cls: type, name: str) -> bool:
-    return isinstance(getattr(cls(), name, None), Profile)
-
-
-def _profile_from(name: str, v: Any, scale: float = 1.0) -> Profile:
-    form = f"{name}: expected a number or a table {{t = [...], y = [...]}} of numbers"
-    is_num = lambda x: isinstance(x, (int, float)) and not isinstance(x, bool)  # noqa: E731
-    if is_num(v):
-        return Profile.const(float(v) * scale)
-    if not (isinstance(v, dict) and set(v) == {"t", "y"}):
-        raise ParameterError(form)
-    t, y = v["t"], v["y"]
-    if not (isinstance(t, list) and isinstance(y, list) and all(map(is_num, t + y))):
-        raise ParameterError(form)
-    try:
-        return Profile(tuple(map(float, t)), tuple(float(x) * scale for x in y))
-    except ParameterError as exc:
-        raise ParameterError(f"{name}: {exc}") from None
-
-
-def _build(cls: type, section: str, data: dict[str, Any]) -> Any:
-    names = {f.name: f for f in dataclasses.fields(cls)}
-    kwargs: dict[str, Any] = {}
-    for key, value in data.items():
-        if key == "w_M_ref_rpm" and "w_M_ref" in names:
-            kwargs["w_M_ref"] = _profile_from(f"{section}.{key}", value, RPM)
-            continue
-        if key not in names:
-            raise ParameterError(
-                f"{section}.{key}: unknown parameter (known: {', '.join(sorted(names))})"
-            )
-        if _is_profile(cls, key):
-            kwargs[key] = _profile_from(f"{section}.{key}", value)
-        elif isinstance(value, list):
-            kwargs[key] = tuple(value)
-        else:
-            kwargs[key] = value
-    return cls(**kwargs)
-
-
-def scenario_from_dict(data: dict[str, Any]) -> Any:
-    """A Scenario (or, with kind = "lcl", an LclScenario) from parsed TOML."""
-    data = dict(data)
-    kinds = _scenario_classes()
-    kind = data.pop("kind", "pmsm")
-    if kind not in kinds:
-        raise ParameterError(f"kind = {kind!r} is not one of {', '.join(kinds)}")
-    cls = kinds[kind]
-    sections = _sections_of(cls)
-    top: dict[str, Any] = {}
-    for key, value in data.items():
-        if key in sections:
-            if not isinstance(value, dict):
-                raise ParameterError(f"[{key}] must be a table")
-            top[key] = _build(sections[key], key, value)
-        else:
-            top[key] = value
-    return _build(cls, "scenario", top)
-
-
-def load_scenario(path: str | Path) -> Scenario:
-    """Read a scenario from a TOML file (see scenarios/*.toml)."""
-    path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text())
-    except tomllib.TOMLDecodeError as exc:
-        raise ParameterError(f"{path}: not valid TOML: {exc}") from exc
-    s = scenario_from_dict(data)
-    if isinstance(s, Scenario):
-        s.check_controller()
-    return s
-
-
-def scenario_to_toml(s: Scenario) -> str:
-    """Serialise a scenario to TOML (round-trips through load_scenario)."""
-
-    def val(v: Any) -> str:
-        if isinstance(v, bool):
-            return "true" if v else "false"
-        if isinstance(v, str):
-            # a JSON string is a TOML basic string, but for DEL, which TOML escapes
-            return json.dumps(v, ensure_ascii=False).replace("\x7f", "\\u007f")
-        if isinstance(v, tuple):
-            return "[" + ", ".join(val(x) for x in v) + "]"
-        if isinstance(v, Profile):
-            return "{ t = " + val(v.t) + ", y = " + val(v.y) + " }"
-        return repr(v)
-
-    sections = _sections_of(type(s))
-    lines = [] if isinstance(s, Scenario) else ['kind = "lcl"']
-    for f in dataclasses.fields(s):
-        v = getattr(s, f.name)
-        if f.name not in sections:
-            lines.append(f"{f.name} = {val(v)}")
-    for sec in sections:
-        lines.append(f"\n[{sec}]")
-        obj = getattr(s, sec)
-        for f in dataclasses.fields(obj):
-            lines.append(f"{f.name} = {val(getattr(obj, f.name))}")
-    return "\n".join(lines) + "\n"

@@ -1,5 +1,6 @@
 """Direct access to the C plant (open loop): for tests, agreement checks and
-users who drive the machine with their own duty sequence.
+users who drive the machine with their own duty sequence. The plant of any
+scenario: the SPMSM alone or behind the LCL filter.
 
 Example
 -------
@@ -22,27 +23,12 @@ from . import _ffi
 from .params import ParameterError, Scenario
 from .simulate import plant_config
 
-# Offsets of the first fields of struct smd_plant after its config member.
-_CFG = ct.sizeof(_ffi.PlantConfig)
-
-
-class _PlantHead(ct.Structure):
-    _fields_ = [
-        ("c", _ffi.PlantConfig),
-        ("a", ct.c_double),
-        ("i_re", ct.c_double),
-        ("i_im", ct.c_double),
-        ("theta_r", ct.c_double),
-        ("w_M", ct.c_double),
-        ("T_e_mean", ct.c_double),
-        ("T_L_mean", ct.c_double),
-        ("u_re", ct.c_double),
-        ("u_im", ct.c_double),
-    ]
+_D3 = ct.c_double * 3
 
 
 class Plant:
-    """SPMSM + inverter + ADC of a scenario, stepped one carrier period at a time."""
+    """Inverter (+ LCL filter) + SPMSM + ADC of a scenario, stepped one
+    carrier period at a time."""
 
     def __init__(self, s: Scenario):
         self.scenario = s
@@ -50,22 +36,48 @@ class Plant:
         self._buf = (ct.c_double * math.ceil(_ffi.lib.smd_sizeof_plant() / 8 + 1))()
         rc = _ffi.lib.smd_plant_init(self._buf, ct.byref(self.config))
         if rc != 0:
-            raise ParameterError(f"plant parameter {_ffi.lib.smd_plant_field(rc).decode()} rejected")
-        self._head = _PlantHead.from_buffer(self._buf)
+            raise ParameterError(f"plant parameter {_ffi.lib.smd_plant_field(rc).decode()} "
+                                 "rejected")
+        self._head = _ffi.PlantHead.from_buffer(self._buf)
 
     def step(self, d_abc: Sequence[float], T_ext: float = 0.0, T_brake: float = 0.0) -> None:
-        d = (ct.c_double * 3)(*d_abc)
-        _ffi.lib.smd_plant_step(self._buf, d, T_ext, T_brake)
+        _ffi.lib.smd_plant_step(self._buf, _D3(*d_abc), T_ext, T_brake)
+
+    def run_open(self, n: int, m: float, delta: float = 0.0, T_ext: float = 0.0) -> None:
+        """n periods (in C) with d_x = 0.5 + 0.5 m cos(theta_r + delta - 2 pi x / 3)."""
+        _ffi.lib.smd_plant_run_open(self._buf, n, m, delta, T_ext)
+
+    def sample_all(self) -> tuple[np.ndarray, np.ndarray]:
+        """ADC samples (motor phase currents, inverter-side phase currents), A;
+        without the filter the second is zero."""
+        a, b = _D3(), _D3()
+        _ffi.lib.smd_plant_sample(self._buf, a, b)
+        return np.array(a[:]), np.array(b[:])
 
     def sample(self) -> np.ndarray:
-        """ADC sample of the three phase currents, A."""
-        out = (ct.c_double * 3)()
-        _ffi.lib.smd_plant_sample(self._buf, out)
-        return np.array(out[:])
+        """ADC sample of the three motor phase currents, A."""
+        return self.sample_all()[0]
+
+    def phase_currents(self) -> tuple[np.ndarray, np.ndarray]:
+        """True phase currents (motor, inverter side), A."""
+        a, b = _D3(), _D3()
+        _ffi.lib.smd_plant_phase_currents(self._buf, a, b)
+        return np.array(a[:]), np.array(b[:])
 
     @property
     def i_s(self) -> complex:
+        """Motor current (i_2 with the filter), A."""
         return complex(self._head.i_re, self._head.i_im)
+
+    @property
+    def i_1(self) -> complex:
+        """Inverter-side current (the motor current without the filter), A."""
+        return complex(self._head.i1_re, self._head.i1_im)
+
+    @property
+    def u_c(self) -> complex:
+        """Filter-capacitor voltage (0 without the filter), V."""
+        return complex(self._head.uc_re, self._head.uc_im)
 
     @property
     def theta_r(self) -> float:
@@ -80,13 +92,24 @@ class Plant:
         return self._head.T_e_mean
 
     @property
+    def T_L_mean(self) -> float:
+        return self._head.T_L_mean
+
+    @property
     def u_mean(self) -> complex:
         return complex(self._head.u_re, self._head.u_im)
 
+    @property
+    def eigenvalues(self) -> np.ndarray:
+        """Eigenvalues of the filter-machine matrix A, 1/s ([0] real, [1:] the
+        resonant pair); zeros without the filter."""
+        re, im = _D3(), _D3()
+        _ffi.lib.smd_plant_eigenvalues(self._buf, re, im)
+        return np.array(re[:]) + 1j * np.array(im[:])
 
-def leg_edges(s: Scenario, d: float, i_x: float = 0.0) -> tuple[float, float]:
+
+def leg_edges(T: float, t_dead: float, d: float, i_x: float = 0.0) -> tuple[float, float]:
     """[t_on, t_off) of a leg within a carrier period, as the plant uses it."""
-    c = plant_config(s)
     t_on, t_off = ct.c_double(), ct.c_double()
-    _ffi.lib.smd_pwm_leg_edges(ct.byref(c), d, i_x, ct.byref(t_on), ct.byref(t_off))
+    _ffi.lib.smd_pwm_edges(T, t_dead, d, i_x, ct.byref(t_on), ct.byref(t_off))
     return t_on.value, t_off.value

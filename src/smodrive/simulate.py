@@ -1,20 +1,25 @@
-"""Run a scenario: the C engine (plant + firmware controller) in chunks.
+"""Run a scenario: the C engine (plant + firmware drive) in chunks.
 
-The Python side only builds the C parameter structs and hands over a
-preallocated log buffer; each chunk of samples is one call into C.
+The Python side builds the C configuration structs once (the plant from the
+scenario's plant sections, the drive from its controller section and, for
+the LCL observers, the lookup tables designed offline by
+:mod:`smodrive.design.yao2022`) and hands over a preallocated log buffer;
+each chunk of samples is one call into C.
 
 Example
 -------
 >>> from smodrive.params import Scenario, Profile, RPM
 >>> s = Scenario(duration=0.01, n_M0=300.0, w_M_ref=Profile.const(300 * RPM))
 >>> r = simulate(s)
->>> r["w_M"].shape
-(100,)
+>>> r["w_M"].shape, r.unit("w_M")
+((100,), 'rad/s')
 """
 
 from __future__ import annotations
 
 import ctypes as ct
+import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 from typing import Callable
@@ -24,68 +29,211 @@ import numpy as np
 from . import _ffi
 from .params import RPM, ParameterError, Profile, Scenario
 
-MODES = {"conventional": 0, "robust": 1, "sensorless": 2}
+CURRENT = {"pi": 0, "dbpc": 1, "robust_dbpc": 2}
+POSITION = {"encoder": 0, "smdo_emf": 1, "lcl_smo_pll": 2, "lcl_linear": 3}
+START = {"running": 0, "handover": 1, "if": 2}
+LAWS = {"proposed": 0, "tde17": 1, "tde18": 2}
+PHASES = {0: "forced (I/f)", 1: "encoder (handover)", 2: "position source"}
+
+# Every logged channel: unit and meaning (the C engine's table, smd_engine.h).
+CHANNELS: tuple[str, ...] = _ffi.LOG_CHANNELS
+CHANNEL_INFO: dict[str, tuple[str, str]] = {
+    "t": ("s", "time of sample k"),
+    "w_M": ("rad/s", "true mechanical speed"),
+    "theta_r": ("rad", "true electrical angle"),
+    "i_alpha": ("A", "true motor current (i_2 with the filter), alpha"),
+    "i_beta": ("A", "true motor current, beta"),
+    "i_d": ("A", "true motor current in the true rotor frame, d"),
+    "i_q": ("A", "true motor current in the true rotor frame, q"),
+    "T_e": ("N m", "mean electromagnetic torque over [t_k, t_k+1)"),
+    "T_L": ("N m", "mean load torque over [t_k, t_k+1) (friction B w excluded)"),
+    "w_M_ref": ("rad/s", "mechanical speed reference"),
+    "i_d_ref": ("A", "controller's current reference, d"),
+    "i_q_ref": ("A", "controller's current reference, q"),
+    "theta_hat": ("rad", "angle the controller uses at k"),
+    "w_hat": ("rad/s", "electrical speed the controller uses at k"),
+    "u_d_hat_alpha": ("V", "SMDO disturbance estimate u_d_hat^{k+1}, alpha"),
+    "u_d_hat_beta": ("V", "SMDO disturbance estimate, beta"),
+    "u_alpha": ("V", "mean inverter voltage over [t_k, t_k+1), alpha"),
+    "u_beta": ("V", "mean inverter voltage, beta"),
+    "u_cmd_alpha": ("V", "voltage commanded for the next period (after the limit), alpha"),
+    "u_cmd_beta": ("V", "voltage commanded for the next period, beta"),
+    "i_a_meas": ("A", "ADC motor phase current a"),
+    "i_b_meas": ("A", "ADC motor phase current b"),
+    "i_hat_alpha": ("A", "SMDO current prediction i_hat^{k+1}, alpha"),
+    "i_hat_beta": ("A", "SMDO current prediction, beta"),
+    "lambda": ("A/s", "SMDO adapted gain, eq. (37)"),
+    "i_g": ("A", "measured motor current in the controller's frame, gamma (d)"),
+    "i_dl": ("A", "measured motor current in the controller's frame, delta (q)"),
+    "theta_err_est": ("rad", "LCL sources: estimated angle error, yao2022 eq. (47)"),
+    "e_hat_g": ("V", "LCL sliding-mode observer: EMF estimate, gamma"),
+    "e_hat_dl": ("V", "LCL sliding-mode observer: EMF estimate, delta"),
+    "s_g": ("A", "LCL sliding-mode observer: switching function s(k), eq. (18), gamma"),
+    "s_dl": ("A", "switching function s(k), delta"),
+    "d_hat_g": ("A", "periodic-disturbance compensation, eq. (35), gamma"),
+    "d_hat_dl": ("A", "periodic-disturbance compensation, delta"),
+    "v_g": ("A", "disturbance part v(k-1) of the attraction function, gamma"),
+    "v_dl": ("A", "disturbance part v(k-1), delta"),
+    "i1_alpha": ("A", "true inverter-side current (motor current without filter), alpha"),
+    "i1_beta": ("A", "true inverter-side current, beta"),
+    "uc_alpha": ("V", "true filter-capacitor voltage (0 without filter), alpha"),
+    "uc_beta": ("V", "true filter-capacitor voltage, beta"),
+    "lin_e_alpha": ("V", "linear observer's EMF estimate, eq. (65), alpha"),
+    "lin_e_beta": ("V", "linear observer's EMF estimate, beta"),
+    "phase": ("", "start-up phase: 0 forced (I/f), 1 encoder handover, 2 position source"),
+    "status": ("", "controller status code of the step (smd_status)"),
+}
+if set(CHANNEL_INFO) != set(CHANNELS):
+    raise ImportError("smodrive: channel descriptions out of date with the C engine")
+
+TABLE_RPM = np.arange(-110e3, 110e3 + 1.0, 1000.0)  # LCL observer tables, r/min
 
 
 class SimulationError(RuntimeError):
     """The engine refused the parameters or produced non-finite values."""
 
 
-def _pwl(p: Profile, scale: float = 1.0) -> _ffi.Pwl:
+# ------------------------------------------------------------ C structs ---
+
+def _pwl(p: Profile) -> _ffi.Pwl:
     w = _ffi.Pwl()
     w.n = len(p.t)
     for k, (t, y) in enumerate(zip(p.t, p.y)):
         w.t[k] = t
-        w.y[k] = y * scale
+        w.y[k] = y
     return w
 
 
+def _warm_i_q0(s: Scenario) -> float:
+    """q-axis current of the steady state at t = 0 (the load and friction at
+    the initial speed), or 0 without a warm start."""
+    m = s.motor
+    if not s.warm_start or s.controller.start == "if" or m.k_t <= 0:
+        return 0.0
+    w_M0 = s.w_M0
+    brake = s.load.T_brake(0.0) * max(-1.0, min(1.0, w_M0 / s.load.w_brake_eps))
+    T_L = s.load.T_ext(0.0) + brake + s.load.k_fan * w_M0 * abs(w_M0) + m.B * w_M0
+    return T_L / m.k_t
+
+
 def plant_config(s: Scenario) -> _ffi.PlantConfig:
-    m, inv, adc = s.motor, s.inverter, s.adc
+    """The plant's C config: the true machine, filter, inverter, ADC, load
+    and initial state (a warm start: the steady state carrying the load)."""
+    m, inv, adc, f = s.motor, s.inverter, s.adc, s.lcl
     c = _ffi.PlantConfig()
     c.R_s, c.L_s, c.psi_r, c.n_p, c.J, c.B = m.R_s, m.L_s, m.psi_r, m.n_p, m.J, m.B
+    if f is not None:
+        c.lcl, c.L1, c.L2o, c.C1 = 1, f.L1, f.L2o, f.C1
     c.u_dc = inv.u_dc
     c.T_sw = s.T_sp
     c.pwm_mode = 1 if inv.pwm == "carrier" else 0
     c.t_dead = inv.t_dead
     for k in range(3):
-        c.adc_gain[k] = adc.gain[k]
-        c.adc_offset[k] = adc.offset[k]
+        c.adc_gain[k], c.adc_offset[k] = adc.gain[k], adc.offset[k]
+        c.adc_gain_i1[k], c.adc_offset_i1[k] = adc.gain_i1[k], adc.offset_i1[k]
     c.adc_noise = adc.noise
     c.adc_bits = adc.bits
     c.adc_full_scale = adc.full_scale
     c.seed = adc.seed
     c.w_brake_eps = s.load.w_brake_eps
     c.k_fan = s.load.k_fan
-    c.w_M0 = s.n_M0 * RPM
+    c.w_M0 = s.w_M0
     c.theta_r0 = s.theta_r0
-    if s.warm_start:
-        # steady state at t = 0: the current carries the initial load and friction
-        w_M0 = s.n_M0 * RPM
-        brake = s.load.T_brake(0.0) * max(-1.0, min(1.0, w_M0 / s.load.w_brake_eps))
-        T_L = s.load.T_ext(0.0) + brake + s.load.k_fan * w_M0 * abs(w_M0) + m.B * w_M0
-        c.i_q0 = T_L / m.k_t if m.k_t > 0 else 0.0
+    c.i_q0 = i_q0 = _warm_i_q0(s)
+    if f is not None and s.warm_start and s.controller.start != "if":
+        # steady state of the LCL in the rotor frame with i_2 = j i_q0:
+        # u_c = j w psi + (R + j w L2) i_2, i_1 = i_2 + j w C1 u_c
+        w_e = s.w_M0 * m.n_p
+        L2 = f.L2o + m.L_s
+        uc = 1j * w_e * m.psi_r + (m.R_s + 1j * w_e * L2) * 1j * i_q0
+        i1 = 1j * i_q0 + 1j * w_e * f.C1 * uc
+        c.uc_d0, c.uc_q0 = uc.real, uc.imag
+        c.i1_d0, c.i1_q0 = i1.real, i1.imag
     return c
 
 
-def drive_config(s: Scenario) -> _ffi.DriveConfig:
-    k = s.controller
+@functools.lru_cache(maxsize=8)
+def observer_tables(motor, lcl, T_sp: float, u_dc: float, design) -> tuple[np.ndarray,
+                                                                           np.ndarray, float,
+                                                                           float]:
+    """The LCL observers' tables, designed offline at every 1000 r/min of
+    TABLE_RPM and packed in the C layouts: (models (n, N_MODEL) float32,
+    linear observer (n, N_LIN) float32, w_min, dw)."""
+    from .design import yao2022 as dz
+
+    pars = dz.LclMotorPars(R=motor.R_s, L1=lcl.L1, L2o=lcl.L2o, Ls=motor.L_s, C1=lcl.C1,
+                           psi_m=motor.psi_r, n_p=motor.n_p, T=T_sp, u_dc=u_dc)
+    t = dz.design_tables(pars, TABLE_RPM, design)
+    n = t.w.size
+    m = np.zeros((n, _ffi.N_MODEL), dtype=np.float32)
+    lin = np.zeros((n, _ffi.N_LIN), dtype=np.float32)
+    for k in range(n):
+        parts = [t.G[k].ravel(), t.H[k].ravel(), t.F[k].ravel(), t.T_r[k][2:, 2:].ravel(),
+                 t.H_c[k].ravel(), t.D1[k].ravel(), t.D2[k].ravel(), t.Gamma_c[k].ravel(),
+                 t.Gamma_1[k].ravel(), t.Gamma_2[k].ravel(), t.G_s[k].ravel(),
+                 t.K_c[k].ravel(), t.K_y[k].ravel(), [t.k[k]]]
+        m[k] = np.concatenate(parts)
+        lin[k] = np.concatenate([t.L_s[k].ravel(), t.Theta[k].ravel(), t.Theta_y[k].ravel(),
+                                 t.Theta_u[k].ravel()])
+    if not (np.all(np.isfinite(m)) and np.all(np.isfinite(lin))):
+        raise ParameterError("observer design produced non-finite matrices")
+    m.flags.writeable = lin.flags.writeable = False
+    return m, lin, float(t.w[0]), float(t.w[1] - t.w[0])
+
+
+def lcl_observer_tables(s: Scenario, design=None):
+    """observer_tables for scenario `s`: designed from the controller's
+    estimates (L_s_hat, R_s_hat, psi_r_hat) and the filter with the
+    observer's capacitance C1_hat_ratio C1."""
+    from .design import yao2022 as dz
+    from .params import MotorPars
+
+    c = s.controller
+    if s.lcl is None:
+        raise ParameterError("the LCL observers need the [lcl] filter section")
+    est_motor = MotorPars(R_s=c.R_s_hat, L_s=c.L_s_hat, psi_r=c.psi_r_hat, n_p=s.motor.n_p)
+    est_lcl = dataclasses.replace(s.lcl, C1=s.lcl.C1 * c.C1_hat_ratio)
+    design = design or dz.ObserverDesignPars(Q=tuple(c.Q))
+    return observer_tables(est_motor, est_lcl, s.T_sp, s.inverter.u_dc, design)
+
+
+def drive_config(s: Scenario, tables=None) -> _ffi.DriveConfig:
+    """The drive's C config (SI units, electrical angles and speeds). For
+    the LCL observers `tables` (from :func:`lcl_observer_tables`) must be
+    kept alive as long as the config is in use."""
+    k, T = s.controller, s.T_sp
+    n_p = s.motor.n_p
     c = _ffi.DriveConfig()
-    c.mode = MODES[k.mode]
-    c.T_sp = s.T_sp
+    c.current, c.position, c.start = CURRENT[k.current], POSITION[k.position], START[k.start]
+    c.lcl = 0 if s.lcl is None else 1
+    c.T_sp = T
     c.L_s_hat, c.R_s_hat, c.psi_r_hat = k.L_s_hat, k.R_s_hat, k.psi_r_hat
     c.lambda_min, c.l, c.w_c, c.rho = k.lambda_min, k.l, k.w_c, k.rho
-    c.k_p, c.k_i = k.pi_gains(s.motor.n_p)
+    c.smdo_euler = 1 if k.smdo_euler else 0
+    c.w_lpf, c.w_hys = k.w_lpf, k.w_hys
+    c.w_max = k.n_max * RPM * n_p
+    c.k_p_i, c.k_i_i = k.current_pi_gains()
+    c.L_dec = s.L_dec
+    c.R_v = k.R_v
+    c.emf_ff = 1 if k.emf_ff else 0
+    c.speed_loop = 1 if k.speed_loop else 0
+    c.k_p_w, c.k_i_w = k.pi_gains(n_p)
     c.i_max = k.i_max
     c.speed_decimation = k.speed_decimation
-    c.speed_loop = 1 if k.speed_loop else 0
-    c.w_lpf, c.w_hys = k.w_lpf, k.w_hys
+    c.k_theta, c.k_omega, c.k_a = k.k_theta, k.k_omega, k.k_a
+    if tables is not None:
+        m, lin, w_min, dw = tables
+        c.smo = _ffi.SmoConfig(T_sp=T, law=LAWS[k.law], table=m.ctypes.data, n=m.shape[0],
+                               w_min=w_min, dw=dw, Q1=k.Q[0], Q2=k.Q[1], bw_rel2=k.bw_rel[0],
+                               bw_rel3=k.bw_rel[1], w_bp_min=k.n_bp_min * RPM * n_p)
+        c.lin = _ffi.LinConfig(table=lin.ctypes.data, n=lin.shape[0], w_min=w_min, dw=dw)
+    c.handover = int(round(k.t_handover / T)) if k.start == "handover" else 0
+    c.i_start = k.i_start
+    c.a_start = k.a_start_rpm_s * RPM * n_p
+    c.w_handover = k.n_handover * RPM * n_p
     c.svm_limit = 1 if s.inverter.svm_limit == "hexagon" else 0
-    c.w_max = k.n_max * RPM * s.motor.n_p
-    c.handover = int(round(k.t_handover / s.T_sp))
     c.t_dead_comp = k.t_dead_comp
     c.i_dtc = k.i_dtc
-    c.smdo_euler = 1 if k.smdo_euler else 0
     return c
 
 
@@ -101,16 +249,23 @@ def profiles(s: Scenario) -> _ffi.Profiles:
     return p
 
 
+# --------------------------------------------------------------- results --
+
 @dataclass
 class Result:
-    """Logged signals of one run, by channel name (see :data:`CHANNELS`)."""
+    """Logged signals of one run, by channel name (:data:`CHANNELS`; units
+    and meanings: :data:`CHANNEL_INFO`, :meth:`unit`)."""
 
     scenario: Scenario
     data: np.ndarray  # rows x channels
     status: int
 
     def __getitem__(self, name: str) -> np.ndarray:
-        return self.data[:, _ffi.LOG_CHANNELS.index(name)]
+        return self.data[:, CHANNELS.index(name)]
+
+    @staticmethod
+    def unit(name: str) -> str:
+        return CHANNEL_INFO[name][0]
 
     @property
     def t(self) -> np.ndarray:
@@ -126,45 +281,73 @@ class Result:
         d = self["theta_r"] - self["theta_hat"]
         return (d + np.pi) % (2 * np.pi) - np.pi
 
+    @property
+    def n_rpm(self) -> np.ndarray:
+        """True speed, r/min."""
+        return self["w_M"] / RPM
 
-CHANNELS = _ffi.LOG_CHANNELS
+    @property
+    def n_hat_rpm(self) -> np.ndarray:
+        """Speed the controller uses, r/min (mechanical)."""
+        return self["w_hat"] / self.scenario.motor.n_p / RPM
+
+
+# ---------------------------------------------------------------- engine --
+
+def _wrap_pi(x: float) -> float:
+    """x wrapped to [-pi, pi), as the plant wraps its angle."""
+    return x - 2 * math.pi * math.floor((x + math.pi) / (2 * math.pi))
+
+
+def _describe(rc: int) -> str:
+    if 1000 <= rc < 2000:
+        return f"plant parameter {_ffi.lib.smd_plant_field(rc - 1000).decode()} rejected"
+    if 2000 <= rc < 3000:
+        return f"controller rejected: {_ffi.status_str(rc - 2000)}"
+    return "a profile or the initial state is malformed (times must be non-decreasing)"
 
 
 class Engine:
     """A live engine: plant and controller state persist between run() calls."""
 
-    def __init__(self, s: Scenario):
+    def __init__(self, s: Scenario, design=None):
         s.check_controller()
         self.scenario = s
+        self._tables = (lcl_observer_tables(s, design)
+                        if s.controller.position in ("lcl_smo_pll", "lcl_linear") else None)
         self._buf = (ct.c_double * math.ceil(_ffi.ENGINE_SIZE / 8 + 1))()
-        self._pc, self._dc, self._pr = plant_config(s), drive_config(s), profiles(s)
-        rc = _ffi.lib.smd_engine_init(
-            self._buf, ct.byref(self._pc), ct.byref(self._dc), ct.byref(self._pr)
-        )
+        self._pc, self._pr = plant_config(s), profiles(s)
+        self._dc = drive_config(s, self._tables)
+        self._st = _ffi.EngineStart(theta0=_wrap_pi(s.theta_r0),
+                                    w0=s.w_M0 * s.motor.n_p, i_q0=self._pc.i_q0)
+        rc = _ffi.lib.smd_engine_init(self._buf, ct.byref(self._pc), ct.byref(self._dc),
+                                      ct.byref(self._pr), ct.byref(self._st))
         if rc != 0:
-            if 1000 <= rc < 2000:
-                field = _ffi.lib.smd_plant_field(rc - 1000).decode()
-                raise ParameterError(f"plant parameter {field} rejected by the engine")
-            if 2000 <= rc < 3000:
-                raise ParameterError(f"controller rejected: {_ffi.status_str(rc - 2000)}")
-            raise ParameterError("a profile is malformed (times must be non-decreasing)")
+            raise ParameterError(f"{s.name}: {_describe(rc)}")
 
     def run(self, n: int, out: np.ndarray, row0: int, stride: int) -> int:
         ptr = out[row0:].ctypes.data_as(ct.POINTER(ct.c_double))
         return int(_ffi.lib.smd_engine_run(self._buf, n, ptr, stride))
+
+    def run_nolog(self, n: int) -> None:
+        """Run n samples without logging (benchmarks)."""
+        _ffi.lib.smd_engine_run(self._buf, n, None, 1)
 
 
 def simulate(
     s: Scenario,
     progress: Callable[[float], None] | None = None,
     chunk_seconds: float = 0.05,
+    design=None,
 ) -> Result:
-    """Run scenario `s` to its duration; `progress(fraction)` after each chunk."""
-    eng = Engine(s)
+    """Run scenario `s` to its duration; `progress(fraction)` after each
+    chunk. `design` overrides the LCL observer's design choices
+    (:class:`smodrive.design.yao2022.ObserverDesignPars`)."""
+    eng = Engine(s, design)
     n = s.n_steps
     stride = s.log_stride
     rows = math.ceil(n / stride)
-    out = np.zeros((rows, _ffi.N_LOG), dtype=np.float64)
+    out = np.zeros((rows, len(CHANNELS)), dtype=np.float64)
     chunk = max(stride, int(chunk_seconds / s.T_sp) // stride * stride)
     done, row = 0, 0
     while done < n:

@@ -1,126 +1,231 @@
 /*
- * Top-level drive controller: what a firmware interrupt calls once per sample.
+ * The drive: what a firmware interrupt calls once per sample. One entry
+ * point for every drive smodrive knows, composed of parts chosen at init:
  *
- * Modes (yang2018 Fig. 3):
- *   SMD_DRIVE_CONVENTIONAL  sensored, conventional DBPC eq. (8)-(9)
- *   SMD_DRIVE_ROBUST        sensored, SMDO eq. (34)-(39) + robust DBPC eq. (42)
- *   SMD_DRIVE_SENSORLESS    SMDO + robust DBPC, position and speed from the
- *                           estimated disturbance, eq. (44)-(45)
+ *   current control   SMD_CC_PI           synchronous-frame PI with decoupling
+ *                                         and EMF feed-forward; with the LCL
+ *                                         filter also active damping by a
+ *                                         virtual resistance on i_1 - i_2
+ *                     SMD_CC_DBPC         yang2018 eq. (8)-(9)
+ *                     SMD_CC_ROBUST_DBPC  SMDO eq. (34)-(39) + eq. (42)
+ *   position source   SMD_POS_ENCODER     theta_enc, w_enc of the input
+ *                     SMD_POS_SMDO_EMF    yang2018 eq. (44)-(45) on the SMDO's
+ *                                         disturbance estimate
+ *                     SMD_POS_LCL_SMO_PLL yao2022 sliding-mode observer + PLL
+ *                                         eq. (47)-(48) (needs the LCL filter)
+ *                     SMD_POS_LCL_LINEAR  yao2022 linear observer (64)-(65) +
+ *                                         the same PLL (needs the LCL filter)
+ *   start             SMD_START_RUNNING   the source from the first sample
+ *                                         (a flying start from theta0, w0)
+ *                     SMD_START_HANDOVER  encoder for `handover` samples while
+ *                                         the observer converges, then the source
+ *                     SMD_START_IF        I/f: current i_start on a forced angle
+ *                                         accelerated at a_start up to
+ *                                         w_handover, then the source
  *
- * Per sample k: measure i_s^k (two phases a, b), optionally the encoder angle
- * and speed; run the speed PI (every speed_decimation samples); compute
- * u_s^{k+1}; modulate. The returned duties are to be applied during the next
- * sampling period (the one-sample computational delay of yang2018 Sec. II-B).
+ * Every part downstream of the position source (Park transforms, speed loop,
+ * current control, modulation) sees only (theta, w) of sample k. The parts
+ * are selected with enumerations and one switch each; there are no function
+ * pointers. A combination that does not fit returns SMD_ERR_COMBINATION:
+ * the LCL observers and active damping need the LCL filter (lcl = 1), and the
+ * LCL-filtered drive needs SMD_CC_PI (deadbeat control of i_2 through the
+ * filter is not what yang2018 designs).
+ *
+ * Delay convention (every part): samples at t_k = k T_sp; the voltage
+ * computed at k is applied during [t_{k+1}, t_{k+2}); the one applied during
+ * [t_k, t_{k+1}) was computed at k-1 and is what the observers are fed.
+ *
+ * Config (user-filled, SI units, electrical angles and speeds) is read once
+ * by smd_drive_init into params (derived values); state changes every
+ * sample. Nothing allocates; the tables of the LCL observers are owned by the
+ * caller and must outlive the params.
  */
 #ifndef SMD_DRIVE_H
 #define SMD_DRIVE_H
 
 #include "smd_dbpc.h"
 #include "smd_emf_pos.h"
+#include "smd_lcl_linobs.h"
+#include "smd_lcl_smo.h"
 #include "smd_pi.h"
+#include "smd_pll.h"
 #include "smd_smdo.h"
 #include "smd_svm.h"
 #include "smd_types.h"
 
-typedef enum smd_drive_mode {
-    SMD_DRIVE_CONVENTIONAL = 0,
-    SMD_DRIVE_ROBUST = 1,
-    SMD_DRIVE_SENSORLESS = 2
-} smd_drive_mode;
+typedef enum smd_current_ctrl {
+    SMD_CC_PI = 0,
+    SMD_CC_DBPC = 1,
+    SMD_CC_ROBUST_DBPC = 2
+} smd_current_ctrl;
 
-/* Everything init needs, in SI units (electrical angles and speeds). */
+typedef enum smd_pos_source {
+    SMD_POS_ENCODER = 0,
+    SMD_POS_SMDO_EMF = 1,
+    SMD_POS_LCL_SMO_PLL = 2,
+    SMD_POS_LCL_LINEAR = 3
+} smd_pos_source;
+
+typedef enum smd_start_mode {
+    SMD_START_RUNNING = 0,
+    SMD_START_HANDOVER = 1,
+    SMD_START_IF = 2
+} smd_start_mode;
+
+/* Phase of the start-up supervisor (smd_drive_view.phase). */
+typedef enum smd_drive_phase {
+    SMD_PHASE_FORCED = 0,  /* I/f: forced angle */
+    SMD_PHASE_ENCODER = 1, /* handover: encoder while the observer converges */
+    SMD_PHASE_SOURCE = 2   /* the configured position source */
+} smd_drive_phase;
+
 typedef struct smd_drive_config {
-    int mode;              /* smd_drive_mode */
-    smd_real T_sp;         /* sampling period, s */
-    smd_real L_s_hat;      /* H */
-    smd_real R_s_hat;      /* ohm */
-    smd_real psi_r_hat;    /* Wb (conventional DBPC only) */
-    smd_real lambda_min;   /* SMDO, A/s */
-    smd_real l;            /* SMDO, 1/s */
-    smd_real w_c;          /* SMDO, rad/s */
-    smd_real rho;          /* SMDO, A */
-    smd_real k_p;          /* speed PI, A/(rad/s) electrical */
-    smd_real k_i;          /* speed PI, A/rad */
-    smd_real i_max;        /* q-axis current reference limit, A */
-    int speed_decimation;  /* speed loop runs every this many samples */
-    int speed_loop;        /* 1: i_q reference from the speed PI; 0: from the input */
-    smd_real w_lpf;        /* sensorless speed LPF bandwidth, rad/s */
-    smd_real w_hys;        /* sensorless direction hysteresis, rad/s */
-    int svm_limit;         /* smd_svm_limit */
-    smd_real w_max;        /* sensorless: speed estimate limit, electrical rad/s (> 0) */
-    int handover;          /* sensorless: samples run on the encoder while the observer
-                              converges (0: sensorless from the first sample) */
-    smd_real t_dead_comp;  /* dead time to compensate in the modulator, s (0: off) */
-    smd_real i_dtc;        /* current below which the compensation is linear, A (> 0) */
-    int smdo_euler;        /* 1: eq. (36) as printed (forward Euler); 0: exact rotation */
+    /* parts */
+    int current;          /* smd_current_ctrl */
+    int position;         /* smd_pos_source */
+    int start;            /* smd_start_mode */
+    int lcl;              /* 1: LCL filter between inverter and machine; i_1 is measured */
+    smd_real T_sp;        /* sampling period, s */
+    /* model estimates (DBPC, SMDO, decoupling and EMF feed-forward of the PI) */
+    smd_real L_s_hat;     /* machine inductance, H */
+    smd_real R_s_hat;     /* ohm */
+    smd_real psi_r_hat;   /* PM flux, Wb */
+    /* SMDO, yang2018 eq. (34)-(39) (robust_dbpc, smdo_emf) */
+    smd_real lambda_min;  /* A/s */
+    smd_real l;           /* 1/s */
+    smd_real w_c;         /* rad/s */
+    smd_real rho;         /* A */
+    int smdo_euler;       /* 1: eq. (36) as printed (forward Euler); 0: exact rotation */
+    /* position from the disturbance, eq. (44)-(45) (smdo_emf) */
+    smd_real w_lpf;       /* speed LPF bandwidth, rad/s */
+    smd_real w_hys;       /* direction hysteresis, rad/s */
+    smd_real w_max;       /* speed-estimate limit, rad/s (> w_hys) */
+    /* current PI (pi) */
+    smd_real k_p_i;       /* V/A */
+    smd_real k_i_i;       /* V/(A s) */
+    smd_real L_dec;       /* inductance of the decoupling term j w L_dec i, H
+                             (L1 + L2o + Ls with the LCL filter) */
+    smd_real R_v;         /* virtual resistance on i_1 - i_2, V/A (LCL only; else 0) */
+    int emf_ff;           /* 1: feed the source's EMF estimate forward */
+    /* speed loop */
+    int speed_loop;       /* 1: i_q reference from the speed PI; 0: from the input */
+    smd_real k_p_w;       /* A per electrical rad/s */
+    smd_real k_i_w;       /* A per electrical rad */
+    smd_real i_max;       /* current-reference limit (each axis), A */
+    int speed_decimation; /* the speed loop runs every this many samples, [1, 1000] */
+    /* PLL, yao2022 eq. (48), (50) (lcl_smo_pll, lcl_linear) */
+    smd_real k_theta, k_omega, k_a;
+    /* LCL observers (lcl_smo_pll; lcl_linear) */
+    smd_lcl_smo_config smo;
+    smd_linobs_config lin;
+    /* start */
+    int handover;         /* SMD_START_HANDOVER: samples on the encoder, >= 0 */
+    smd_real i_start;     /* SMD_START_IF: current magnitude, A */
+    smd_real a_start;     /* forced acceleration, rad/s^2 */
+    smd_real w_handover;  /* speed at which the source takes over, rad/s */
+    /* modulator */
+    int svm_limit;        /* smd_svm_limit */
+    smd_real t_dead_comp; /* dead time to compensate, s (0: off), [0, T_sp/4] */
+    smd_real i_dtc;       /* current below which the compensation is linear, A (> 0) */
 } smd_drive_config;
 
 typedef struct smd_drive_params {
-    int mode;
-    int speed_decimation;
-    int speed_loop;
-    int handover;
-    smd_real dtc_ratio;    /* t_dead_comp / T_sp */
+    int current, position, start, lcl;
+    smd_real T_sp;
+    int use_smdo;         /* derived: the SMDO runs (robust_dbpc or smdo_emf) */
+    int speed_loop, speed_decimation, handover, emf_ff;
+    smd_real k_p_i, k_i_i, L_dec, R_v, psi_r_hat, i_max;
+    smd_real i_start, a_start, w_handover;
+    smd_real dtc_ratio;   /* t_dead_comp / T_sp */
     smd_real i_dtc;
     smd_dbpc_params dbpc;
     smd_smdo_params smdo;
-    smd_pi_params pi;
-    smd_emf_pos_params pos;
+    smd_emf_pos_params emf;
+    smd_pi_params speed_pi;
+    smd_pll_params pll;
+    smd_lcl_smo_params smo;
+    smd_linobs_params lin;
     smd_svm_params svm;
 } smd_drive_params;
 
 typedef struct smd_drive_in {
-    smd_real i_a;        /* phase currents from the ADC, A */
-    smd_real i_b;
-    smd_real theta_r;    /* encoder electrical angle, rad (sensored modes) */
-    smd_real w_r;        /* encoder electrical speed, rad/s (sensored modes) */
-    smd_real u_dc;       /* DC-link voltage, V */
-    smd_real w_r_ref;    /* electrical speed reference, rad/s (speed loop on) */
-    smd_cplx i_dq_ref;   /* current reference; only i_d used when the speed loop is on */
+    smd_real i_a, i_b;    /* motor phase currents from the ADC, A (i_2 with the filter) */
+    smd_real i1_a, i1_b;  /* inverter-side phase currents, A (LCL only) */
+    smd_real theta_enc;   /* encoder electrical angle, rad */
+    smd_real w_enc;       /* encoder electrical speed, rad/s */
+    smd_real u_dc;        /* DC-link voltage, V */
+    smd_real w_ref;       /* electrical speed reference, rad/s (speed loop on) */
+    smd_cplx i_dq_ref;    /* current reference; only i_d used when the speed loop is on */
 } smd_drive_in;
 
 typedef struct smd_drive_out {
-    smd_real d_abc[3];   /* duty ratios to apply during the next period */
+    smd_real d_abc[3];    /* duty ratios to apply during the next period */
 } smd_drive_out;
 
+/* Position-source state: a tagged union on params.position (the PLL is
+ * shared by the two LCL observers). */
+typedef struct smd_pos_state {
+    smd_real theta_err;   /* LCL sources: angle error of eq. (47) at k, rad */
+    smd_pll_state pll;
+    union {
+        smd_emf_pos_state emf;
+        smd_lcl_smo_state smo;
+        smd_linobs_state lin;
+    } u;
+} smd_pos_state;
+
 typedef struct smd_drive_state {
-    smd_cplx u_s_ab;      /* u_s^k: the voltage applied during [k, k+1) (after limiting) */
-    smd_cplx u_s_ab_ref;  /* last unlimited voltage reference u_s^{k+1} */
-    smd_cplx i_s_ab;      /* last measured current i_s^k */
-    smd_cplx i_dq_ref;    /* last current reference (controller frame) */
-    smd_real theta_r;     /* angle used at k (measured or estimated) */
-    smd_real w_r;         /* speed used at k (measured or estimated) */
-    int count;            /* sample counter for the speed-loop decimation */
+    int phase;            /* smd_drive_phase */
+    int samples;          /* samples run on the encoder (handover) */
+    int count;            /* speed-loop decimation counter */
     int primed;           /* 0 until the first sample has initialised the SMDO */
-    int samples;          /* samples since reset, saturating at handover */
+    smd_real theta;       /* frame angle for sample k (predicted at k-1 for the PLL
+                             sources and the forced angle), rad */
+    smd_real w;           /* frame speed for sample k, rad/s */
+    smd_real theta_k;     /* angle used at the last step, rad */
+    smd_real w_k;         /* speed used at the last step, rad/s */
+    smd_real theta_f, w_f; /* forced angle and speed (I/f) */
+    smd_cplx i_s_ab;      /* last measured motor current */
+    smd_cplx i_dq;        /* last measured motor current in the frame used */
+    smd_cplx i_dq_ref;    /* last current reference */
+    smd_cplx x_i;         /* current PI integrators, V */
+    smd_cplx u_ab;        /* voltage applied during [k, k+1) (after limiting) */
+    smd_cplx u_ab_next;   /* voltage for [k+1, k+2) (after limiting) */
+    smd_cplx u_ab_ref;    /* last unlimited reference */
+    smd_pi_state speed_pi;
     smd_smdo_state smdo;
-    smd_emf_pos_state pos;
-    smd_pi_state pi;
+    smd_pos_state pos;
 } smd_drive_state;
 
 /* Read-only view of the controller's internals for logging. */
 typedef struct smd_drive_view {
-    smd_cplx i_s_ab;
     smd_cplx i_dq_ref;
-    smd_cplx u_s_ab;
-    smd_cplx u_s_ab_ref;
-    smd_cplx i_s_hat;
-    smd_cplx u_d_hat;
-    smd_real theta_r;
-    smd_real w_r;
-    smd_real lambda;
+    smd_cplx i_dq;        /* measured current in the controller's frame */
+    smd_cplx u_ab;        /* voltage commanded for the next period (after the limit) */
+    smd_cplx u_ab_ref;
+    smd_cplx i_s_hat;     /* SMDO current prediction (0 without SMDO) */
+    smd_cplx u_d_hat;     /* SMDO disturbance estimate (0 without SMDO) */
+    smd_real theta;       /* angle used at k */
+    smd_real w;           /* speed used at k */
+    smd_real lambda;      /* SMDO adapted gain */
+    smd_real theta_err;   /* LCL sources: eq. (47) */
+    smd_cplx e_hat;       /* LCL sliding-mode observer: EMF, controller frame */
+    smd_cplx s;           /* its switching function s(k), eq. (18) */
+    smd_cplx d_hat;       /* its periodic-disturbance compensation, eq. (35) */
+    smd_cplx v;           /* its disturbance part v(k-1) */
+    smd_cplx e_lin;       /* linear observer: EMF, stationary frame */
+    int phase;            /* smd_drive_phase */
 } smd_drive_view;
 
 smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *cfg);
-/* Start from rest or, for the sensorless mode, from a known running state:
- * w_r0 seeds the speed estimate (and the direction), theta_r0 the angle. */
-void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real theta_r0,
-                     smd_real w_r0);
-/* Warm start of the speed loop: set the PI integrator (the q-axis current
- * reference it holds), e.g. when taking over a drive running under load. */
-void smd_drive_set_speed_integrator(smd_drive_state *s, smd_real i_q0);
+/* Start from rest or from a known running state (a flying start): theta0,
+ * w0 seed the frame and the observers; i_q0 the speed-loop integrator (the
+ * current that carries the load: a warm start). With SMD_START_IF the
+ * forced angle starts at theta0 with speed w0. */
+void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real theta0,
+                     smd_real w0, smd_real i_q0);
 smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
                           smd_drive_out *out);
-smd_drive_view smd_drive_get_view(const smd_drive_state *s);
+smd_drive_view smd_drive_get_view(const smd_drive_params *p, const smd_drive_state *s);
 
 #endif

@@ -20,6 +20,13 @@ typedef struct smd_linobs_model {
     smd_real Ku[8];     /* 4x2 */
 } smd_linobs_model;
 
+/* The table is owned by the caller and must outlive the params. */
+typedef struct smd_linobs_config {
+    const smd_linobs_model *table; /* n models at w = w_min + k dw (electrical rad/s) */
+    int n;                         /* >= 2 */
+    smd_real w_min, dw;            /* rad/s; dw > 0 */
+} smd_linobs_config;
+
 typedef struct smd_linobs_params {
     const smd_linobs_model *table;
     int n;
@@ -32,8 +39,7 @@ typedef struct smd_linobs_state {
     int primed;
 } smd_linobs_state;
 
-smd_status smd_linobs_init(smd_linobs_params *p, const smd_linobs_model *table, int n,
-                           smd_real w_min, smd_real dw);
+smd_status smd_linobs_init(smd_linobs_params *p, const smd_linobs_config *c);
 void smd_linobs_reset(smd_linobs_state *s);
 /* One sample: y = [i1_ab, i2_ab] at k, u_ab applied over [k, k+1), w the
  * speed used to pick the model. Returns SMD_ERR_NONFINITE (and resets) if

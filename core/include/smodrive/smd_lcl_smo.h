@@ -48,17 +48,31 @@ typedef enum smd_lcl_smo_law {
     SMD_LCL_SMO_TDE18 = 2     /* ref. [18]: compensation error (32), low-pass (63) */
 } smd_lcl_smo_law;
 
-typedef struct smd_lcl_smo_params {
-    smd_real T;                 /* sampling period, s */
+/* What init needs (the table is owned by the caller and must outlive the
+ * params). */
+typedef struct smd_lcl_smo_config {
+    smd_real T_sp;              /* sampling period, s */
     int law;                    /* smd_lcl_smo_law */
     const smd_lcl_model *table; /* n models at w = w_min + k dw (electrical rad/s) */
+    int n;                      /* >= 2 */
+    smd_real w_min;             /* rad/s */
+    smd_real dw;                /* rad/s, > 0 */
+    smd_real Q1, Q2;            /* diagonal of Q, eq. (33), each in [-0.999, 0.999] */
+    smd_real bw_rel2, bw_rel3;  /* -3 dB bandwidths of the 2 f_e, 3 f_e band-passes,
+                                   as fractions of f_e (Omega = bw_rel |w|), in (0, 2] */
+    smd_real w_bp_min;          /* band-pass suppression active above this |w|, rad/s */
+} smd_lcl_smo_config;
+
+typedef struct smd_lcl_smo_params {
+    smd_real T_sp;
+    int law;
+    const smd_lcl_model *table;
     int n;
     smd_real w_min;
     smd_real dw;
-    smd_real Q1, Q2;            /* diagonal of Q, eq. (33) */
-    smd_real bw_rel2, bw_rel3;  /* -3 dB bandwidths of the 2 f_e, 3 f_e band-passes,
-                                   as fractions of f_e (Omega = bw_rel |w|) */
-    smd_real w_bp_min;          /* band-pass suppression active above this |w|, rad/s */
+    smd_real Q1, Q2;
+    smd_real bw_rel2, bw_rel3;
+    smd_real w_bp_min;
 } smd_lcl_smo_params;
 
 typedef struct smd_lcl_smo_state {
@@ -80,10 +94,7 @@ typedef struct smd_lcl_smo_state {
     int primed;
 } smd_lcl_smo_state;
 
-smd_status smd_lcl_smo_init(smd_lcl_smo_params *p, smd_real T, int law,
-                            const smd_lcl_model *table, int n, smd_real w_min, smd_real dw,
-                            smd_real Q1, smd_real Q2, smd_real bw_rel2, smd_real bw_rel3,
-                            smd_real w_bp_min);
+smd_status smd_lcl_smo_init(smd_lcl_smo_params *p, const smd_lcl_smo_config *c);
 void smd_lcl_smo_reset(smd_lcl_smo_state *s, smd_real theta0);
 
 /* Interpolate the model at electrical speed w (clamped to the table). */

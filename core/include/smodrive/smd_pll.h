@@ -11,7 +11,7 @@
 #include "smd_types.h"
 
 typedef struct smd_pll_params {
-    smd_real T;        /* sampling period, s */
+    smd_real T_sp;     /* sampling period, s */
     smd_real k_theta;  /* eq. (50): 0.1 */
     smd_real k_omega;  /* eq. (50): 10, 1/s */
     smd_real k_a;      /* eq. (50): 10, 1/s^2 */
@@ -25,7 +25,7 @@ typedef struct smd_pll_state {
 
 /* Rejects gains that make the discrete loop (closed around eq. (49) with
  * unity feedback) unstable: SMD_ERR_STABILITY. */
-smd_status smd_pll_init(smd_pll_params *p, smd_real T, smd_real k_theta, smd_real k_omega,
+smd_status smd_pll_init(smd_pll_params *p, smd_real T_sp, smd_real k_theta, smd_real k_omega,
                         smd_real k_a);
 void smd_pll_reset(smd_pll_state *s, smd_real theta0, smd_real w0);
 /* One update with the position error e (rad); non-finite e is ignored. */

@@ -64,7 +64,11 @@ typedef enum smd_status {
     SMD_ERR_WMAX = 19,         /* speed-estimate limit not in (w_hys, pi/T_sp] rad/s */
     SMD_ERR_DEADTIME = 20,     /* dead-time compensation not in [0, T_sp/4], or i_dtc <= 0 */
     SMD_ERR_HANDOVER = 21,     /* handover sample count negative */
-    SMD_ERR_DMIN = 22          /* minimum duty not in [0, 0.49] */
+    SMD_ERR_DMIN = 22,         /* minimum duty not in [0, 0.49] */
+    SMD_ERR_TABLE = 23,        /* observer table: fewer than 2 entries, or bad grid */
+    SMD_ERR_COMBINATION = 24,  /* the drive's parts do not fit together (smd_drive.h) */
+    SMD_ERR_CURRENT_PI = 25,   /* current PI: k_p_i, k_i_i, L_dec or R_v out of range */
+    SMD_ERR_START = 26         /* start-up: i_start, a_start or w_handover out of range */
 } smd_status;
 
 /* Human-readable text for a status, e.g. for a debugger or a binding. */

@@ -1,13 +1,18 @@
 /*
- * Engine: couples the plant (double) with the firmware controller (smd_drive,
+ * Engine: couples the plant (double) with the firmware drive (smd_drive,
  * float) with one sample of computational delay, and logs true and estimated
- * signals into a caller-owned buffer. One call runs many samples in C.
+ * signals into a caller-owned buffer. One call runs many samples in C. One
+ * engine for every plant (with or without the LCL filter) and every
+ * composition of the drive.
  *
  * Timeline of sample k (t_k = k T_sp, the carrier peak):
- *   1. the ADC samples the phase currents; the encoder gives theta_r, w_r;
+ *   1. the ADC samples the currents; the encoder gives theta_r, n_p w_M;
+ *      the profiles are evaluated at t_k;
  *   2. the controller computes the duties d^{k+1};
- *   3. the plant advances over [t_k, t_{k+1}) with d^k (computed at k-1);
- *   4. one log row is written (values at t_k, controller outputs of step 2).
+ *   3. the log row is filled with the values at t_k and the controller's
+ *      outputs of step 2;
+ *   4. the plant advances over [t_k, t_{k+1}) with d^k (computed at k-1); the
+ *      period means T_e, T_L, u_alpha, u_beta complete the row.
  */
 #ifndef SMD_ENGINE_H
 #define SMD_ENGINE_H
@@ -34,13 +39,20 @@ typedef struct smd_profiles {
     double i_d_sin_freq; /* its frequency, Hz */
 } smd_profiles;
 
+/* What the controller knows at t = 0 (smd_drive_reset). */
+typedef struct smd_engine_start {
+    double theta0;     /* electrical angle, rad */
+    double w0;         /* electrical speed, rad/s */
+    double i_q0;       /* speed-loop integrator (the current that carries the load), A */
+} smd_engine_start;
+
 enum smd_log_channel {
     SMD_LOG_T = 0,       /* time t_k, s */
     SMD_LOG_W_M,         /* true mechanical speed, rad/s */
     SMD_LOG_THETA_R,     /* true electrical angle, rad */
-    SMD_LOG_I_ALPHA,     /* true stator current, A */
+    SMD_LOG_I_ALPHA,     /* true motor current (i_2 with the filter), A */
     SMD_LOG_I_BETA,
-    SMD_LOG_I_D,         /* true current in the true rotor frame, A */
+    SMD_LOG_I_D,         /* true motor current in the true rotor frame, A */
     SMD_LOG_I_Q,
     SMD_LOG_T_E,         /* mean electromagnetic torque over [t_k, t_k+1), N m */
     SMD_LOG_T_L,         /* load torque over [t_k, t_k+1), N m */
@@ -55,11 +67,29 @@ enum smd_log_channel {
     SMD_LOG_U_BETA,
     SMD_LOG_UCMD_ALPHA,  /* voltage commanded for the next period (after the limit), V */
     SMD_LOG_UCMD_BETA,
-    SMD_LOG_I_A_MEAS,    /* ADC phase currents, A */
+    SMD_LOG_I_A_MEAS,    /* ADC motor phase currents, A */
     SMD_LOG_I_B_MEAS,
     SMD_LOG_IHAT_ALPHA,  /* SMDO current prediction i_hat^{k+1}, A */
     SMD_LOG_IHAT_BETA,
     SMD_LOG_LAMBDA,      /* SMDO adapted gain, A/s */
+    SMD_LOG_I_G,         /* measured motor current in the controller's frame, A */
+    SMD_LOG_I_DL,
+    SMD_LOG_THETA_ERR,   /* LCL sources: angle error of yao2022 eq. (47), rad */
+    SMD_LOG_E_G,         /* LCL sliding-mode observer: EMF estimate, controller frame, V */
+    SMD_LOG_E_DL,
+    SMD_LOG_S_G,         /* its switching function s(k), eq. (18) */
+    SMD_LOG_S_DL,
+    SMD_LOG_DHAT_G,      /* its periodic-disturbance compensation, eq. (35) */
+    SMD_LOG_DHAT_DL,
+    SMD_LOG_V_G,         /* its disturbance part v(k-1) */
+    SMD_LOG_V_DL,
+    SMD_LOG_I1_ALPHA,    /* true inverter-side current (= motor current without filter), A */
+    SMD_LOG_I1_BETA,
+    SMD_LOG_UC_ALPHA,    /* true capacitor voltage (LCL), V */
+    SMD_LOG_UC_BETA,
+    SMD_LOG_LIN_E_ALPHA, /* linear observer's EMF estimate, stationary frame, V */
+    SMD_LOG_LIN_E_BETA,
+    SMD_LOG_PHASE,       /* start-up phase: 0 forced, 1 encoder, 2 position source */
     SMD_LOG_STATUS,      /* controller status code */
     SMD_LOG_N
 };
@@ -75,22 +105,20 @@ typedef struct smd_engine {
     int last_status;
 } smd_engine;
 
-/* Returns 0 on success; 1000 + plant field code, or 2000 + smd_status. */
+/* Returns 0 on success; 1000 + plant field code (smd_plant_field),
+ * 2000 + smd_status of the drive, 3000 a malformed profile. */
 int smd_engine_init(smd_engine *e, const smd_plant_config *plant, const smd_drive_config *ctrl,
-                    const smd_profiles *prof);
+                    const smd_profiles *prof, const smd_engine_start *start);
 /* Run n samples; write a row of SMD_LOG_N doubles every `stride` samples
- * into log (which must hold ceil(n / stride) rows). Returns the number of
- * rows written. */
+ * into log (which must hold ceil(n / stride) rows; NULL: no logging). Returns
+ * the number of rows written. */
 long smd_engine_run(smd_engine *e, long n, double *log, long stride);
 
 const char *smd_log_channel_name(int ch);
 unsigned long smd_sizeof_engine(void);
-unsigned long smd_sizeof_plant_config(void);
-unsigned long smd_sizeof_drive_config(void);
-unsigned long smd_sizeof_profiles(void);
-/* 0 dbpc params, 1 smdo params, 2 smdo state, 3 pi params, 4 pi state,
- * 5 svm params, 6 emf_pos params, 7 emf_pos state */
-unsigned long smd_sizeof_block(int which);
 double smd_pwl_eval(const smd_pwl *p, double t);
+/* Closed-loop impulse response of the firmware PLL (yao2022 eq. (48)). */
+int smd_pll_impulse(double T_sp, double k_theta, double k_omega, double k_a, double amp, long n,
+                    double *out);
 
 #endif

@@ -1,20 +1,25 @@
 /*
- * Host-only plant: SPMSM in the stationary frame (yang2018 eq. (1)), mechanics
- * with inertia, viscous friction and load, a two-level inverter with
- * carrier-comparison PWM (symmetric triangle, regular sampling at the carrier
- * peak) or its switching-cycle average, optional dead time, and an ADC model.
- * Double precision throughout.
+ * Host-only plant, double precision: a two-level inverter (carrier-comparison
+ * PWM with regular sampling at the carrier peak, or its switching-cycle
+ * average; dead time), an optional LCL filter between inverter and machine,
+ * an SPMSM, mechanics with brake, fan and external loads, and the ADC model.
  *
- * Integration: over one carrier period the electrical equation is linear with
- * piecewise-constant voltage; it is solved in closed form (homogeneous decay,
- * rotating-EMF particular solution, and one exact step response per switching
- * edge). The speed is held at its predicted mid-period value for the
- * electrical solution; the mechanics are then advanced exactly with the
- * period's exact mean electromagnetic torque. See docs/architecture.md.
+ *   inverter -> [LCL filter: L1, C1, L2o | none] -> SPMSM (R_s, L_s, psi_r)
+ *
+ * Without the filter the machine's electrical equation is yang2018 eq. (1),
+ * solved in closed form per carrier period (smd_spmsm.c); with it, the
+ * three-state filter-machine system of yao2022 eq. (1)-(3) is solved exactly
+ * in modal coordinates (smd_lcl.c). Both hold the electrical speed at its
+ * predicted mid-period value for the electrical solution and advance the
+ * mechanics exactly with the period's mean torque (smd_mech.c). See
+ * docs/architecture.md.
+ *
+ * Space vectors are amplitude-invariant (alpha + j beta); angles electrical.
  */
 #ifndef SMD_PLANT_H
 #define SMD_PLANT_H
 
+#include <complex.h>
 #include <stdint.h>
 
 #include "smdsim/smd_adc.h"
@@ -26,63 +31,111 @@ typedef enum smd_pwm_mode {
 
 /* Everything the plant needs (true values), SI units. */
 typedef struct smd_plant_config {
+    /* machine */
     double R_s;        /* stator resistance, ohm, > 0 */
     double L_s;        /* stator inductance, H */
     double psi_r;      /* PM flux, Wb */
     double n_p;        /* pole pairs */
     double J;          /* inertia, kg m^2 */
     double B;          /* viscous friction, N m s/rad */
+    /* LCL filter section (lcl = 0: the inverter feeds the machine directly) */
+    int lcl;
+    double L1;         /* inverter-side inductance, H */
+    double L2o;        /* machine-side filter inductance, H (>= 0; in series with L_s) */
+    double C1;         /* filter capacitance, F */
+    /* inverter */
     double u_dc;       /* DC-link voltage, V */
     double T_sw;       /* carrier period = sampling period, s */
     int pwm_mode;      /* smd_pwm_mode */
-    double t_dead;     /* dead time, s */
-    double adc_gain[3];   /* per-phase gain (1 = exact) */
-    double adc_offset[3]; /* per-phase offset, A */
-    double adc_noise;     /* white-noise standard deviation, A */
-    int adc_bits;         /* 0: no quantisation */
-    double adc_full_scale; /* +- range, A */
-    uint64_t seed;        /* noise generator seed */
-    double w_brake_eps;   /* mechanical speed (rad/s) below which a brake's torque tapers linearly to 0 */
-    double k_fan;         /* fan load coefficient, N m s^2/rad^2 (T = k w_M |w_M|) */
-    double w_M0;          /* initial mechanical speed, rad/s */
-    double theta_r0;      /* initial electrical angle, rad */
-    double i_d0;          /* initial current in the rotor frame, A */
-    double i_q0;
+    double t_dead;     /* dead time, s (diode by the sign of the inverter current) */
+    /* ADC: the motor-current channels, and the inverter-side ones (LCL) */
+    double adc_gain[3];      /* per-phase gain (1 = exact) */
+    double adc_offset[3];    /* per-phase offset, A */
+    double adc_gain_i1[3];
+    double adc_offset_i1[3];
+    double adc_noise;        /* white-noise standard deviation (every channel), A */
+    int adc_bits;            /* 0: no quantisation */
+    double adc_full_scale;   /* +- range, A */
+    uint64_t seed;           /* noise generator seed */
+    /* load */
+    double w_brake_eps; /* speed (rad/s) below which a brake's torque tapers linearly to 0 */
+    double k_fan;       /* fan load coefficient, N m s^2/rad^2 (T = k w_M |w_M|) */
+    /* initial state, rotor frame */
+    double w_M0;        /* mechanical speed, rad/s */
+    double theta_r0;    /* electrical angle, rad */
+    double i_d0, i_q0;  /* motor current, A */
+    double uc_d0, uc_q0; /* capacitor voltage, V (LCL) */
+    double i1_d0, i1_q0; /* inverter-side current, A (LCL) */
 } smd_plant_config;
+
+/* Solver data of the LCL section: the filter-machine matrix diagonalised. */
+typedef struct smd_lcl_modes {
+    double complex lam[3];   /* eigenvalues, 1/s: [0] real, [1], [2] a pair or real */
+    double complex v[3][3];  /* right eigenvectors, v[state][mode] */
+    double complex w[3][3];  /* rows of V^{-1}, w[mode][state] */
+    double complex beta[3];  /* modal input gains (V^{-1} b) */
+    double complex phi[3];   /* modal EMF gains (V^{-1} f) */
+    double complex eT[3];    /* e^{lambda T} */
+    double complex gT[3];    /* (e^{lambda T} - 1) / lambda */
+    int kind;                /* 1: modes 1, 2 complex conjugate; 0: all real */
+} smd_lcl_modes;
 
 typedef struct smd_plant {
     smd_plant_config c;
-    double a;            /* R/L, 1/s */
-    double i_re, i_im;   /* stator current i_s (alpha, beta), A */
-    double theta_r;      /* electrical angle, wrapped to [-pi, pi) */
-    double w_M;          /* mechanical speed, rad/s */
-    double T_e_mean;     /* mean electromagnetic torque over the last period, N m */
-    double T_L_mean;     /* load torque applied over the last period, N m */
-    double u_re, u_im;   /* mean applied stator voltage over the last period, V */
-    smd_rng rng;         /* ADC noise generator */
+    /* --- state, stationary frame --- */
+    double i_re, i_im;    /* motor current i_s (= i_2 with the filter), A */
+    double i1_re, i1_im;  /* inverter-side current i_1 (= i_s without the filter), A */
+    double uc_re, uc_im;  /* capacitor voltage u_c (0 without the filter), V */
+    double theta_r;       /* electrical angle, wrapped to [-pi, pi) */
+    double w_M;           /* mechanical speed, rad/s */
+    double T_e_mean;      /* mean electromagnetic torque over the last period, N m */
+    double T_L_mean;      /* mean load torque over the last period (viscous B w excluded), N m */
+    double u_re, u_im;    /* mean applied inverter voltage over the last period, V */
+    /* --- private --- */
+    double a;             /* R_s / (L2o + L_s), 1/s */
+    double L2;            /* L2o + L_s, H */
+    smd_lcl_modes m;      /* LCL only */
+    smd_rng rng;          /* ADC noise generator */
 } smd_plant;
 
-/* Returns 0 or a positive code naming the first bad field (see smd_plant_field). */
+/* Returns 0 or a positive code naming the first bad field (smd_plant_field). */
 int smd_plant_init(smd_plant *p, const smd_plant_config *c);
-/* Field name of an init error code (for messages). */
 const char *smd_plant_field(int code);
 
 /* Advance one carrier period with duties d_abc, external load torque T_ext
  * (signed, N m) and brake torque magnitude T_brake (opposes rotation). */
 void smd_plant_step(smd_plant *p, const double d_abc[3], double T_ext, double T_brake);
 
-/* ADC sample of the three phase currents at the carrier peak. */
-void smd_plant_sample(smd_plant *p, double i_abc_meas[3]);
+/* ADC samples at the carrier peak: the motor phase currents, and (LCL) the
+ * inverter-side ones (noise drawn i_1 a, b, c first, then i_s a, b, c);
+ * i1_abc may be NULL without the filter. */
+void smd_plant_sample(smd_plant *p, double i_abc[3], double i1_abc[3]);
 
-/* Leg-high interval [t_on, t_off) within a carrier period for duty d and
- * phase current i_x (dead-time direction), as used by the plant: see
- * smd_pwm_edges (smdsim/smd_pwm.h) with the config's T_sw and t_dead. */
-void smd_pwm_leg_edges(const smd_plant_config *c, double d, double i_x, double *t_on,
-                       double *t_off);
+/* True phase currents (motor; inverter side, may be NULL). */
+void smd_plant_phase_currents(const smd_plant *p, double i_abc[3], double i1_abc[3]);
+
+/* Eigenvalues of the LCL filter-machine matrix (0 without the filter). */
+void smd_plant_eigenvalues(const smd_plant *p, double re[3], double im[3]);
+
+/* Open-loop V/f-style driver for benchmarks and steady-state runs: n steps
+ * with duties d_x = 0.5 + 0.5 m cos(theta_r + delta - 2 pi x / 3) (theta_r
+ * the plant's angle at each period start) and external torque T_ext. */
+void smd_plant_run_open(smd_plant *p, long n, double m, double delta, double T_ext);
 
 unsigned long smd_sizeof_plant(void);
+unsigned long smd_sizeof_plant_config(void);
 
-/* Phase currents (true). */
-void smd_plant_phase_currents(const smd_plant *p, double i_abc[3]);
+/* The two exact solvers (smd_spmsm.c, smd_lcl.c) and the shared mechanics. */
+void smd_spmsm_step(smd_plant *p, const double d_abc[3], double T_ext, double T_brake);
+int smd_lcl_setup(smd_plant *p); /* 0 or the field code of repeated/unstable modes */
+void smd_lcl_step(smd_plant *p, const double d_abc[3], double T_ext, double T_brake);
+
+/* Load torque at speed w_M: external + brake (opposes rotation, linear taper
+ * inside +-w_brake_eps) + fan; viscous friction B excluded. */
+double smd_load_torque(const smd_plant_config *c, double w_M, double T_ext, double T_brake);
+/* Exact mechanics over T with mean electromagnetic torque T_e and load T_L
+ * (from smd_load_torque at w0): end speed, integral of w, mean load torque. */
+void smd_mech_advance(const smd_plant_config *c, double T_e, double T_L, double T_brake,
+                      double w0, double T, double *w1, double *th, double *T_L_mean);
 
 #endif

@@ -21,7 +21,7 @@ def leg_harmonics_from_edges(V_Q: float, M: float, N: int, nmax: int,
     fundamental period N T: exact integrals of the pulses [kT + t_on, kT + t_off)
     from the plant's edge function, duties d_k = (1 + M cos(w_e k T)) / 2
     sampled at the carrier peaks t_k = k T."""
-    from ..lcl_plant import leg_edges
+    from ..plant import leg_edges
 
     Te = N * T
     we = 2 * math.pi / Te

@@ -27,8 +27,10 @@ from ..params import (
     MotorPars,
     Profile,
     Scenario,
+    yang2018_mode,
 )
-from ..simulate import Result, simulate
+from ..simulate import Result
+from .common import Experiment, Outcome, ProgressFn, run_sim
 
 MOTOR = MotorPars()
 T_N = MOTOR.T_N  # rated torque, N m
@@ -50,7 +52,11 @@ def _rated_brake() -> Profile:
     return Profile.const(T_N)
 
 
-def _ctrl(**kw) -> ControllerCfg:
+def _ctrl(mode: str | None = None, **kw) -> ControllerCfg:
+    """BASE's controller with fields changed; `mode` names one of yang2018's
+    three drives (conventional, robust, sensorless), a composition of parts."""
+    if mode is not None:
+        kw = {**yang2018_mode(mode), **kw}
     return dataclasses.replace(BASE.controller, **kw)
 
 
@@ -160,25 +166,7 @@ def _pos_err_deg(r: Result, mask: np.ndarray) -> tuple[float, float]:
     return metrics.rms(e), float(np.max(np.abs(e)))
 
 
-@dataclass
-class Experiment:
-    id: str
-    title: str
-    run: Callable[[Callable[[str, float], None]], "Outcome"]
-
-
-@dataclass
-class Outcome:
-    claims: list[Claim]
-    results: dict[str, Result] = field(default_factory=dict)
-    figures: list[tuple[str, Callable]] = field(default_factory=list)  # (name, plot(fig_dir))
-
-
-ProgressFn = Callable[[str, float], None]
-
-
-def _sim(s: Scenario, progress: ProgressFn) -> Result:
-    return simulate(s, progress=lambda f: progress(s.name, f))
+_sim = run_sim
 
 
 # ---------------------------------------------------------- experiments ----

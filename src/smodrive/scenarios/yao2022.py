@@ -3,7 +3,7 @@ runnable scenarios that yield claims.
 
 Plant: Table II; fan load fitted to Table IV; the values the paper does not
 give (inertia, ADC error, noise, controller gains, start-up) are the
-documented assumptions of :mod:`smodrive.lcl` and docs/assumptions.md. The
+documented assumptions of :data:`BASE` and docs/assumptions.md. The
 ADC scaling error and the PWM harmonics arise from the models (per-phase ADC
 gains, regular-sampled carrier PWM), not from injected sinusoids.
 """
@@ -22,31 +22,58 @@ from ..analysis import metrics
 from ..analysis import pwm as pwm_an
 from ..claims import Claim
 from ..design import yao2022 as dz
-from ..lcl import LclAdcCfg, LclControllerCfg, LclResult, LclScenario, simulate_lcl
-from ..params import RPM, Profile
-from .yang2018 import Experiment, Outcome
+from ..params import (
+    RPM,
+    AdcCfg,
+    ControllerCfg,
+    InverterCfg,
+    LclFilterPars,
+    LoadCfg,
+    MotorPars,
+    Profile,
+    Scenario,
+)
+from ..simulate import Result
+from .common import Experiment, Outcome, ProgressFn, run_sim
 
-ProgressFn = Callable[[str, float], None]
-
+# Table II; J and B are not given (assumed), the fan load is fitted to
+# Table IV (i_q = 30 A at 100 kr/min: 1.5 * 0.0012 * 30 / (10472 rad/s)^2 =
+# 4.9e-10 N m s^2), and P_N is that fan load's power at the rated speed.
+MOTOR = MotorPars(R_s=0.023, L_s=24e-6, psi_r=0.0012, n_p=1, J=1e-5, B=0.0, P_N=560.0,
+                  n_N=100e3)
 # ADC scaling error (assumed; the paper gives none): +-1 % on phases a, b of
-# both current sensors.
-ADC = LclAdcCfg(gain_i1=(1.01, 0.99, 1.0), gain_i2=(1.01, 0.99, 1.0))
-BASE = LclScenario(name="yao2022.base", adc=ADC)
+# both current sensors; noise and range assumed (docs/assumptions.md).
+ADC = AdcCfg(gain=(1.01, 0.99, 1.0), gain_i1=(1.01, 0.99, 1.0), noise=0.02, bits=12,
+             full_scale=60.0)
+# The drive of Fig. 1: PI current control with decoupling (gains assumed),
+# the sliding-mode observer + PLL of eq. (48)-(50), speed PI on the model
+# 1.5 n_p^2 psi / J; the observer's model is the plant's (Table II).
+CONTROLLER = ControllerCfg(
+    current="pi", position="lcl_smo_pll", start="running",
+    L_s_hat=MOTOR.L_s, R_s_hat=MOTOR.R_s, psi_r_hat=MOTOR.psi_r,
+    k_p_i=0.35, k_i_i=600.0, R_v=0.0, emf_ff=True,
+    speed_bw=60.0, J_hat=MOTOR.J, psi_r_pi=MOTOR.psi_r, i_max=45.0,
+    i_start=15.0, a_start_rpm_s=5e3, n_handover=5e3, t_dead_comp=0.0,
+)
+BASE = Scenario(
+    name="yao2022.base", T_sp=50e-6, duration=0.5, motor=MOTOR, lcl=LclFilterPars(),
+    inverter=InverterCfg(u_dc=65.0, pwm="carrier", t_dead=0.0), adc=ADC,
+    load=LoadCfg(k_fan=4.9e-10), controller=CONTROLLER,
+)
 SPEEDS = (30e3, 60e3, 100e3)
 TAG = {30e3: "30k", 60e3: "60k", 100e3: "100k"}
 SETTLE, WINDOW = 0.1, 0.2  # steady-state runs: settle, then measure
 
 
-def _sim(s: LclScenario, progress: ProgressFn) -> LclResult:
-    return simulate_lcl(s, progress=lambda f: progress(s.name, f))
+_sim = run_sim
 
 
-def steady(n: float, law: str = "proposed", name: str | None = None, **kw) -> LclScenario:
+def steady(n: float, law: str = "proposed", name: str | None = None, **kw) -> Scenario:
     return BASE.replace(
         name=name or f"yao2022.steady.{law}.{TAG.get(n, int(n))}",
         duration=SETTLE + WINDOW,
         n_M0=n,
-        w_M_ref_rpm=Profile.const(n),
+        w_M_ref=Profile.const(n * RPM),
         controller=dataclasses.replace(BASE.controller, law=law, **kw),
     )
 
@@ -77,7 +104,7 @@ def run_table1(progress: ProgressFn) -> Outcome:
 
 # -------------------------------------------------------------- Fig. 4 ------
 
-def lumped_disturbance(r: LclResult) -> np.ndarray:
+def lumped_disturbance(r: Result) -> np.ndarray:
     """D(k) = s(k+1) - Q s(k) - v(k), the lumped disturbance of the reaching
     mode (30) measured one sample later (complex gamma + j delta)."""
     Q = np.array(r.scenario.controller.Q)
@@ -196,8 +223,8 @@ def run_fig9_10(progress: ProgressFn) -> Outcome:
         r = _sim(s, progress)
         res[s.name] = r
         before, after = r.window(INJ_T - INJ_W, INJ_T), r.window(INJ_T + 0.05, s.duration)
-        i_dl1, i_dl2 = np.mean(r["i2_dl"][before]), np.mean(r["i2_dl"][after])
-        i_g2 = np.mean(r["i2_g"][after])
+        i_dl1, i_dl2 = np.mean(r["i_dl"][before]), np.mean(r["i_dl"][after])
+        i_g2 = np.mean(r["i_g"][after])
         inj = float(math.atan((i_dl1 - i_dl2) / i_g2))  # eq. (60)
         # standard error of each window mean by batch means (10 batches): the
         # delta current carries the speed loop's noise-driven wander
@@ -205,14 +232,14 @@ def run_fig9_10(progress: ProgressFn) -> Outcome:
             b = np.array_split(x, 10)
             return float(np.std([np.mean(v) for v in b], ddof=1) / math.sqrt(len(b)))
 
-        sigma = math.hypot(sem(r["i2_dl"][before]), sem(r["i2_dl"][after])) / abs(i_g2)
+        sigma = math.hypot(sem(r["i_dl"][before]), sem(r["i_dl"][after])) / abs(i_g2)
         # eq. (59) holds for the error theta_hat - theta (eq. (47) uses the
         # opposite sign, theta - theta_hat, as r.theta_error does); the method
         # reads the error while the 5 A flow, through the i_2 sensor, whose
         # per-phase gains rotate the measured vector by scaling_rotation().
         true_before = -float(np.mean(r.theta_error[before]))
         true_during = -float(np.mean(r.theta_error[after]))
-        rot = metrics.scaling_rotation(s.adc.gain_i2)
+        rot = metrics.scaling_rotation(s.adc.gain)
         tag = TAG[n]
         claims.append(Claim(
             id=f"yao2022.fig10.pos_error_rad_{tag}",
@@ -250,7 +277,7 @@ def run_fig9_10(progress: ProgressFn) -> Outcome:
         return plots.lcl_time_panels(
             fig_dir, "yao2022_fig10", rs, [f"{n / 1e3:g} kr/min" for n in SPEEDS],
             f"Figs. 9-10: position accuracy by +5 A gamma injection at {INJ_T:g} s",
-            [("i_2 gamma, delta (A)", [("i2_g", "gamma"), ("i2_dl", "delta")]),
+            [("i_2 gamma, delta (A)", [("i_g", "gamma"), ("i_dl", "delta")]),
              ("position error (rad)", [("theta_error", "true"),
                                        ("theta_err_est", "estimated, eq. (47)")]),
              ("speed (r/min)", [("n_rpm", "true"), ("n_hat_rpm", "estimated")])])
@@ -264,17 +291,17 @@ PAPER_RIPPLE = {"tde17": {30e3: 200.0, 60e3: 600.0, 100e3: 1100.0},
                 "proposed": {30e3: 200.0, 60e3: 350.0, 100e3: 600.0}}
 
 
-def speed_ripple(r: LclResult) -> float:
+def speed_ripple(r: Result) -> float:
     m = r.window(SETTLE, r.scenario.duration)
     n_hat = r.n_hat_rpm[m]
     return float((n_hat.max() - n_hat.min()) / 2)
 
 
-def harmonic_ripple(r: LclResult, n: float) -> float:
+def harmonic_ripple(r: Result, n: float) -> float:
     """RSS of the 2 f_e and 3 f_e lines of the estimated speed in steady state
     (r/min), the components the paper's FFTs of Figs. 12-13 single out."""
     m = r.window(SETTLE, r.scenario.duration)
-    f_e = n / 60.0 * r.scenario.plant.n_p
+    f_e = n / 60.0 * r.scenario.motor.n_p
     amps = [abs(metrics.sine_amplitude(r.t[m], r.n_hat_rpm[m], h * f_e)) for h in (2, 3)]
     return float(math.hypot(*amps))
 
@@ -360,7 +387,7 @@ def run_table5(progress: ProgressFn) -> Outcome:
 
         rs = [by_key[("proposed", 60e3)], by_key[("proposed", 100e3)]]
         plots.waveform_spectrum(fig_dir, "yao2022_fig17", rs, ["60 kr/min", "100 kr/min"],
-                                "i2_alpha", "phase A motor current (A)",
+                                "i_alpha", "phase A motor current (A)",
                                 "Fig. 17: motor current (LCL-filtered)")
         return plots.waveform_spectrum(fig_dir, "yao2022_fig18", rs[1:], ["100 kr/min"],
                                        "uc_alpha", "phase A capacitor voltage (V)",
@@ -381,11 +408,12 @@ def run_table5(progress: ProgressFn) -> Outcome:
 FIG14_RATE = 20e3  # r/min per s after the handover (assumed; the paper gives none)
 
 
-def fig14_scenario() -> LclScenario:
+def fig14_scenario() -> Scenario:
     t_up = 1.1 + 95e3 / FIG14_RATE
     return BASE.replace(
-        name="yao2022.fig14", duration=t_up + 0.3, n_M0=0.0, start_open_loop=True,
-        w_M_ref_rpm=Profile((0.0, 1.1, t_up), (5e3, 5e3, 100e3)), log_stride=2,
+        name="yao2022.fig14", duration=t_up + 0.3, n_M0=0.0,
+        controller=dataclasses.replace(BASE.controller, start="if"),
+        w_M_ref=Profile((0.0, 1.1, t_up), (5e3, 5e3, 100e3)).scaled(RPM), log_stride=2,
     )
 
 
@@ -420,7 +448,7 @@ def run_fig14(progress: ProgressFn) -> Outcome:
             [("speed (r/min)", [("n_ref_rpm", "reference"), ("n_rpm", "true"),
                                 ("n_hat_rpm", "estimated")]),
              ("position error (rad)", [("theta_error", "true")]),
-             ("i_2 delta (A)", [("i2_dl", "measured"), ("i_ref_dl", "reference")]),
+             ("i_2 delta (A)", [("i_dl", "measured"), ("i_q_ref", "reference")]),
              ("phase", [("phase", "0 open loop, 1 sensorless")])])
 
     return Outcome(claims, {s.name: r}, [("yao2022_fig14_16", plot)])
@@ -428,11 +456,11 @@ def run_fig14(progress: ProgressFn) -> Outcome:
 
 # ------------------------------------------------------ Figs. 19-21 ---------
 
-def fig19_scenario() -> LclScenario:
+def fig19_scenario() -> Scenario:
     # torque-current step 10 -> 15 A at 0.05 s (speed loop off, fan load)
     n0 = math.sqrt(10.0 * 1.5 * 0.0012 / 4.9e-10) / RPM  # fan equilibrium at 10 A
     return BASE.replace(
-        name="yao2022.fig19", duration=0.35, n_M0=n0, w_M_ref_rpm=Profile.const(n0),
+        name="yao2022.fig19", duration=0.35, n_M0=n0, w_M_ref=Profile.const(n0 * RPM),
         controller=dataclasses.replace(BASE.controller, speed_loop=False),
         i_q_ref=Profile.steps(10.0, (0.05, 15.0)),
     )
@@ -465,7 +493,7 @@ def run_fig19_21(progress: ProgressFn) -> Outcome:
         return plots.lcl_time_panels(
             fig_dir, "yao2022_fig19_21", [r], ["i_delta step 10 -> 15 A at 0.05 s"],
             "Figs. 19-21: torque-current step with the fan load",
-            [("i_2 delta (A)", [("i2_dl", "measured"), ("i_ref_dl", "reference")]),
+            [("i_2 delta (A)", [("i_dl", "measured"), ("i_q_ref", "reference")]),
              ("position error (rad)", [("theta_error", "true")]),
              ("speed (r/min)", [("n_rpm", "true"), ("n_hat_rpm", "estimated")])])
 
@@ -474,9 +502,9 @@ def run_fig19_21(progress: ProgressFn) -> Outcome:
 
 # -------------------------------------------------------------- Fig. 22 -----
 
-def fig22_scenario() -> LclScenario:
+def fig22_scenario() -> Scenario:
     return BASE.replace(name="yao2022.fig22", duration=2.6, n_M0=30e3,
-                        w_M_ref_rpm=Profile((0.0, 0.2, 2.2), (30e3, 30e3, -30e3)),
+                        w_M_ref=Profile((0.0, 0.2, 2.2), (30e3, 30e3, -30e3)).scaled(RPM),
                         log_stride=2)
 
 
@@ -510,16 +538,17 @@ def run_fig22(progress: ProgressFn) -> Outcome:
 
 # -------------------------------------------------------------- Fig. 23 -----
 
-def fig23_scenario(observer: str) -> LclScenario:
-    return steady(60e3, name=f"yao2022.fig23.{observer}", observer=observer,
+def fig23_scenario(observer: str) -> Scenario:
+    position = {"linear": "lcl_linear", "smo": "lcl_smo_pll"}[observer]
+    return steady(60e3, name=f"yao2022.fig23.{observer}", position=position,
                   C1_hat_ratio=2.0).replace(duration=0.4)
 
 
-def _stable(r: LclResult) -> tuple[int, float, float]:
+def _stable(r: Result) -> tuple[int, float, float]:
     """Stable = the drive holds its speed within 5 % and the angle error stays
     below 0.5 rad over the last half of the run."""
     m = r.window(r.scenario.duration / 2, r.scenario.duration)
-    n_ref = r.scenario.w_M_ref_rpm(0.0)
+    n_ref = r.scenario.w_M_ref(0.0) / RPM
     dn = float(np.max(np.abs(r.n_rpm[m] - n_ref)) / n_ref)
     err = float(np.max(np.abs(r.theta_error[m])))
     return int(dn < 0.05 and err < 0.5 and r.status == 0), dn, err
@@ -610,7 +639,7 @@ EXPERIMENTS: list[Experiment] = [
     Experiment("yao2022.table6", "Execution cost", run_table6),
 ]
 
-SCENARIOS: dict[str, Callable[[], LclScenario]] = {
+SCENARIOS: dict[str, Callable[[], Scenario]] = {
     "yao2022.steady.100k": lambda: steady(100e3),
     "yao2022.fig14": fig14_scenario,
     "yao2022.fig19": fig19_scenario,

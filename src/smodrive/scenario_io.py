@@ -1,0 +1,252 @@
+"""Scenarios as TOML: read (with catalogue bases and the older schemas) and
+write.
+
+A TOML file sets the top-level scenario fields and the sections
+``[motor]``, ``[lcl]`` (the filter; absent: none), ``[inverter]``,
+``[adc]``, ``[load]`` and ``[controller]``. Every field left out keeps its
+default, or the value of the catalogue scenario named by ``base`` (for
+example ``base = "yao2022.base"`` for the LCL-filtered high-speed drive).
+Keys are SI unless their name says otherwise (``w_M_ref_rpm``,
+``n_M0`` in r/min). ``[controller] mode = "conventional" | "robust" |
+"sensorless"`` is shorthand for yang2018's three compositions of parts.
+
+A file of the older LCL schema (``kind = "lcl"``, a ``[plant]`` section)
+still loads: it is read as ``base = "yao2022.base"`` with its keys moved to
+where they live now, and a warning says what to write instead.
+
+Example
+-------
+>>> s = scenario_from_dict({"n_M0": 1000.0, "controller": {"mode": "sensorless"}})
+>>> (s.controller.current, s.controller.position, s.controller.start)
+('robust_dbpc', 'smdo_emf', 'handover')
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import tomllib
+import warnings
+from pathlib import Path
+from typing import Any
+
+from .params import (
+    RPM,
+    AdcCfg,
+    ControllerCfg,
+    InverterCfg,
+    LclFilterPars,
+    LoadCfg,
+    MotorPars,
+    ParameterError,
+    Profile,
+    Scenario,
+    yang2018_mode,
+)
+
+SECTIONS: dict[str, type] = {
+    "motor": MotorPars,
+    "lcl": LclFilterPars,
+    "controller": ControllerCfg,
+    "inverter": InverterCfg,
+    "adc": AdcCfg,
+    "load": LoadCfg,
+}
+
+
+def _is_num(x: Any) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool)
+
+
+def _profile_from(name: str, v: Any, scale: float = 1.0) -> Profile:
+    form = f"{name}: expected a number or a table {{t = [...], y = [...]}} of numbers"
+    if _is_num(v):
+        return Profile.const(float(v) * scale)
+    if not (isinstance(v, dict) and set(v) == {"t", "y"}):
+        raise ParameterError(form)
+    t, y = v["t"], v["y"]
+    if not (isinstance(t, list) and isinstance(y, list) and all(map(_is_num, t + y))):
+        raise ParameterError(form)
+    try:
+        return Profile(tuple(map(float, t)), tuple(float(x) * scale for x in y))
+    except ParameterError as exc:
+        raise ParameterError(f"{name}: {exc}") from None
+
+
+def _profile_fields(cls: type) -> set[str]:
+    obj = cls()
+    return {f.name for f in dataclasses.fields(cls) if isinstance(getattr(obj, f.name), Profile)}
+
+
+def _kwargs(cls: type, section: str, data: dict[str, Any]) -> dict[str, Any]:
+    names = {f.name for f in dataclasses.fields(cls)} - set(SECTIONS)
+    profiles = _profile_fields(cls)
+    kwargs: dict[str, Any] = {}
+    for key, value in data.items():
+        if key.endswith("_rpm") and key[:-4] in profiles:
+            kwargs[key[:-4]] = _profile_from(f"{section}.{key}", value, RPM)
+        elif key not in names:
+            known = sorted(names | {p + "_rpm" for p in profiles})
+            raise ParameterError(
+                f"{section}.{key}: unknown parameter (known: {', '.join(known)})")
+        elif key in profiles:
+            kwargs[key] = _profile_from(f"{section}.{key}", value)
+        elif isinstance(value, list):
+            kwargs[key] = tuple(value)
+        else:
+            kwargs[key] = value
+    return kwargs
+
+
+def _controller(data: dict[str, Any], base: ControllerCfg) -> ControllerCfg:
+    data = dict(data)
+    if "mode" in data:
+        parts = yang2018_mode(data.pop("mode"))
+        clash = sorted(set(parts) & set(data))
+        if clash:
+            raise ParameterError(
+                f"controller.mode sets {', '.join(parts)}; do not set {', '.join(clash)} too")
+        data.update(parts)
+    return dataclasses.replace(base, **_kwargs(ControllerCfg, "controller", data))
+
+
+def _base(name: Any) -> Scenario:
+    from .scenarios import catalogue
+
+    if not isinstance(name, str):
+        raise ParameterError(f"base = {name!r} must be a catalogue name (smodrive scenarios)")
+    cat = catalogue()
+    if name not in cat:
+        raise ParameterError(f"base = {name!r} is not in the catalogue (known: "
+                             f"{', '.join(sorted(cat))})")
+    return cat[name]()
+
+
+# keys of the LCL schema before the one drive, and where they live now
+_LEGACY_PLANT = {
+    "R": ("motor", "R_s"), "Ls": ("motor", "L_s"), "psi_m": ("motor", "psi_r"),
+    "n_p": ("motor", "n_p"), "J": ("motor", "J"), "B": ("motor", "B"),
+    "L1": ("lcl", "L1"), "L2o": ("lcl", "L2o"), "C1": ("lcl", "C1"),
+    "u_dc": ("inverter", "u_dc"), "pwm": ("inverter", "pwm"), "t_dead": ("inverter", "t_dead"),
+    "k_fan": ("load", "k_fan"),
+}
+_LEGACY_ADC = {"gain_i2": "gain", "offset_i2": "offset"}
+
+
+def _from_legacy_lcl(data: dict[str, Any]) -> dict[str, Any]:
+    """Translate a `kind = "lcl"` file to the one schema."""
+    data = {k: (dict(v) if isinstance(v, dict) else v) for k, v in data.items()}
+    out: dict[str, Any] = {"base": "yao2022.base"}
+    moved: list[str] = []
+    for sec in ("motor", "lcl", "inverter", "load", "adc", "controller"):
+        out[sec] = {}
+    for key, value in data.pop("plant", {}).items():
+        if key not in _LEGACY_PLANT:
+            raise ParameterError(f"plant.{key}: unknown parameter of the LCL plant")
+        sec, new = _LEGACY_PLANT[key]
+        out[sec][new] = value
+        moved.append(f"[plant] {key} -> [{sec}] {new}")
+    for key, value in data.pop("adc", {}).items():
+        out["adc"][_LEGACY_ADC.get(key, key)] = value
+        if key in _LEGACY_ADC:
+            moved.append(f"[adc] {key} -> {_LEGACY_ADC[key]}")
+    ctrl = data.pop("controller", {})
+    mode = ctrl.pop("mode", "sensorless")
+    observer = ctrl.pop("observer", "smo")
+    if mode not in ("sensorless", "sensored") or observer not in ("smo", "linear"):
+        raise ParameterError(f"controller.mode = {mode!r} / observer = {observer!r}: expected "
+                             "sensorless or sensored, smo or linear")
+    out["controller"]["position"] = ("encoder" if mode == "sensored" else
+                                     "lcl_linear" if observer == "linear" else "lcl_smo_pll")
+    moved.append(f"[controller] mode/observer -> position = {out['controller']['position']!r}")
+    out["controller"].update(ctrl)
+    if data.pop("start_open_loop", False):
+        out["controller"]["start"] = "if"
+        moved.append("start_open_loop -> [controller] start = 'if'")
+    if "T_ext" in data:
+        out["load"]["T_ext"] = data.pop("T_ext")
+        moved.append("T_ext -> [load] T_ext")
+    if data.pop("with_linear_observer", False):
+        moved.append("with_linear_observer dropped (choose position = 'lcl_linear')")
+    out.update(data)
+    warnings.warn(
+        "kind = 'lcl' is the schema before the one drive; read as base = 'yao2022.base' "
+        "with: " + "; ".join(moved) + ". `smodrive show` prints a scenario in the current "
+        "schema.", UserWarning, stacklevel=3)
+    return {k: v for k, v in out.items() if v != {}}
+
+
+def scenario_from_dict(data: dict[str, Any]) -> Scenario:
+    """A Scenario from parsed TOML (see the module docstring)."""
+    data = dict(data)
+    kind = data.pop("kind", None)
+    if kind == "lcl":
+        data = _from_legacy_lcl(data)
+    elif kind not in (None, "pmsm"):
+        raise ParameterError(f"kind = {kind!r} is not one of pmsm, lcl (and no longer needed)")
+    base = _base(data.pop("base")) if "base" in data else Scenario()
+    top: dict[str, Any] = {}
+    sections: dict[str, Any] = {}
+    for key, value in data.items():
+        if key in SECTIONS:
+            if not isinstance(value, dict):
+                raise ParameterError(f"[{key}] must be a table")
+            sections[key] = value
+        else:
+            top[key] = value
+    built: dict[str, Any] = {}
+    for key, value in sections.items():
+        if key == "controller":
+            built[key] = _controller(value, base.controller)
+            continue
+        current = getattr(base, key)
+        if current is None:  # the filter section of a base without one
+            current = SECTIONS[key]()
+        built[key] = dataclasses.replace(current, **_kwargs(SECTIONS[key], key, value))
+    return dataclasses.replace(base, **_kwargs(Scenario, "scenario", top), **built)
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Read a scenario from a TOML file (see scenarios/*.toml) and check its
+    controller."""
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text())
+    except tomllib.TOMLDecodeError as exc:
+        raise ParameterError(f"{path}: not valid TOML: {exc}") from exc
+    s = scenario_from_dict(data)
+    s.check_controller()
+    return s
+
+
+def _val(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        # a JSON string is a TOML basic string, but for DEL, which TOML escapes
+        return json.dumps(v, ensure_ascii=False).replace("\x7f", "\\u007f")
+    if isinstance(v, tuple):
+        return "[" + ", ".join(_val(x) for x in v) + "]"
+    if isinstance(v, Profile):
+        return "{ t = " + _val(v.t) + ", y = " + _val(v.y) + " }"
+    return repr(v)
+
+
+def scenario_to_toml(s: Scenario) -> str:
+    """Serialise a scenario to TOML (round-trips through load_scenario;
+    optional fields left at None, "derived", are omitted)."""
+    lines = []
+    for f in dataclasses.fields(s):
+        v = getattr(s, f.name)
+        if f.name not in SECTIONS:
+            lines.append(f"{f.name} = {_val(v)}")
+    for sec in SECTIONS:
+        obj = getattr(s, sec)
+        if obj is None:
+            continue
+        lines.append(f"\n[{sec}]")
+        for f in dataclasses.fields(obj):
+            v = getattr(obj, f.name)
+            if v is not None:
+                lines.append(f"{f.name} = {_val(v)}")
+    return "\n".join(lines) + "\n"
