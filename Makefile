@@ -12,7 +12,7 @@ SOURCES := $(shell find core sim src -type f \( -name '*.c' -o -name '*.h' -o -n
            CMakeLists.txt pyproject.toml
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: all install reproduce test ctest pytest toolchain bench clean
+.PHONY: all install reproduce test ctest pytest toolchain bench clean dev
 
 all: test
 
@@ -42,6 +42,13 @@ pytest: $(STAMP)
 	$(BIN)/python -m pytest -q
 
 test: ctest pytest
+
+# Development: the C library built into src/smodrive, so that
+# `PYTHONPATH=src .venv/bin/python -m pytest` runs the working tree.
+dev: $(STAMP)
+	cmake -S . -B build/dev -DSMD_BUILD_TESTS=OFF -DSMD_BUILD_PYLIB=ON >/dev/null
+	cmake --build build/dev -j 2
+	cp build/dev/libsmodrive.so src/smodrive/
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_engine.py

@@ -16,8 +16,10 @@ import pytest
 from smodrive.analysis import metrics
 from smodrive.claims import write_claims
 from smodrive.design import yao2022 as dz
-from smodrive.lcl import LclAdcCfg, simulate_lcl
+import dataclasses
+
 from smodrive.params import Profile
+from smodrive.simulate import simulate
 from smodrive.scenarios import yao2022 as y
 
 REQUIRED = (
@@ -43,8 +45,9 @@ KNOWN_FAILING = {
     "yao2022.fig23.linear_observer_stable": "the linear observer keeps its designed poles",
 }
 
-IDEAL = LclAdcCfg(noise=0.0, bits=0)
-GAINS_ONLY = LclAdcCfg(gain_i1=y.ADC.gain_i1, gain_i2=y.ADC.gain_i2, noise=0.0, bits=0)
+IDEAL = dataclasses.replace(y.ADC, gain=(1.0, 1.0, 1.0), gain_i1=(1.0, 1.0, 1.0), noise=0.0,
+                            bits=0)
+GAINS_ONLY = dataclasses.replace(y.ADC, noise=0.0, bits=0)
 
 
 @pytest.fixture(scope="module")
@@ -88,12 +91,12 @@ def test_injection_reading_is_shifted_by_the_adc_scaling_rotation(n):
         s = y.steady(n, name="x").replace(
             duration=y.INJ_T + 0.05 + y.INJ_W, i_d_ref=Profile.steps(0.0, (y.INJ_T, 5.0)),
             adc=adc)
-        r = simulate_lcl(s)
+        r = simulate(s)
         b, a = r.window(y.INJ_T - y.INJ_W, y.INJ_T), r.window(y.INJ_T + 0.05, s.duration)
-        inj = math.atan((r["i2_dl"][b].mean() - r["i2_dl"][a].mean()) / r["i2_g"][a].mean())
+        inj = math.atan((r["i_dl"][b].mean() - r["i_dl"][a].mean()) / r["i_g"][a].mean())
         return inj + r.theta_error[a].mean()  # reading - (theta_hat - theta)
 
-    rot = metrics.scaling_rotation(GAINS_ONLY.gain_i2)
+    rot = metrics.scaling_rotation(GAINS_ONLY.gain)
     assert rot == pytest.approx(0.01 / math.sqrt(3), rel=1e-3)
     assert abs(offset(IDEAL)) <= 0.0015
     assert abs(offset(GAINS_ONLY) + rot) <= 0.0015
@@ -136,14 +139,14 @@ def test_fig14_peak_is_mostly_adc_noise(claims):
     quotes (below 0.04)."""
     s = y.fig14_scenario()
     noisy = claims["yao2022.fig14.pos_error_peak_rad"].reproduced
-    assert _peak_after_handover(simulate_lcl(s.replace(adc=GAINS_ONLY)), s) < noisy / 3
-    assert _peak_after_handover(simulate_lcl(s.replace(adc=IDEAL)), s) < 0.04
+    assert _peak_after_handover(simulate(s.replace(adc=GAINS_ONLY)), s) < noisy / 3
+    assert _peak_after_handover(simulate(s.replace(adc=IDEAL)), s) < 0.04
 
 
 def test_fig22_peak_is_adc_noise():
     """Without ADC noise the reversal's peak error is inside the claim's bound."""
     s = y.fig22_scenario()
-    r = simulate_lcl(s.replace(adc=GAINS_ONLY))
+    r = simulate(s.replace(adc=GAINS_ONLY))
     m = r.window(0.05, s.duration) & (np.abs(r.n_rpm) > y.REVERSAL_BAND)
     assert np.max(np.abs(r.theta_error[m])) <= 0.2
 
@@ -151,8 +154,8 @@ def test_fig22_peak_is_adc_noise():
 def test_linear_observer_keeps_its_poles_with_a_capacitance_error():
     """Theta = G22 - L G12 designed with 2 C has the designed poles; the true
     plant only biases the estimate (the reason the Fig. 23 claim fails)."""
-    p = dz.LclMotorPars()
-    lo = dz.linear_observer(dz.dataclasses.replace(p, C1=2 * p.C1), 2 * math.pi * 1000,
-                            (0.4, 0.4, 0.5, 0.5))
+    p = dz.DesignPlant(y.BASE.motor, y.BASE.lcl, y.BASE.T_sp)
+    lo = dz.linear_observer(dataclasses.replace(p, lcl=dataclasses.replace(p.lcl, C1=2 * p.lcl.C1)),
+                            2 * math.pi * 1000, (0.4, 0.4, 0.5, 0.5))
     eig = np.sort(np.abs(np.linalg.eigvals(lo.Theta)))
     np.testing.assert_allclose(eig, [0.4, 0.4, 0.5, 0.5], atol=1e-6)

@@ -8,6 +8,7 @@ well-conditioned matrix (cond(T_r) < 10, checked).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 import shutil
@@ -20,52 +21,87 @@ import scipy.integrate
 
 from smodrive.design import yao2022 as y
 from smodrive.design.cheader import REALTIME_FIELDS, write_c_header
+from smodrive.params import LclFilterPars, ParameterError
+from smodrive.scenarios.yao2022 import BASE
 
-PARS = y.LclMotorPars()
+PLANT = y.DesignPlant(BASE.motor, BASE.lcl, BASE.T_sp)  # Table II
 DESIGN = y.ObserverDesignPars()
-T = PARS.T
+T = PLANT.T_sp
 SPEEDS_TEST_RPM = (0.0, 30e3, 60e3, 100e3, 110e3, -60e3)
 EPS = np.finfo(float).eps
 
 
 def w_of(n_rpm: float) -> float:
-    return float(y.rpm_to_w(n_rpm, PARS.n_p))
+    return float(y.rpm_to_w(n_rpm, PLANT.motor.n_p))
 
 
 @pytest.fixture(scope="module")
 def tables() -> y.DesignTables:
-    return y.design_tables(PARS)
+    return y.design_tables(PLANT)
 
 
 # --------------------------------------------------------------------------- parameters
 
 
 def test_table_ii_resonance_frequency_is_5525_hz_within_0p1_percent() -> None:
-    assert PARS.L2 == pytest.approx(51.5e-6, rel=1e-12)
-    assert abs(PARS.f_res() / 5525.0 - 1.0) < 1e-3
+    assert PLANT.L2 == pytest.approx(51.5e-6, rel=1e-12)
+    assert abs(PLANT.f_res() / 5525.0 - 1.0) < 1e-3
 
 
 def test_parameters_are_validated() -> None:
-    with pytest.raises(ValueError, match="C1"):
-        y.LclMotorPars(C1=-1.0)
-    with pytest.raises(ValueError, match="p_L"):
+    with pytest.raises(ParameterError, match=r"^lcl\.C1 = -1\.0 "):
+        y.DesignPlant(BASE.motor, LclFilterPars(C1=-1.0), T)
+    with pytest.raises(ParameterError, match=r"^ObserverDesignPars\.p_L = "):
         y.ObserverDesignPars(p_L=(1.2, 0.3))
-    with pytest.raises(ValueError, match="k_theta"):
+    with pytest.raises(ParameterError, match=r"^PllPars\.k_theta = 0\.0 "):
         y.PllPars(k_theta=0.0)
+
+
+def _motor(**kw):
+    return dataclasses.replace(PLANT, motor=dataclasses.replace(PLANT.motor, **kw))
+
+
+@pytest.mark.parametrize("bad,field", [
+    (lambda: dataclasses.replace(PLANT, lcl=dataclasses.replace(PLANT.lcl, C1=0.0)), "lcl.C1"),
+    (lambda: _motor(n_p=1.5), "motor.n_p"),
+    (lambda: _motor(R_s=-0.023), "motor.R_s"),
+    (lambda: dataclasses.replace(PLANT, T_sp=0.0), "plant.T_sp"),
+    (lambda: dataclasses.replace(PLANT, T_sp=math.nan), "plant.T_sp"),
+    (lambda: y.DesignPlant(PLANT.lcl, PLANT.motor, T), "plant.motor"),
+    (lambda: y.DesignPlant(PLANT.motor, None, T), "plant.lcl"),
+    (lambda: y.design_tables(PLANT.motor), "plant"),
+])
+def test_a_bad_physical_value_raises_parameter_error_naming_the_field(bad, field) -> None:
+    """The design takes the project's own MotorPars and LclFilterPars: a bad
+    value (C1 <= 0, a fractional pole-pair count, R_s < 0, T_sp outside its
+    range, a wrong class) raises ParameterError whose message starts with the
+    field's name, before anything is designed."""
+    with pytest.raises(ParameterError) as exc:
+        bad()
+    assert str(exc.value).startswith(f"{field} = "), str(exc.value)
+
+
+def test_the_yao2022_preset_is_table_ii() -> None:
+    """The design plant is the preset's MotorPars and LclFilterPars (one
+    description of the physics); their values are Table II exactly."""
+    assert (PLANT.motor.R_s, PLANT.motor.L_s, PLANT.motor.n_p) == (0.023, 24e-6, 1)
+    assert (PLANT.lcl.L1, PLANT.lcl.L2o, PLANT.lcl.C1, T) == (54e-6, 27.5e-6, 31.48e-6, 50e-6)
 
 
 # --------------------------------------------------------------------------- model (1)-(7)
 
 
 def test_lossless_lc_block_conserves_energy_kcl_sign() -> None:
-    """With R = 0 the LCL part stores energy u'C u/2 + i'L i/2 and nothing
-    dissipates it: E A + A' E = 0 with E = diag(C1, L1, L2) on the 6x6 block.
+    """The LCL part stores energy u'C u/2 + i'L i/2 and only R_s dissipates
+    it: E A + A' E = -2 R_s diag(0, 0, I) with E = diag(C1, L1, L2) on the
+    6x6 block (with R_s = 0 the LC part conserves energy, E A + A' E = 0).
     The printed sign of eq. (2)'s first row (du_c/dt = -i_1/C + i_2/C1)
     breaks this (erratum 1). Exact up to round-off of entries ~1/L ~ 2e4."""
-    A, _ = y.continuous_model(y.LclMotorPars(R=1e-30), 0.0)
-    E = np.kron(np.diag([PARS.C1, PARS.L1, PARS.L2]), np.eye(2))
+    A, _ = y.continuous_model(PLANT, 0.0)
+    E = np.kron(np.diag([PLANT.lcl.C1, PLANT.lcl.L1, PLANT.L2]), np.eye(2))
+    D = np.kron(np.diag([0.0, 0.0, -2.0 * PLANT.motor.R_s]), np.eye(2))
     A6 = A[:6, :6]
-    assert np.abs(E @ A6 + A6.T @ E).max() < 1e-12
+    assert np.abs(E @ A6 + A6.T @ E - D).max() < 1e-12
     printed = A6.copy()
     printed[0:2, 2:4] *= -1.0
     printed[0:2, 4:6] *= -1.0
@@ -79,7 +115,7 @@ def test_zoh_matches_ode_integration(n_rpm: float) -> None:
     states are O(1) per unit input, so 1e-9 is the integrator's accuracy
     with three decades of margin."""
     w = w_of(n_rpm)
-    A, B = y.continuous_model(PARS, w)
+    A, B = y.continuous_model(PLANT, w)
     G_s, H_s = y.zoh(A, B, T)
     rng = np.random.default_rng(1)
     x0 = rng.normal(size=8)
@@ -97,8 +133,8 @@ def test_rotor_frame_model_equals_rotated_stationary_simulation(n_rpm: float) ->
     discretisations; they agree to round-off accumulated over 40 steps of a
     model with |eig| < 1 (1e-10 relative)."""
     w = w_of(n_rpm)
-    G, H, F = y.rotor_frame_model(PARS, w)
-    G_s, H_s = y.stationary_model(PARS, w)
+    G, H, F = y.rotor_frame_model(PLANT, w)
+    G_s, H_s = y.stationary_model(PLANT, w)
     rng = np.random.default_rng(2)
     theta0 = 0.7
     x_s = rng.normal(size=8)
@@ -118,7 +154,7 @@ def test_emf_is_constant_in_the_synchronous_frame() -> None:
     """The EMF block of G_s is e^{J w T}: rotated by the frame advance w T
     it is the identity (round-off of a 2x2 expm, 1e-13)."""
     w = w_of(100e3)
-    G_s, _ = y.stationary_model(PARS, w)
+    G_s, _ = y.stationary_model(PLANT, w)
     assert np.abs(y.rot(-w * T) @ G_s[6:8, 6:8] - np.eye(2)).max() < 1e-13
 
 
@@ -133,7 +169,7 @@ def test_canonical_form_structure(n_rpm: float) -> None:
     |det B| = R11 R22 = sigma_1 sigma_2 of F2, and F2' F2 is a multiple of
     I (its blocks are a I + b J), so |det B| = ||F2||^2: > 0.1 ||F2||^2.
     Round-off: entries O(1), cond(T_r) < 10, so 1e-12."""
-    G, _, F = y.rotor_frame_model(PARS, w_of(n_rpm))
+    G, _, F = y.rotor_frame_model(PLANT, w_of(n_rpm))
     cf = y.canonical_form(G, F)
     TF = cf.T_r @ F
     assert np.abs(TF[:4]).max() < 1e-12
@@ -156,7 +192,7 @@ def test_canonical_form_structure(n_rpm: float) -> None:
 
 
 def _design(n_rpm: float) -> tuple[y.CanonicalForm, y.SlidingSurface]:
-    G, _, F = y.rotor_frame_model(PARS, w_of(n_rpm))
+    G, _, F = y.rotor_frame_model(PLANT, w_of(n_rpm))
     cf = y.canonical_form(G, F)
     return cf, y.sliding_surface(cf, DESIGN.p_L, DESIGN.p_u)
 
@@ -288,7 +324,7 @@ def test_emf_lowpass_attenuation_at_2fe(n_rpm: float, phi: float) -> None:
     equals the python-control TF (1e-12); the exact-inversion gain hits phi
     (1e-12); the printed (51) without 2 pi misses phi by more than a factor 2
     (erratum 3)."""
-    f_e = n_rpm * PARS.n_p / 60.0
+    f_e = n_rpm * PLANT.motor.n_p / 60.0
     k = y.emf_adaption_gain(f_e, phi, T)
     theta = 2.0 * math.pi * 2.0 * f_e * T
     g = float(y.emf_lowpass_gain(k, 2.0 * f_e, T))
@@ -393,7 +429,7 @@ def test_linear_interpolation_error_is_bounded_by_the_second_derivative(tables: 
     n = tables.speeds_rpm.size
     for i in (0, 1, 7, 29, 54, 80, 99, n - 2):
         mid = 0.5 * (tables.speeds_rpm[i] + tables.speeds_rpm[i + 1])
-        fresh = y.design_point(PARS, w_of(mid), DESIGN)
+        fresh = y.design_point(PLANT, w_of(mid), DESIGN)
         interp = y.interp_tables(tables, w_of(mid))
         lo, hi = max(i - 1, 0), min(i + 3, n)
         for name in y.MATRIX_FIELDS:
@@ -445,7 +481,7 @@ def test_c_header_compiles_and_round_trips(tmp_path, tables: y.DesignTables) -> 
     -pedantic -Wdouble-promotion of the firmware build), and every float is
     float(value) exactly, hence within 2^-24 relative of the double design
     (better than 7 significant digits, 5e-7)."""
-    sub = y.design_tables(PARS, tables.speeds_rpm[::10], DESIGN)
+    sub = y.design_tables(PLANT, tables.speeds_rpm[::10], DESIGN)
     hdr = write_c_header(sub, tmp_path / "yao_tables.h", "YAO")
     src = tmp_path / "use.c"
     src.write_text('#include "yao_tables.h"\n'
@@ -456,6 +492,7 @@ def test_c_header_compiles_and_round_trips(tmp_path, tables: y.DesignTables) -> 
     assert res.returncode == 0, res.stderr
     text = hdr.read_text()
     assert f"#define YAO_N {sub.speeds_rpm.size}" in text
+    assert sub.plant is PLANT and f" * Plant: {PLANT.summary()}\n" in text
     arrays = {"speeds": sub.speeds_rpm, **{f: getattr(sub, f) for f in REALTIME_FIELDS}}
     for name, a in arrays.items():
         got = _parse_array(text, f"YAO_{name}")
@@ -474,18 +511,19 @@ def test_c_header_compiles_and_round_trips(tmp_path, tables: y.DesignTables) -> 
 def test_discrete_model_modes_are_the_lcl_resonance_shifted_by_the_frame() -> None:
     """eig(G) = e^{-j w T} eig(G_s[0:6, 0:6]): in the rotor frame at
     100 kr/min the LCL resonance f_res appears at f_res -+ f_e, and the
-    series mode has |z| = e^{-R T / (L1 + L2)}. R damping shifts the resonance
-    by O((R / (w_r L2))^2) ~ 2e-4 relative, hence 1e-3."""
+    series mode has |z| = e^{-R_s T / (L1 + L2)}. R_s damping shifts the resonance
+    by O((R_s / (w_r L2))^2) ~ 2e-4 relative, hence 1e-3."""
     w = w_of(100e3)
-    G, _, _ = y.rotor_frame_model(PARS, w)
+    G, _, _ = y.rotor_frame_model(PLANT, w)
     z = np.linalg.eigvals(G)
     f = np.sort(np.abs(np.angle(z))) / (2.0 * math.pi * T)
     f_e = w / (2.0 * math.pi)
     assert f[0:2] == pytest.approx([f_e, f_e], rel=1e-3)
-    assert f[2:4] == pytest.approx([PARS.f_res() - f_e] * 2, rel=1e-3)
-    assert f[4:6] == pytest.approx([PARS.f_res() + f_e] * 2, rel=1e-3)
+    assert f[2:4] == pytest.approx([PLANT.f_res() - f_e] * 2, rel=1e-3)
+    assert f[4:6] == pytest.approx([PLANT.f_res() + f_e] * 2, rel=1e-3)
     series = z[np.argsort(np.abs(np.angle(z)))[:2]]
-    assert np.abs(series) == pytest.approx([math.exp(-PARS.R * T / (PARS.L1 + PARS.L2))] * 2, rel=1e-3)
+    R_s, L1 = PLANT.motor.R_s, PLANT.lcl.L1
+    assert np.abs(series) == pytest.approx([math.exp(-R_s * T / (L1 + PLANT.L2))] * 2, rel=1e-3)
 
 
 @pytest.mark.parametrize("sign,converges", [(+1.0, False), (-1.0, True)])

@@ -74,3 +74,51 @@ class Claim:
 
 def write_claims(claims: list[Claim], path: Path) -> None:
     path.write_text(json.dumps([c.to_json() for c in claims], indent=2) + "\n")
+
+
+# ------------------------------------------------------ claims as data ---
+
+@dataclass(frozen=True)
+class ClaimSpec:
+    """What a claim says, as data (a paper's `<paper>.claims.toml`): the
+    statement (with `{name}` fields filled by the run), unit, check, the
+    paper's value and the tolerance where they are fixed, the basis of the
+    tolerance and the reason stated if it fails. The run supplies the
+    reproduced value (and what it computes: expected, tolerance, fields)."""
+
+    id: str
+    statement: str
+    unit: str = ""
+    check: Check = "abs"
+    paper: float | None = None
+    tolerance: float | None = None
+    basis: str = ""
+    why_fail: str = ""
+
+    def make(self, reproduced: float, expected: float | None = None, *,
+             paper: float | None = None, tolerance: float | None = None, **fields) -> Claim:
+        """The claim of one run; `fields` fill `{name}` in the texts."""
+        tol = self.tolerance if tolerance is None else tolerance
+        if tol is None:
+            raise ValueError(f"{self.id}: no tolerance in the data or from the run")
+        return Claim(
+            id=self.id, statement=self.statement.format(**fields),
+            paper=self.paper if paper is None else paper, expected=expected,
+            reproduced=reproduced, unit=self.unit, tolerance=tol, check=self.check,
+            basis=self.basis.format(**fields), why_fail=self.why_fail.format(**fields))
+
+
+def load_specs(path: Path) -> dict[str, ClaimSpec]:
+    """Every claim of a `<paper>.claims.toml` by id (tables keyed by id;
+    keys of ClaimSpec; unknown keys are an error)."""
+    import tomllib
+
+    data = tomllib.loads(Path(path).read_text())
+    names = set(ClaimSpec.__dataclass_fields__) - {"id"}
+    out = {}
+    for cid, spec in data.items():
+        unknown = set(spec) - names
+        if unknown:
+            raise ValueError(f"{path}: claim {cid}: unknown keys {sorted(unknown)}")
+        out[cid] = ClaimSpec(id=cid, **spec)
+    return out

@@ -153,17 +153,15 @@ def plant_config(s: Scenario) -> _ffi.PlantConfig:
 
 
 @functools.lru_cache(maxsize=8)
-def observer_tables(motor, lcl, T_sp: float, u_dc: float, design) -> tuple[np.ndarray,
-                                                                           np.ndarray, float,
-                                                                           float]:
-    """The LCL observers' tables, designed offline at every 1000 r/min of
-    TABLE_RPM and packed in the C layouts: (models (n, N_MODEL) float32,
-    linear observer (n, N_LIN) float32, w_min, dw)."""
+def observer_tables(plant, design) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """The LCL observers' tables for `plant`
+    (:class:`smodrive.design.yao2022.DesignPlant`: motor, filter, T_sp),
+    designed offline at every 1000 r/min of TABLE_RPM and packed in the C
+    layouts: (models (n, N_MODEL) float32, linear observer (n, N_LIN)
+    float32, w_min, dw)."""
     from .design import yao2022 as dz
 
-    pars = dz.LclMotorPars(R=motor.R_s, L1=lcl.L1, L2o=lcl.L2o, Ls=motor.L_s, C1=lcl.C1,
-                           psi_m=motor.psi_r, n_p=motor.n_p, T=T_sp, u_dc=u_dc)
-    t = dz.design_tables(pars, TABLE_RPM, design)
+    t = dz.design_tables(plant, TABLE_RPM, design)
     n = t.w.size
     m = np.zeros((n, _ffi.N_MODEL), dtype=np.float32)
     lin = np.zeros((n, _ffi.N_LIN), dtype=np.float32)
@@ -184,7 +182,7 @@ def observer_tables(motor, lcl, T_sp: float, u_dc: float, design) -> tuple[np.nd
 def lcl_observer_tables(s: Scenario, design=None):
     """observer_tables for scenario `s`: designed from the controller's
     estimates (L_s_hat, R_s_hat, psi_r_hat) and the filter with the
-    observer's capacitance C1_hat_ratio C1."""
+    observer's capacitance C1_hat_ratio C1, at the scenario's T_sp."""
     from .design import yao2022 as dz
     from .params import MotorPars
 
@@ -194,7 +192,7 @@ def lcl_observer_tables(s: Scenario, design=None):
     est_motor = MotorPars(R_s=c.R_s_hat, L_s=c.L_s_hat, psi_r=c.psi_r_hat, n_p=s.motor.n_p)
     est_lcl = dataclasses.replace(s.lcl, C1=s.lcl.C1 * c.C1_hat_ratio)
     design = design or dz.ObserverDesignPars(Q=tuple(c.Q))
-    return observer_tables(est_motor, est_lcl, s.T_sp, s.inverter.u_dc, design)
+    return observer_tables(dz.DesignPlant(est_motor, est_lcl, s.T_sp), design)
 
 
 def drive_config(s: Scenario, tables=None) -> _ffi.DriveConfig:

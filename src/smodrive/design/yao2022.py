@@ -26,14 +26,15 @@ matter for an implementation: the EMF adaption (34) needs a minus sign,
 
 Example
 -------
->>> from smodrive.design.yao2022 import LclMotorPars, design_tables, interp_tables, rpm_to_w
->>> pars = LclMotorPars()
->>> round(pars.f_res())
+>>> from smodrive.design.yao2022 import DesignPlant, design_tables, interp_tables, rpm_to_w
+>>> from smodrive.scenarios.yao2022 import BASE
+>>> plant = DesignPlant(BASE.motor, BASE.lcl, BASE.T_sp)  # Table II
+>>> round(plant.f_res())
 5525
->>> tab = design_tables(pars, [0.0, 50e3, 100e3])
+>>> tab = design_tables(plant, [0.0, 50e3, 100e3])
 >>> tab.G.shape
 (3, 6, 6)
->>> m = interp_tables(tab, rpm_to_w(75e3, pars.n_p))
+>>> m = interp_tables(tab, rpm_to_w(75e3, plant.motor.n_p))
 >>> m.Gamma_2.shape
 (2, 2)
 """
@@ -51,10 +52,12 @@ import scipy.linalg
 import scipy.optimize
 import scipy.signal
 
+from ..params import LclFilterPars, MotorPars, ParameterError, Scenario, _Validated
+
 __all__ = [
     "I2",
     "J2",
-    "LclMotorPars",
+    "DesignPlant",
     "ObserverDesignPars",
     "PllPars",
     "CanonicalForm",
@@ -126,54 +129,52 @@ def _check_positive(obj: object) -> None:
         v = getattr(obj, f.name)
         if isinstance(v, (int, float)) and not isinstance(v, bool):
             if not (math.isfinite(v) and v > 0):
-                raise ValueError(f"{type(obj).__name__}.{f.name} = {v!r} must be finite and > 0")
+                raise ParameterError(
+                    f"{type(obj).__name__}.{f.name} = {v!r} must be finite and > 0")
 
 
 @dataclass(frozen=True)
-class LclMotorPars:
-    """LCL filter and SPMSM of Table II.
+class DesignPlant(_Validated):
+    """The plant the observer is designed for: machine, LCL filter, sampling period.
+
+    The physical parameters are the project's own classes, validated there
+    (a bad value raises :class:`~smodrive.params.ParameterError` naming the
+    field); this bundle only adds the sampling period. The design uses
+    ``motor.R_s``, ``motor.L_s``, ``motor.n_p`` (speed axis) and ``lcl.L1``,
+    ``lcl.L2o``, ``lcl.C1``; ``psi_r`` and the mechanics do not enter it
+    (the EMF is a state, eq. (2)). Table II is the plant of
+    :data:`smodrive.scenarios.yao2022.BASE`:
+    ``DesignPlant(BASE.motor, BASE.lcl, BASE.T_sp)``. The drive designs its
+    observer from the controller's estimates instead
+    (:func:`smodrive.simulate.lcl_observer_tables`).
 
     Parameters
     ----------
-    R : float
-        Winding resistance (ohm).
-    L1 : float
-        Inverter-side filter inductance (H).
-    L2o : float
-        Machine-side filter inductance (H).
-    Ls : float
-        Stator inductance of the machine (H).
-    C1 : float
-        AC-side filter capacitor (F).
-    psi_m : float
-        PM flux linkage (Wb).
-    n_p : int
-        Pole pairs (Table II: 2 poles).
-    T : float
-        Sampling period (s), 1/f_s with f_s = 20 kHz.
-    u_dc : float
-        DC-bus voltage (V).
+    motor : MotorPars
+        Machine (``R_s`` winding resistance, ``L_s`` stator inductance).
+    lcl : LclFilterPars
+        Filter (``L1`` inverter side, ``L2o`` machine side, ``C1``).
+    T_sp : float
+        Sampling period (s), 1/f_s (Table II: f_s = 20 kHz); the range of
+        :attr:`smodrive.params.Scenario.T_sp`.
     """
 
-    R: float = 0.023
-    L1: float = 54e-6
-    L2o: float = 27.5e-6
-    Ls: float = 24e-6
-    C1: float = 31.48e-6
-    psi_m: float = 0.0012
-    n_p: int = 1
-    T: float = 50e-6
-    u_dc: float = 65.0
+    _section = "plant"
+    motor: MotorPars
+    lcl: LclFilterPars
+    T_sp: float = dataclasses.field(metadata=Scenario.__dataclass_fields__["T_sp"].metadata)
 
     def __post_init__(self) -> None:
-        _check_positive(self)
-        if not isinstance(self.n_p, int):
-            raise ValueError(f"LclMotorPars.n_p = {self.n_p!r} must be an integer")
+        if not isinstance(self.motor, MotorPars):
+            raise ParameterError(f"plant.motor = {self.motor!r} is not a MotorPars")
+        if not isinstance(self.lcl, LclFilterPars):
+            raise ParameterError(f"plant.lcl = {self.lcl!r} is not an LclFilterPars")
+        super().__post_init__()
 
     @property
     def L2(self) -> float:
-        """Total machine-side inductance ``L2 = L2o + Ls`` (H), below eq. (3)."""
-        return self.L2o + self.Ls
+        """Total machine-side inductance ``L2 = L2o + L_s`` (H), below eq. (3)."""
+        return self.lcl.L2o + self.motor.L_s
 
     def f_res(self) -> float:
         """LCL resonance frequency (Hz), Table II.
@@ -181,7 +182,14 @@ class LclMotorPars:
         ``f_res = sqrt((L1 + L2) / (L1 L2 C1)) / (2 pi)``: the nonzero
         eigenvalues of the lossless 6x6 block of eq. (2).
         """
-        return math.sqrt((self.L1 + self.L2) / (self.L1 * self.L2 * self.C1)) / (2.0 * math.pi)
+        L1, L2, C1 = self.lcl.L1, self.L2, self.lcl.C1
+        return math.sqrt((L1 + L2) / (L1 * L2 * C1)) / (2.0 * math.pi)
+
+    def summary(self) -> str:
+        """The values the design depends on, exactly (``repr`` of each float)."""
+        m, f = self.motor, self.lcl
+        return (f"R_s = {m.R_s!r} ohm, L_s = {m.L_s!r} H, n_p = {m.n_p!r}, L1 = {f.L1!r} H, "
+                f"L2o = {f.L2o!r} H, C1 = {f.C1!r} F, T_sp = {self.T_sp!r} s")
 
 
 @dataclass(frozen=True)
@@ -252,15 +260,17 @@ class ObserverDesignPars:
         for name, n in (("p_L", 2), ("p_u", 4), ("Q", 2), ("p_lin", 4)):
             v = getattr(self, name)
             if len(v) != n or not all(np.isfinite(v)) or max(abs(x) for x in v) >= 1.0:
-                raise ValueError(f"ObserverDesignPars.{name} = {v!r} must be {n} values inside the unit circle")
+                raise ParameterError(
+                    f"ObserverDesignPars.{name} = {v!r} must be {n} values inside the unit circle")
         for name in ("bw_rel_2", "bw_rel_3", "k_min"):
             v = getattr(self, name)
             if not (math.isfinite(v) and 0.0 < v < 1.0):
-                raise ValueError(f"ObserverDesignPars.{name} = {v!r} must be in (0, 1)")
+                raise ParameterError(f"ObserverDesignPars.{name} = {v!r} must be in (0, 1)")
         if not 0.0 < self.phi < 1.0:
-            raise ValueError(f"ObserverDesignPars.phi = {self.phi!r} must be in (0, 1)")
+            raise ParameterError(f"ObserverDesignPars.phi = {self.phi!r} must be in (0, 1)")
         if not (isinstance(self.n_delay_max, int) and self.n_delay_max >= 2):
-            raise ValueError(f"ObserverDesignPars.n_delay_max = {self.n_delay_max!r} must be an integer >= 2")
+            raise ParameterError(
+                f"ObserverDesignPars.n_delay_max = {self.n_delay_max!r} must be an integer >= 2")
 
 
 # ---------------------------------------------------------------------------
@@ -268,7 +278,7 @@ class ObserverDesignPars:
 # ---------------------------------------------------------------------------
 
 
-def continuous_model(pars: LclMotorPars, w: float) -> tuple[np.ndarray, np.ndarray]:
+def continuous_model(plant: DesignPlant, w: float) -> tuple[np.ndarray, np.ndarray]:
     """Continuous-time model in the stationary frame, eq. (1)-(3).
 
     States ``x_s = [u_c_ab, i_1_ab, i_2_ab, e_ab]`` (8), input ``u_s_ab``.
@@ -278,7 +288,7 @@ def continuous_model(pars: LclMotorPars, w: float) -> tuple[np.ndarray, np.ndarr
 
     Parameters
     ----------
-    pars : LclMotorPars
+    plant : DesignPlant
     w : float
         Electrical angular speed (rad/s), constant over the sample.
 
@@ -287,11 +297,11 @@ def continuous_model(pars: LclMotorPars, w: float) -> tuple[np.ndarray, np.ndarr
     A_s : ndarray, shape (8, 8)
     B_s : ndarray, shape (8, 2)
     """
-    C1, L1, L2, R = pars.C1, pars.L1, pars.L2, pars.R
+    C1, L1, L2, R_s = plant.lcl.C1, plant.lcl.L1, plant.L2, plant.motor.R_s
     A_s = np.block([
         [Z2, I2 / C1, -I2 / C1, Z2],
         [-I2 / L1, Z2, Z2, Z2],
-        [I2 / L2, Z2, -R / L2 * I2, -I2 / L2],
+        [I2 / L2, Z2, -R_s / L2 * I2, -I2 / L2],
         [Z2, Z2, Z2, w * J2],
     ])
     B_s = np.vstack([Z2, I2 / L1, Z2, Z2])
@@ -313,13 +323,13 @@ def zoh(A: np.ndarray, B: np.ndarray, T: float) -> tuple[np.ndarray, np.ndarray]
     return E[:n, :n], E[:n, n:]
 
 
-def stationary_model(pars: LclMotorPars, w: float) -> tuple[np.ndarray, np.ndarray]:
+def stationary_model(plant: DesignPlant, w: float) -> tuple[np.ndarray, np.ndarray]:
     """Discrete stationary-frame model ``(G_s, H_s)`` of eq. (4), shapes (8, 8), (8, 2)."""
-    A_s, B_s = continuous_model(pars, w)
-    return zoh(A_s, B_s, pars.T)
+    A_s, B_s = continuous_model(plant, w)
+    return zoh(A_s, B_s, plant.T_sp)
 
 
-def rotor_frame_model(pars: LclMotorPars, w: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def rotor_frame_model(plant: DesignPlant, w: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Discrete model in the estimated rotor (gamma-delta) frame, eq. (5)-(7).
 
     ``x(k) = [u_c_gd, i_1_gd, i_2_gd]`` (6). The frame advances ``w T`` per
@@ -334,8 +344,8 @@ def rotor_frame_model(pars: LclMotorPars, w: float) -> tuple[np.ndarray, np.ndar
     F : ndarray, shape (6, 2)
         EMF input matrix; ``e_gd(k)`` is the EMF at the start of the sample.
     """
-    G_s, H_s = stationary_model(pars, w)
-    Rm = rot(-w * pars.T, 3)
+    G_s, H_s = stationary_model(plant, w)
+    Rm = rot(-w * plant.T_sp, 3)
     return Rm @ G_s[0:6, 0:6], Rm @ H_s[0:6, :], Rm @ G_s[0:6, 6:8]
 
 
@@ -732,14 +742,14 @@ class LinearObserver:
     Theta_u: np.ndarray
 
 
-def linear_observer(pars: LclMotorPars, w: float, poles: Sequence[float]) -> LinearObserver:
+def linear_observer(plant: DesignPlant, w: float, poles: Sequence[float]) -> LinearObserver:
     """Reduced-order observer of eq. (65) for the model (64) at speed ``w``.
 
     Eq. (64) reorders ``x_s`` of eq. (4) as ``[x_1; x_2] = [i_1, i_2; u_c, e]``.
     ``L_s`` by the dual placement ``L_s = place(G_s22^T, G_s12^T, poles)^T``
     (the EMF model ``de/dt = w J e`` makes it speed dependent).
     """
-    G_s, H_s = stationary_model(pars, w)
+    G_s, H_s = stationary_model(plant, w)
     perm = np.array([2, 3, 4, 5, 0, 1, 6, 7])
     Gp = G_s[np.ix_(perm, perm)]
     Hp = H_s[perm]
@@ -817,15 +827,16 @@ MATRIX_FIELDS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(Observ
 """Fields of :class:`ObserverMatrices` stored per speed in :class:`DesignTables`."""
 
 
-def design_point(pars: LclMotorPars, w: float, design: ObserverDesignPars | None = None) -> ObserverMatrices:
+def design_point(plant: DesignPlant, w: float,
+                 design: ObserverDesignPars | None = None) -> ObserverMatrices:
     """Full observer design at the electrical speed ``w`` (rad/s)."""
     design = design or ObserverDesignPars()
-    G, H, F = rotor_frame_model(pars, w)
+    G, H, F = rotor_frame_model(plant, w)
     cf = canonical_form(G, F)
     ss = sliding_surface(cf, design.p_L, design.p_u)
     rm = reaching_mode(cf, ss)
     f_e = abs(w) / (2.0 * math.pi)
-    T = pars.T
+    T = plant.T_sp
     k = max(emf_adaption_gain(f_e, design.phi, T), design.k_min)
     a1_2, a2_2 = bandpass_coefficients(2.0 * abs(w), 2.0 * math.pi * design.bw_rel_2 * f_e, T)
     a1_3, a2_3 = bandpass_coefficients(3.0 * abs(w), 2.0 * math.pi * design.bw_rel_3 * f_e, T)
@@ -835,7 +846,7 @@ def design_point(pars: LclMotorPars, w: float, design: ObserverDesignPars | None
             return design.n_delay_max
         return int(min(round(1.0 / (h * f_e * T)), design.n_delay_max))
 
-    lo = linear_observer(pars, w, design.p_lin)
+    lo = linear_observer(plant, w, design.p_lin)
     return ObserverMatrices(
         w=float(w), G=G, H=H, F=F, T_r=cf.T_r, B=cf.B, H_c=ss.H_c, D1=ss.D1, D2=ss.D2,
         Gamma_c=ss.Gamma_c, Gamma_1=ss.Gamma_1, Gamma_2=ss.Gamma_2,
@@ -852,7 +863,8 @@ class DesignTables:
 
     Every matrix field has shape ``(N,) + shape_at_one_speed`` (C order,
     speed first), scalars shape ``(N,)``. ``speeds_rpm`` is strictly
-    increasing mechanical speed, ``w`` the electrical speed (rad/s).
+    increasing mechanical speed, ``w`` the electrical speed (rad/s);
+    ``plant`` and ``design`` are the inputs the tables were designed from.
     """
 
     speeds_rpm: np.ndarray
@@ -887,7 +899,7 @@ class DesignTables:
     Theta: np.ndarray
     Theta_y: np.ndarray
     Theta_u: np.ndarray
-    pars: LclMotorPars = dataclasses.field(default_factory=LclMotorPars)
+    plant: DesignPlant
     design: ObserverDesignPars = dataclasses.field(default_factory=ObserverDesignPars)
 
     def arrays(self) -> dict[str, np.ndarray]:
@@ -899,13 +911,13 @@ DEFAULT_SPEEDS_RPM = np.arange(0.0, 110e3 + 1.0, 1000.0)
 """0 to 110 kr/min in 1 kr/min steps (grid argued in docs/yao2022_design.md)."""
 
 
-def design_tables(pars: LclMotorPars | None = None, speeds_rpm: Sequence[float] | np.ndarray | None = None,
+def design_tables(plant: DesignPlant, speeds_rpm: Sequence[float] | np.ndarray | None = None,
                   design: ObserverDesignPars | None = None) -> DesignTables:
     """Lookup tables of the observer design over mechanical speed.
 
     Parameters
     ----------
-    pars : LclMotorPars, optional
+    plant : DesignPlant
     speeds_rpm : sequence of float, optional
         Strictly increasing mechanical speeds (r/min); default
         :data:`DEFAULT_SPEEDS_RPM`. Negative speeds are allowed.
@@ -915,15 +927,16 @@ def design_tables(pars: LclMotorPars | None = None, speeds_rpm: Sequence[float] 
     -------
     DesignTables
     """
-    pars = pars or LclMotorPars()
+    if not isinstance(plant, DesignPlant):
+        raise ParameterError(f"plant = {plant!r} is not a DesignPlant")
     design = design or ObserverDesignPars()
     n = np.asarray(DEFAULT_SPEEDS_RPM if speeds_rpm is None else speeds_rpm, dtype=float)
     if n.ndim != 1 or n.size < 2 or not np.all(np.diff(n) > 0) or not np.all(np.isfinite(n)):
         raise ValueError("speeds_rpm must be a strictly increasing 1-D sequence of at least 2 finite speeds")
-    w = np.asarray(rpm_to_w(n, pars.n_p))
-    points = [design_point(pars, float(wi), design) for wi in w]
+    w = np.asarray(rpm_to_w(n, plant.motor.n_p))
+    points = [design_point(plant, float(wi), design) for wi in w]
     cols = {name: np.array([getattr(p, name) for p in points]) for name in MATRIX_FIELDS}
-    return DesignTables(speeds_rpm=n, w=w, pars=pars, design=design, **cols)
+    return DesignTables(speeds_rpm=n, w=w, plant=plant, design=design, **cols)
 
 
 def interp_tables(tables: DesignTables, w: float) -> ObserverMatrices:
