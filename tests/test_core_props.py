@@ -17,7 +17,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from smodrive import _ffi as F
-from smodrive.params import RPM, ControllerCfg, Scenario, Profile
+from smodrive.params import RPM, ControllerCfg, Profile, Scenario, yang2018_mode
 
 lib = F.lib
 
@@ -542,7 +542,7 @@ def controllers(draw):
     l = draw(st.floats(100.0, 5000.0))
     lam = draw(st.floats(0.0, 1.0)) * rho * (1.5 / T - l)  # keeps (l + lam/rho) T < 1.5
     return ControllerCfg(
-        mode=draw(st.sampled_from(["conventional", "robust", "sensorless"])),
+        **yang2018_mode(draw(st.sampled_from(["conventional", "robust", "sensorless"]))),
         L_s_hat=draw(st.floats(0.5, 2.0)) * 23.45e-3,
         R_s_hat=draw(st.floats(0.0, 2.0)) * 2.25,
         psi_r_hat=draw(st.floats(0.5, 1.5)) * 0.4,

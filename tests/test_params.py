@@ -1,17 +1,22 @@
-"""Parameter validation, TOML loading/serialisation and ctypes layout.
+"""Parameter validation and TOML loading/serialisation (smodrive.params,
+smodrive.scenario_io).
 
 Every numeric field's range comes from its dataclass metadata, so that a field
 added later is covered automatically; the tests check that the metadata is
 enforced (value just outside rejected, boundaries accepted) and that the error
-message lets a user find and fix the value.
+message lets a user find and fix the value. Then the one schema: catalogue
+bases, the yang2018 ``mode`` shorthand, the older LCL schema, the rules on
+how the controller's parts fit the plant, and the optional (derived) fields.
+The ctypes layout checks are in test_binding.py.
 """
 
 from __future__ import annotations
 
-import ctypes as ct
 import dataclasses
 import math
 import string
+import tomllib
+from pathlib import Path
 
 import pytest
 from hypothesis import assume, HealthCheck, example, given, settings
@@ -19,21 +24,26 @@ from hypothesis import strategies as st
 
 from smodrive import _ffi as F
 from smodrive.params import (
+    RPM,
     AdcCfg,
     ControllerCfg,
     InverterCfg,
+    LclFilterPars,
     LoadCfg,
     MotorPars,
     ParameterError,
     Profile,
     Scenario,
-    load_scenario,
-    scenario_from_dict,
-    scenario_to_toml,
+    yang2018_mode,
 )
+from smodrive.scenario_io import load_scenario, scenario_from_dict, scenario_to_toml
+from smodrive.scenarios import catalogue, yang2018, yao2022
+
+ROOT = Path(__file__).resolve().parents[1]
 
 CLASSES = {
     "motor": MotorPars,
+    "lcl": LclFilterPars,
     "controller": ControllerCfg,
     "inverter": InverterCfg,
     "adc": AdcCfg,
@@ -64,6 +74,11 @@ def _is_tuple(f: dataclasses.Field) -> bool:
     return isinstance(f.default, tuple)
 
 
+def _is_optional(f: dataclasses.Field) -> bool:
+    """A numeric field whose None means "derived" (k_p_i, k_i_i, L_dec)."""
+    return "range" in f.metadata and f.default is None
+
+
 def _just_outside(f: dataclasses.Field) -> list:
     lo, hi, lo_open = f.metadata["range"]
     if _is_int(f):
@@ -90,6 +105,7 @@ def _build(cls, f, v):
 def test_every_section_has_numeric_fields_and_valid_defaults():
     # guards the parametrisation below against silently covering nothing
     assert len(NUMERIC) >= 40
+    assert len([f for _, _, f in NUMERIC if _is_optional(f)]) == 3  # k_p_i, k_i_i, L_dec
     for sec, cls in CLASSES.items():
         assert any(s == sec for s, _, _ in NUMERIC)
         cls()  # the defaults are valid
@@ -120,6 +136,10 @@ def test_range_boundaries_are_accepted(sec, cls, f):
 @pytest.mark.parametrize("sec,cls,f", NUMERIC, ids=NUMERIC_IDS)
 @pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf, True, "1.0", None])
 def test_non_numbers_and_non_finite_are_rejected(sec, cls, f, bad):
+    if bad is None and _is_optional(f):
+        # None is the value of an optional field: "derived" (see below)
+        assert getattr(_build(cls, f, None), f.name) is None
+        return
     with pytest.raises(ParameterError, match=rf"{sec}\.{f.name}\b"):
         _build(cls, f, bad)
 
@@ -154,11 +174,16 @@ def test_integer_fields_reject_fractions():
 
 @pytest.mark.parametrize("sec,cls,f", TUPLE_FIELDS,
                          ids=[f"{s}.{f.name}" for s, _, f in TUPLE_FIELDS])
-def test_per_phase_fields_need_three_values(sec, cls, f):
+def test_vector_fields_need_their_length(sec, cls, f):
+    """Per-phase fields take three values, the yao2022 observer's per-axis
+    ones (Q, bw_rel) two: a scalar or any other length is refused."""
+    n = f.metadata["n"]
+    assert n == len(f.default) and n in (2, 3)
     good = f.default[0]
     cases = [(f"{sec}.{f.name} = {bad!r}", lambda bad=bad: cls(**{f.name: bad}))
-             for bad in (good, (good,), (good, good), (good,) * 4)]
+             for bad in [good] + [(good,) * k for k in range(1, 5) if k != n]]
     assert _accepted(cases) == []
+    assert getattr(cls(**{f.name: (good,) * n}), f.name) == (good,) * n
 
 
 def test_scalar_fields_reject_sequences():
@@ -350,8 +375,10 @@ def test_toml_rpm_reference_is_converted(tmp_path):
     assert s.w_M_ref.y == (0.0, pytest.approx(1500.0 * 2 * math.pi / 60))
     assert s.w_M_ref.t == (0.0, 0.5)
     assert s.load.T_brake == Profile.const(2.0)
-    assert s.controller.mode == "sensorless"
+    c = s.controller
+    assert (c.current, c.position, c.start) == ("robust_dbpc", "smdo_emf", "handover")
     assert s.motor == MotorPars()  # sections not given keep their defaults
+    assert s.lcl is None  # no [lcl] section: no filter
 
 
 # ------------------------------------------------------- round trip --------
@@ -379,8 +406,12 @@ def profiles(draw):
 def instances(draw, cls):
     kw = {}
     for f in dataclasses.fields(cls):
-        if f.name in CLASSES:
+        if f.name == "lcl":
+            kw[f.name] = draw(st.one_of(st.none(), instances(LclFilterPars)))
+        elif f.name in CLASSES:
             kw[f.name] = draw(instances(CLASSES[f.name]))
+        elif _is_optional(f):
+            kw[f.name] = None if draw(st.booleans()) else _field_value(draw, f)
         elif "range" in f.metadata:
             kw[f.name] = _field_value(draw, f)
         elif "choices" in f.metadata:
@@ -397,6 +428,15 @@ def instances(draw, cls):
     if cls is Scenario and kw["inverter"].t_dead > 0.25 * kw["T_sp"]:
         # cross-field rule (tested on its own): keep the dead time within T_sp/4
         kw["inverter"] = dataclasses.replace(kw["inverter"], t_dead=0.25 * kw["T_sp"])
+    if cls is Scenario:
+        # the composition rules (tested on their own below): parts that fit the plant
+        c = kw["controller"]
+        if kw["lcl"] is None:
+            pos = "encoder" if c.position in ("lcl_smo_pll", "lcl_linear") else c.position
+            kw["controller"] = dataclasses.replace(c, position=pos, R_v=0.0)
+        else:
+            pos = "lcl_smo_pll" if c.position == "smdo_emf" else c.position
+            kw["controller"] = dataclasses.replace(c, current="pi", position=pos)
     return cls(**kw)
 
 
@@ -433,66 +473,435 @@ def test_scenario_name_round_trip(name, tmp_path):
 
 def test_scenario_from_dict_matches_constructor():
     d = {"duration": 0.5, "motor": {"L_s": 0.01, "n_p": 2},
-         "adc": {"gain": [1.0, 1.1, 0.9]}, "controller": {"mode": "conventional"}}
+         "adc": {"gain": [1.0, 1.1, 0.9]}, "controller": {"mode": "conventional"},
+         "lcl": {"C1": 20e-6}}
     s = scenario_from_dict(d)
     assert s == Scenario(duration=0.5, motor=MotorPars(L_s=0.01, n_p=2),
                          adc=AdcCfg(gain=(1.0, 1.1, 0.9)),
-                         controller=ControllerCfg(mode="conventional"))
+                         controller=ControllerCfg(current="dbpc", position="encoder",
+                                                  start="running"),
+                         lcl=LclFilterPars(C1=20e-6))
 
 
-# ------------------------------------------------------------- layout ------
-
-def test_ctypes_layout_matches_c():
-    F.check_layout()  # raises ImportError on mismatch
-    for name, cls in (("plant_config", F.PlantConfig), ("drive_config", F.DriveConfig),
-                      ("profiles", F.Profiles)):
-        assert getattr(F.lib, f"smd_sizeof_{name}")() == ct.sizeof(cls), name
-    assert F.ENGINE_SIZE == F.lib.smd_sizeof_engine() > 0
-    assert len(F.LOG_CHANNELS) == F.N_LOG and len(set(F.LOG_CHANNELS)) == F.N_LOG
-    assert F.LOG_CHANNELS[0] == "t" and F.LOG_CHANNELS[-1] == "status"
-
-
-GUARD = 0xA5
-
-
-def _guarded(cls):
-    """A struct inside a buffer with GUARD bytes after it."""
-    n = ct.sizeof(cls)
-    buf = (ct.c_ubyte * (n + 64))(*([GUARD] * (n + 64)))
-    return cls.from_buffer(buf), buf, n
-
-
-@pytest.mark.parametrize("cls,call", [
-    (F.DbpcParams, lambda p: F.lib.smd_dbpc_init(p, 1e-4, 0.02, 2.0, 0.4)),
-    (F.SmdoParams, lambda p: F.lib.smd_smdo_init(p, 1e-4, 0.02, 2.0, 800.0, 1200.0, 1500.0, 0.2)),
-    (F.PiParams, lambda p: F.lib.smd_pi_init(p, 0.1, 10.0, 1e-4, 15.0)),
-    (F.SvmParams, lambda p: F.lib.smd_svm_init(p, 1, 0.01)),
-    (F.EmfPosParams, lambda p: F.lib.smd_emf_pos_init(p, 1e-4, 200.0, 5.0, 1000.0)),
-    (F.SmdoState, lambda s: F.lib.smd_smdo_reset(s, F.Cplx(1.0, 2.0), F.Cplx(3.0, 4.0))),
-    (F.PiState, lambda s: F.lib.smd_pi_reset(s, 1.0)),
-    (F.EmfPosState, lambda s: F.lib.smd_emf_pos_reset(s, 10.0)),
-])
-def test_block_struct_mirrors_match_c(cls, call):
-    """The block structs have no C sizeof export: C must write every mirrored
-    field (mirror not too long) and nothing beyond it (not too short)."""
-    obj, buf, n = _guarded(cls)
-    rc = call(ct.byref(obj))
-    assert rc in (None, 0)
-    assert bytes(buf[n:]) == bytes([GUARD]) * 64, "C wrote past the Python struct"
-    raw = bytes(buf[:n])
-    for name, typ in cls._fields_:
-        off = getattr(cls, name).offset
-        size = ct.sizeof(typ)
-        assert raw[off:off + size] != bytes([GUARD]) * size, f"{cls.__name__}.{name} unwritten"
-
+# ------------------------------------------------------ cross-field -------
 
 def test_cross_field_limits_name_the_fields():
     """Limits that involve two fields are checked before any simulation."""
     with pytest.raises(ParameterError, match=r"inverter\.t_dead"):
         Scenario(T_sp=1e-6, inverter=InverterCfg(t_dead=1e-6))
-    s = Scenario(controller=ControllerCfg(mode="sensorless", w_lpf=4e4))
+    s = Scenario(controller=ControllerCfg(**yang2018_mode("sensorless"), w_lpf=4e4))
     with pytest.raises(ParameterError, match=r"controller\.w_lpf"):
         s.check_controller()
-    s = Scenario(controller=ControllerCfg(mode="sensorless", n_max=1e5))
+    s = Scenario(controller=ControllerCfg(**yang2018_mode("sensorless"), n_max=1e5))
     with pytest.raises(ParameterError, match=r"controller\.n_max"):
         s.check_controller()
+
+
+# ------------------------------------------- (a) catalogue round trips ------
+
+CATALOGUE = catalogue()
+
+
+@pytest.mark.parametrize("name", sorted(CATALOGUE))
+def test_catalogue_scenario_toml_round_trip_is_exact(name, tmp_path):
+    """Every catalogue scenario (both papers' bases, every figure, the drive
+    compositions) written as TOML reads back equal field by field: floats
+    are written by repr, which round-trips exactly, and no section is lost
+    (the filter of the LCL drive, the optional gains it sets)."""
+    s = CATALOGUE[name]()
+    text = scenario_to_toml(s)
+    back = scenario_from_dict(tomllib.loads(text))
+    assert back == s
+    assert scenario_to_toml(back) == text
+    assert (s.lcl is None) == ("\n[lcl]\n" not in text)
+    path = tmp_path / "s.toml"
+    path.write_text(text)
+    assert load_scenario(path) == s  # and its controller passes the checks
+
+
+@pytest.mark.parametrize("base", [yang2018.BASE, yao2022.BASE], ids=["yang2018", "yao2022"])
+def test_paper_base_round_trip_is_exact(base):
+    assert scenario_from_dict(tomllib.loads(scenario_to_toml(base))) == base
+    assert CATALOGUE[base.name]() == base  # the catalogue entry "<paper>.base" is BASE
+
+
+def test_the_catalogue_covers_both_plants():
+    """Guards the round trip above against covering one plant only."""
+    scen = [f() for f in CATALOGUE.values()]
+    assert len(scen) >= 20
+    assert sum(s.lcl is None for s in scen) >= 10 and sum(s.lcl is not None for s in scen) >= 4
+
+
+# ----------------------------------------------------- (b) base = "..." ----
+
+def test_base_with_changed_fields():
+    """base = "yao2022.base": every field not given is the preset's, not the
+    dataclass default (the preset's ADC gains, T_sp, filter, controller)."""
+    s = scenario_from_dict({"base": "yao2022.base", "name": "mine", "duration": 0.2,
+                            "lcl": {"C1": 30e-6}, "controller": {"law": "tde17"},
+                            "adc": {"noise": 0.0}})
+    b = yao2022.BASE
+    assert s == b.replace(name="mine", duration=0.2,
+                          lcl=dataclasses.replace(b.lcl, C1=30e-6),
+                          controller=dataclasses.replace(b.controller, law="tde17"),
+                          adc=dataclasses.replace(b.adc, noise=0.0))
+    assert s.T_sp == 50e-6 and s.adc.gain == (1.01, 0.99, 1.0) and s.lcl.L1 == 54e-6
+    assert s.controller.k_p_i == 0.35 and s.controller.position == "lcl_smo_pll"
+    assert scenario_from_dict({"base": "yao2022.base"}) == b
+
+
+def test_base_without_filter_gets_one_from_an_lcl_section():
+    """An [lcl] section on a base without a filter starts from the
+    LclFilterPars defaults (Table II)."""
+    s = scenario_from_dict({"base": "yang2018.base", "lcl": {"C1": 20e-6},
+                            "controller": {"current": "pi"}})
+    assert s.lcl == LclFilterPars(L1=54e-6, L2o=27.5e-6, C1=20e-6)
+    assert s.motor == yang2018.BASE.motor
+    s.check_controller()
+
+
+@pytest.mark.parametrize("bad", ["yao2023.base", 5, ["yao2022.base"]])
+def test_unknown_base_is_refused_naming_the_catalogue(bad):
+    with pytest.raises(ParameterError) as ei:
+        scenario_from_dict({"base": bad})
+    msg = str(ei.value)
+    assert msg.startswith("base = ")
+    if isinstance(bad, str):
+        assert "yao2022.base" in msg and "yang2018.fig9" in msg  # the known names
+
+
+# ------------------------------------------------ (c) mode shorthand -------
+
+@pytest.mark.parametrize("mode,parts", [
+    ("conventional", ("dbpc", "encoder", "running")),
+    ("robust", ("robust_dbpc", "encoder", "running")),
+    ("sensorless", ("robust_dbpc", "smdo_emf", "handover")),
+])
+def test_mode_shorthand_expands_to_the_parts(mode, parts):
+    """yang2018's three drives (Fig. 3) as compositions of parts, in TOML,
+    in Scenario.with_controller and in yang2018_mode."""
+    for s in (scenario_from_dict({"controller": {"mode": mode, "t_handover": 0.1}}),
+              Scenario().with_controller(mode=mode, t_handover=0.1)):
+        c = s.controller
+        assert (c.current, c.position, c.start) == parts
+        assert c.t_handover == 0.1  # the other keys still apply
+        assert c == ControllerCfg(current=parts[0], position=parts[1], start=parts[2],
+                                  t_handover=0.1)
+    assert yang2018_mode(mode) == dict(zip(("current", "position", "start"), parts))
+
+
+@pytest.mark.parametrize("clash", [{"current": "pi"}, {"position": "encoder"},
+                                   {"start": "if"}, {"current": "robust_dbpc"}])
+def test_mode_clashing_with_a_part_is_refused(clash):
+    """mode sets all three parts; a part given beside it is ambiguous, even
+    one with the same value."""
+    (key, _), = clash.items()
+    with pytest.raises(ParameterError) as ei:
+        scenario_from_dict({"controller": {"mode": "sensorless", **clash}})
+    msg = str(ei.value)
+    assert msg.startswith("controller.mode") and key in msg
+
+
+def test_unknown_mode_is_refused_naming_the_modes():
+    with pytest.raises(ParameterError) as ei:
+        scenario_from_dict({"controller": {"mode": "sensored"}})
+    msg = str(ei.value)
+    assert "controller.mode = 'sensored'" in msg
+    assert all(m in msg for m in ("conventional", "robust", "sensorless"))
+
+
+# ----------------------------------------------- (d) the older LCL schema --
+
+# The older LCL schema, every key it had that moved.
+LEGACY_FULL = """\
+kind = "lcl"
+name = "legacy.full"
+T_sp = 4e-5
+duration = 0.3
+n_M0 = 30000.0
+w_M_ref_rpm = 31000.0
+start_open_loop = true
+T_ext = 0.002
+
+[plant]
+R = 0.031
+Ls = 26e-6
+psi_m = 0.0013
+n_p = 2
+J = 2e-5
+B = 1e-7
+L1 = 60e-6
+L2o = 30e-6
+C1 = 33e-6
+u_dc = 70.0
+pwm = "averaged"
+t_dead = 1e-7
+k_fan = 5e-10
+
+[adc]
+gain_i1 = [1.02, 0.98, 1.0]
+gain_i2 = [1.03, 0.97, 1.0]
+offset_i1 = [0.1, 0.0, -0.1]
+offset_i2 = [0.05, -0.05, 0.0]
+noise = 0.01
+bits = 14
+
+[controller]
+mode = "sensored"
+law = "tde17"
+k_p_i = 0.4
+i_max = 40.0
+"""
+
+# scenarios/lcl_speed_step.toml as it was in the older schema
+OLD_LCL_SPEED_STEP = """\
+# LCL-filtered high-speed SPMSM (yao2022 Table II): sensorless at 60 kr/min on
+# the fan load, then the speed reference steps to 80 kr/min at 0.1 s.
+kind = "lcl"
+name = "example.lcl_speed_step"
+duration = 0.8
+n_M0 = 60000.0
+w_M_ref_rpm = { t = [0.0, 0.1, 0.1], y = [60000.0, 60000.0, 80000.0] }
+
+[controller]
+mode = "sensorless"
+law = "proposed"
+
+[adc]
+gain_i1 = [1.01, 0.99, 1.0]
+gain_i2 = [1.01, 0.99, 1.0]
+"""
+
+
+def _load_legacy(tmp_path, text):
+    path = tmp_path / "legacy.toml"
+    path.write_text(text)
+    with pytest.warns(UserWarning, match="kind = 'lcl'") as rec:
+        s = load_scenario(path)
+    return s, " ".join(str(w.message) for w in rec)
+
+
+def test_legacy_lcl_file_loads_with_every_value_in_its_new_place(tmp_path):
+    s, msg = _load_legacy(tmp_path, LEGACY_FULL)
+    # top level
+    assert (s.name, s.T_sp, s.duration, s.n_M0) == ("legacy.full", 4e-5, 0.3, 30000.0)
+    assert s.w_M_ref == Profile.const(31000.0 * RPM)
+    # [plant] -> [motor], [lcl], [inverter], [load]
+    m = s.motor
+    assert (m.R_s, m.L_s, m.psi_r, m.n_p, m.J, m.B) == (0.031, 26e-6, 0.0013, 2, 2e-5, 1e-7)
+    assert s.lcl == LclFilterPars(L1=60e-6, L2o=30e-6, C1=33e-6)
+    assert (s.inverter.u_dc, s.inverter.pwm, s.inverter.t_dead) == (70.0, "averaged", 1e-7)
+    assert s.load.k_fan == 5e-10
+    assert s.load.T_ext == Profile.const(0.002)  # T_ext -> [load] T_ext
+    # [adc]: the i_2 channels are the motor-current channels now
+    a = s.adc
+    assert a.gain == (1.03, 0.97, 1.0) and a.offset == (0.05, -0.05, 0.0)
+    assert a.gain_i1 == (1.02, 0.98, 1.0) and a.offset_i1 == (0.1, 0.0, -0.1)
+    assert (a.noise, a.bits) == (0.01, 14)
+    # [controller]: mode = "sensored" -> the encoder; start_open_loop -> I/f
+    c = s.controller
+    assert (c.current, c.position, c.start) == ("pi", "encoder", "if")
+    assert (c.law, c.k_p_i, c.i_max) == ("tde17", 0.4, 40.0)
+    # the rest is the yao2022 preset's
+    b = yao2022.BASE
+    assert (c.k_i_i, c.i_start, c.n_handover, c.Q) == (600.0, 15.0, 5e3, (0.5, 0.5))
+    assert (a.full_scale, a.seed, s.inverter.svm_limit) == (60.0, 1, b.inverter.svm_limit)
+    assert m.P_N == b.motor.P_N
+    # the warning says where each key went
+    for moved in ("[plant] R -> [motor] R_s", "[plant] Ls -> [motor] L_s",
+                  "[plant] psi_m -> [motor] psi_r", "[plant] L1 -> [lcl] L1",
+                  "[plant] u_dc -> [inverter] u_dc", "[plant] k_fan -> [load] k_fan",
+                  "[adc] gain_i2 -> gain", "[adc] offset_i2 -> offset",
+                  "position = 'encoder'", "start_open_loop -> [controller] start = 'if'",
+                  "T_ext -> [load] T_ext", "base = 'yao2022.base'"):
+        assert moved in msg, moved
+
+
+@pytest.mark.parametrize("ctrl,position", [
+    ('mode = "sensorless"', "lcl_smo_pll"),
+    ('observer = "linear"', "lcl_linear"),
+    ('mode = "sensorless"\nobserver = "linear"', "lcl_linear"),
+    ('mode = "sensored"\nobserver = "linear"', "encoder"),
+    ("", "lcl_smo_pll"),
+])
+def test_legacy_mode_and_observer_select_the_position_source(ctrl, position, tmp_path):
+    s, msg = _load_legacy(tmp_path, f'kind = "lcl"\nduration = 0.1\n[controller]\n{ctrl}\n')
+    assert s.controller.position == position
+    assert s.controller.start == "running"  # no start_open_loop
+    assert f"position = {position!r}" in msg
+    assert s.lcl == yao2022.BASE.lcl
+
+
+def test_legacy_linear_observer_alongside_is_dropped_with_a_note(tmp_path):
+    s, msg = _load_legacy(tmp_path, 'kind = "lcl"\nwith_linear_observer = true\n')
+    assert "with_linear_observer dropped" in msg
+    assert s.controller.position == "lcl_smo_pll"
+
+
+@pytest.mark.parametrize("text,names", [
+    ('kind = "lcl"\n[plant]\nR_s = 0.02\n', ["plant.R_s"]),
+    ('kind = "lcl"\n[controller]\nmode = "robust"\n', ["controller.mode", "robust"]),
+    ('kind = "lcl"\n[controller]\nobserver = "ekf"\n', ["observer", "ekf"]),
+    ('kind = "spmsm"\n', ["kind", "spmsm"]),
+])
+def test_legacy_file_with_a_bad_key_is_refused_naming_it(text, names):
+    with pytest.raises(ParameterError) as ei:
+        scenario_from_dict(tomllib.loads(text))
+    assert all(n in str(ei.value) for n in names), str(ei.value)
+
+
+def test_the_old_lcl_example_reads_as_the_new_one(tmp_path):
+    """scenarios/lcl_speed_step.toml in the older schema (kept above) and in
+    the one schema describe the same scenario."""
+    old, _ = _load_legacy(tmp_path, OLD_LCL_SPEED_STEP)
+    new = load_scenario(ROOT / "scenarios" / "lcl_speed_step.toml")
+    assert new == old
+    assert new.lcl is not None and new.controller.position == "lcl_smo_pll"
+    assert new.adc.gain == new.adc.gain_i1 == (1.01, 0.99, 1.0)
+
+
+# ------------------------------------------- (e) parts that fit the plant --
+
+NO_FILTER = yang2018.BASE
+FILTER = yao2022.BASE
+
+
+@pytest.mark.parametrize("s,field,text", [
+    (NO_FILTER.with_controller(current="pi", position="lcl_smo_pll"), "controller.position",
+     "needs the LCL filter"),
+    (NO_FILTER.with_controller(current="pi", position="lcl_linear"), "controller.position",
+     "needs the LCL filter"),
+    (FILTER.with_controller(current="dbpc"), "controller.current", "with the LCL filter"),
+    (FILTER.with_controller(current="robust_dbpc"), "controller.current",
+     "with the LCL filter"),
+    (FILTER.with_controller(position="smdo_emf"), "controller.position", "smdo_emf"),
+    (NO_FILTER.with_controller(current="pi", R_v=0.5), "controller.R_v",
+     "needs the LCL filter"),
+], ids=["lcl_smo_pll-without-lcl", "lcl_linear-without-lcl", "dbpc-with-lcl",
+        "robust_dbpc-with-lcl", "smdo_emf-with-lcl", "R_v-without-lcl"])
+def test_check_controller_refuses_parts_that_do_not_fit(s, field, text):
+    with pytest.raises(ParameterError) as ei:
+        s.check_controller()
+    msg = str(ei.value)
+    assert msg.startswith(field) and text in msg, msg
+    # refused before anything is simulated
+    from smodrive.simulate import simulate
+
+    with pytest.raises(ParameterError, match=field.replace(".", r"\.")):
+        simulate(s.replace(duration=1e-3))
+
+
+def test_every_fitting_composition_is_accepted():
+    """The positive side of the rules above: each of them refuses exactly
+    the combination named, nothing more."""
+    n = 0
+    for current in ("pi", "dbpc", "robust_dbpc"):
+        for position in ("encoder", "smdo_emf"):
+            for start in ("running", "handover", "if"):
+                NO_FILTER.with_controller(current=current, position=position,
+                                          start=start).check_controller()
+                n += 1
+    for position in ("encoder", "lcl_smo_pll", "lcl_linear"):
+        for start in ("running", "handover", "if"):
+            FILTER.with_controller(position=position, start=start).check_controller()
+            FILTER.with_controller(position=position, start=start,
+                                   R_v=0.5).check_controller()  # damping with the filter
+            n += 1
+    assert n == 27
+
+
+def test_a_misfit_in_toml_is_refused_at_load(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text('base = "yao2022.base"\n[controller]\ncurrent = "dbpc"\n')
+    with pytest.raises(ParameterError, match=r"^controller\.current = 'dbpc'"):
+        load_scenario(path)
+
+
+# ------------------------------------------------ (f) optional fields ------
+
+def test_current_pi_gains_derive_from_the_bandwidth_when_not_set():
+    """k_p_i = current_bw L_s_hat, k_i_i = current_bw R_s_hat (internal
+    model: the PI zero cancels the R/L pole), each only when not set."""
+    c = ControllerCfg(current="pi", current_bw=2000.0, L_s_hat=0.011, R_s_hat=1.7)
+    assert c.k_p_i is None and c.k_i_i is None
+    assert c.current_pi_gains() == (2000.0 * 0.011, 2000.0 * 1.7)
+    c2 = dataclasses.replace(c, k_p_i=0.35)
+    assert c2.current_pi_gains() == (0.35, 2000.0 * 1.7)
+    c3 = dataclasses.replace(c, k_i_i=600.0)
+    assert c3.current_pi_gains() == (2000.0 * 0.011, 600.0)
+    c4 = dataclasses.replace(c, k_p_i=0.0, k_i_i=0.0)  # zero is a value, not "derived"
+    assert c4.current_pi_gains() == (0.0, 0.0)
+    # the yao2022 preset sets both (assumed gains)
+    assert FILTER.controller.current_pi_gains() == (0.35, 600.0)
+
+
+def test_decoupling_inductance_derives_from_the_plant_sections():
+    """L_dec = L_s_hat without the filter, L1 + L2o + L_s_hat with it (the
+    inverter sees the whole series inductance); a set value is kept."""
+    s = NO_FILTER.with_controller(current="pi")
+    assert s.L_dec == s.controller.L_s_hat
+    f = FILTER
+    assert f.L_dec == f.lcl.L1 + f.lcl.L2o + f.controller.L_s_hat
+    assert f.with_controller(L_dec=2e-4).L_dec == 2e-4
+    assert s.with_controller(L_dec=0.03).L_dec == 0.03
+
+
+def test_derived_values_reach_the_c_config():
+    from smodrive.simulate import drive_config
+
+    s = NO_FILTER.with_controller(current="pi", current_bw=2000.0)
+    dc = drive_config(s)
+    f32 = lambda x: float(F.real(x).value)  # noqa: E731
+    assert (dc.k_p_i, dc.k_i_i) == (f32(2000.0 * s.controller.L_s_hat),
+                                    f32(2000.0 * s.controller.R_s_hat))
+    assert dc.L_dec == f32(s.controller.L_s_hat)
+    dc = drive_config(s.with_controller(k_p_i=0.5, L_dec=0.03))
+    assert (dc.k_p_i, dc.L_dec) == (0.5, f32(0.03))
+
+
+def test_optional_fields_in_toml(tmp_path):
+    """Left out (or written by scenario_to_toml from None): derived; given:
+    kept."""
+    text = scenario_to_toml(Scenario())
+    assert "k_p_i" not in text and "k_i_i" not in text and "L_dec" not in text
+    assert scenario_from_dict(tomllib.loads(text)).controller.k_p_i is None
+    s = scenario_from_dict({"controller": {"current": "pi", "k_p_i": 0.5}})
+    assert (s.controller.k_p_i, s.controller.k_i_i) == (0.5, None)
+    assert "k_p_i = 0.5" in scenario_to_toml(s)
+    with pytest.raises(ParameterError, match=r"controller\.k_p_i = 20000\.0 .*\[0, 10000\]"):
+        scenario_from_dict({"controller": {"k_p_i": 20000.0}})
+
+
+# -------------------------------------------------- (g) unknown keys -------
+
+@pytest.mark.parametrize("sec", ["scenario", *SECTIONS])
+def test_unknown_key_names_the_known_ones(sec):
+    """The message lists every key the section takes, so that a typo can be
+    fixed from the message alone."""
+    cls = CLASSES[sec]
+    data = {"bogus_key": 1.0} if sec == "scenario" else {sec: {"bogus_key": 1.0}}
+    with pytest.raises(ParameterError) as ei:
+        scenario_from_dict(data)
+    msg = str(ei.value)
+    assert msg.startswith(f"{sec}.bogus_key: unknown parameter (known: ")
+    known = msg.split("(known: ", 1)[1].rstrip(")").split(", ")
+    fields = {f.name for f in dataclasses.fields(cls)} - set(CLASSES)
+    profiles = {f.name for f in dataclasses.fields(cls)
+                if isinstance(getattr(cls(), f.name), Profile)}
+    top = {"base"} if sec == "scenario" else set()  # the catalogue scenario to start from
+    speeds = {p for p in profiles if p.startswith("w_")}  # only speeds have an _rpm form
+    assert set(known) == fields | {p + "_rpm" for p in speeds} | top
+
+
+@pytest.mark.parametrize("key", ["T_brake_rpm", "T_ext_rpm"])
+def test_rpm_suffix_only_for_speeds(key):
+    """A torque or current profile has no r/min form: T_brake_rpm would
+    scale newton-metres by 2 pi / 60 silently, so it is an unknown key."""
+    with pytest.raises(ParameterError, match=f"load.{key}: unknown parameter"):
+        scenario_from_dict({"load": {key: 1.0}})
+
+
+def test_misspelt_key_in_the_filter_section():
+    with pytest.raises(ParameterError) as ei:
+        scenario_from_dict({"base": "yao2022.base", "lcl": {"L3": 1e-6}})
+    assert str(ei.value) == "lcl.L3: unknown parameter (known: C1, L1, L2o)"

@@ -7,8 +7,11 @@ of the numbers involved, and the multiple is argued where it is used.
 
 The references are written from the paper's equations (with the errata of
 docs/yao2022_design.md), on the double-precision matrices of
-smodrive.design.yao2022.design_point; the C gets the float32 tables that
-smodrive.lcl.observer_tables packs, so the packing is under test as well.
+smodrive.design.yao2022.design_point for the Table II plant
+(smodrive.scenarios.yao2022.BASE); the C gets the float32 tables that
+smodrive.simulate.observer_tables packs, so the packing is under test as well.
+The structs and signatures are the binding's own (smodrive._ffi), whose
+layout is checked field by field against the library at import.
 """
 
 from __future__ import annotations
@@ -22,104 +25,58 @@ import scipy.linalg
 from scipy.optimize import linear_sum_assignment
 
 from smodrive import _ffi
-from smodrive import lcl as L
 from smodrive.design import yao2022 as dz
+from smodrive.scenarios.yao2022 import BASE
+from smodrive.simulate import TABLE_RPM, lcl_observer_tables, observer_tables
 
 lib = _ffi.lib
-real = ct.c_float
+real = _ffi.real
 EPS32 = 2.0**-24
 
-PARS = dz.LclMotorPars()
+PLANT = dz.DesignPlant(BASE.motor, BASE.lcl, BASE.T_sp)  # Table II
+PSI = BASE.motor.psi_r  # PM flux of the plant, Wb
 DESIGN = dz.ObserverDesignPars()
-T = PARS.T
+T = PLANT.T_sp
 PROPOSED, TDE17, TDE18 = 0, 1, 2
 LAWS = {"proposed": PROPOSED, "tde17": TDE17, "tde18": TDE18}
 Q_DIAG = DESIGN.Q
 BW_REL = (DESIGN.bw_rel_2, DESIGN.bw_rel_3)
-W_BP_MIN = float(dz.rpm_to_w(5e3, PARS.n_p))  # LclControllerCfg.n_bp_min default
-DELAY = 256
+W_BP_MIN = float(dz.rpm_to_w(BASE.controller.n_bp_min, PLANT.motor.n_p))  # 5 kr/min default
+DELAY = _ffi.SMO_DELAY
 
 # status codes of smd_types.h
 SMD_OK, SMD_ERR_NULL, SMD_ERR_TS = 0, 1, 2
 SMD_ERR_LIMIT, SMD_ERR_MODE, SMD_ERR_STABILITY = 12, 13, 14
+SMD_ERR_TABLE = 23
 
 
 def w_of(n_rpm: float) -> float:
-    return float(dz.rpm_to_w(n_rpm, PARS.n_p))
+    return float(dz.rpm_to_w(n_rpm, PLANT.motor.n_p))
 
 
 # ------------------------------------------------------------------ mirrors --
 
-class Cplx(ct.Structure):
-    _fields_ = [("re", real), ("im", real)]
+Cplx, LclModel, Bandpass = _ffi.Cplx, _ffi.LclModel, _ffi.Bandpass
+SmoConfig, SmoParams, SmoState = _ffi.SmoConfig, _ffi.SmoParams, _ffi.SmoState
+LinModel, LinConfig, LinParams, LinState = (_ffi.LinModel, _ffi.LinConfig, _ffi.LinParams,
+                                            _ffi.LinState)
+MODEL_FIELDS = _ffi.MODEL_FIELDS
 
 
 def cplx(z: complex) -> Cplx:
-    return Cplx(float(z.real), float(z.imag))
+    return Cplx.of(z)
 
 
-MODEL_FIELDS = (("G", 36), ("H", 12), ("F", 12), ("Ft", 16), ("Hc", 4), ("D1", 4), ("D2", 4),
-                ("Gam_c", 4), ("Gam_1", 4), ("Gam_2", 4), ("Gs", 4), ("Kc", 4), ("Ky", 4),
-                ("k", 1))
-
-
-class LclModel(ct.Structure):
-    _fields_ = [(n, real * k) if k > 1 else (n, real) for n, k in MODEL_FIELDS]
-
-
-class Bandpass(ct.Structure):
-    _fields_ = [("b0", real), ("a1", real), ("a2", real), ("x1", Cplx), ("x2", Cplx),
-                ("y1", Cplx), ("y2", Cplx)]
-
-
-class SmoParams(ct.Structure):
-    _fields_ = [("T", real), ("law", ct.c_int), ("table", ct.c_void_p), ("n", ct.c_int),
-                ("w_min", real), ("dw", real), ("Q1", real), ("Q2", real), ("bw_rel2", real),
-                ("bw_rel3", real), ("w_bp_min", real)]
-
-
-class SmoState(ct.Structure):
-    _fields_ = [("x_hat", real * 6), ("x_c", real * 2), ("s", real * 2), ("y", real * 4),
-                ("s_prev", real * 2), ("w_att", real * 2), ("v_prev", real * 2),
-                ("D1", real * 2), ("D2", real * 2), ("e_hat", real * 2), ("d_hat", real * 2),
-                ("theta_prev", real), ("v_hist", Cplx * DELAY), ("v_head", ct.c_int),
-                ("bp2", Bandpass), ("bp3", Bandpass), ("primed", ct.c_int)]
-
-
-class LinModel(ct.Structure):
-    _fields_ = [("L", real * 16), ("Theta", real * 16), ("Ky", real * 16), ("Ku", real * 8)]
-
-
-class LinParams(ct.Structure):
-    _fields_ = [("table", ct.c_void_p), ("n", ct.c_int), ("w_min", real), ("dw", real)]
-
-
-class LinState(ct.Structure):
-    _fields_ = [("z", real * 4), ("x2", real * 4), ("primed", ct.c_int)]
-
-
-def _sig(name, restype, *args):
-    f = getattr(lib, name)
-    f.restype = restype
-    f.argtypes = list(args)
-    return f
-
-
-P_SP, P_SS = ct.POINTER(SmoParams), ct.POINTER(SmoState)
-P_LP, P_LS = ct.POINTER(LinParams), ct.POINTER(LinState)
-smo_init = _sig("smd_lcl_smo_init", ct.c_int, P_SP, real, ct.c_int, ct.c_void_p, ct.c_int, real,
-                real, real, real, real, real, real)
-smo_reset = _sig("smd_lcl_smo_reset", None, P_SS, real)
-smo_model = _sig("smd_lcl_smo_model", None, P_SP, real, ct.POINTER(LclModel))
-smo_step = _sig("smd_lcl_smo_step", ct.c_int, P_SP, P_SS, Cplx, Cplx, Cplx, real, real)
-smo_reach = _sig("smd_lcl_smo_reach", None, P_SP, P_SS, ct.POINTER(LclModel), Cplx, Cplx, real)
-smo_predict = _sig("smd_lcl_smo_predict", None, ct.POINTER(LclModel), P_SS, Cplx)
-smo_theta_err = _sig("smd_lcl_smo_theta_err", real, P_SS, real)
-lin_init = _sig("smd_linobs_init", ct.c_int, P_LP, ct.c_void_p, ct.c_int, real, real)
-lin_reset = _sig("smd_linobs_reset", None, P_LS)
-lin_step = _sig("smd_linobs_step", ct.c_int, P_LP, P_LS, Cplx, Cplx, Cplx, real)
-_sig("smd_sizeof_lcl_model", ct.c_ulong)
-_sig("smd_sizeof_linobs_model", ct.c_ulong)
+smo_init = lib.smd_lcl_smo_init
+smo_reset = lib.smd_lcl_smo_reset
+smo_model = lib.smd_lcl_smo_model
+smo_step = lib.smd_lcl_smo_step
+smo_reach = lib.smd_lcl_smo_reach
+smo_predict = lib.smd_lcl_smo_predict
+smo_theta_err = lib.smd_lcl_smo_theta_err
+lin_init = lib.smd_linobs_init
+lin_reset = lib.smd_linobs_reset
+lin_step = lib.smd_linobs_step
 
 GUARD = 0xA5
 
@@ -130,17 +87,27 @@ def _guarded(cls):
     return cls.from_buffer(buf), buf, n
 
 
+def smo_config(law: int, table: np.ndarray, w0: float, dw: float, Q=Q_DIAG,
+               w_bp_min: float = W_BP_MIN, **change) -> SmoConfig:
+    """An observer config (the table is referenced, not copied)."""
+    kw = dict(T_sp=T, law=law, table=table.ctypes.data, n=table.shape[0], w_min=w0, dw=dw,
+              Q1=Q[0], Q2=Q[1], bw_rel2=BW_REL[0], bw_rel3=BW_REL[1], w_bp_min=w_bp_min)
+    kw.update(change)
+    return SmoConfig(**kw)
+
+
 def test_mirror_sizes_match_c():
-    assert lib.smd_sizeof_lcl_model() == ct.sizeof(LclModel) == 4 * L.N_MODEL
-    assert lib.smd_sizeof_linobs_model() == ct.sizeof(LinModel) == 4 * L.N_LIN
+    sizes = {name: rows[0][2] for name, rows in _ffi.layout_table().items()}
+    assert sizes["smd_lcl_model"] == ct.sizeof(LclModel) == 4 * _ffi.N_MODEL
+    assert sizes["smd_linobs_model"] == ct.sizeof(LinModel) == 4 * _ffi.N_LIN
     tab, lin, w0, dw = tables()
-    # no sizeof export for the params/state structs: C must write every mirrored
-    # field and nothing past the mirror
+    # C must write every mirrored field and nothing past the mirror
+    cfg = smo_config(TDE17, tab, w0, dw, Q=(0.5, 0.5), w_bp_min=1.0)
+    lcfg = LinConfig(table=lin.ctypes.data, n=lin.shape[0], w_min=w0, dw=dw)
     for cls, call in (
-        (SmoParams, lambda p: smo_init(p, T, 1, tab.ctypes.data, tab.shape[0], w0, dw, 0.5,
-                                       0.5, 0.2, 0.2, 1.0)),
+        (SmoParams, lambda p: smo_init(p, ct.byref(cfg))),
         (SmoState, lambda s: smo_reset(s, 0.3)),
-        (LinParams, lambda p: lin_init(p, lin.ctypes.data, lin.shape[0], w0, dw)),
+        (LinParams, lambda p: lin_init(p, ct.byref(lcfg))),
         (LinState, lambda s: lin_reset(s)),
     ):
         obj, buf, n = _guarded(cls)
@@ -171,14 +138,27 @@ def tables():
     """The real C tables (float32), as the engine builds them."""
     global _TABLES
     if _TABLES is None:
-        m, lin, w0, dw = L.observer_tables(PARS, DESIGN)
+        m, lin, w0, dw = observer_tables(PLANT, DESIGN)
         _TABLES = (np.ascontiguousarray(m), np.ascontiguousarray(lin), w0, dw)
     return _TABLES
 
 
+def test_tables_are_the_engines():
+    """The engine designs the BASE drive's observer from the controller's
+    estimates (equal to Table II in BASE, C1_hat_ratio = 1, Q of Table III):
+    its tables must be these, bit for bit, or the tests below would check
+    another observer than the one the claims run."""
+    m, lin, w0, dw = tables()
+    m_e, lin_e, w0_e, dw_e = lcl_observer_tables(BASE)
+    assert np.array_equal(m, m_e) and np.array_equal(lin, lin_e)
+    assert (w0, dw) == (w0_e, dw_e)
+    assert m.dtype == lin.dtype == np.float32
+    assert m.shape == (TABLE_RPM.size, _ffi.N_MODEL) and lin.shape == (TABLE_RPM.size, _ffi.N_LIN)
+
+
 def grid_index(n_rpm: float) -> int:
-    i = int(np.argmin(np.abs(L.TABLE_RPM - n_rpm)))
-    assert L.TABLE_RPM[i] == n_rpm
+    i = int(np.argmin(np.abs(TABLE_RPM - n_rpm)))
+    assert TABLE_RPM[i] == n_rpm
     return i
 
 
@@ -188,8 +168,8 @@ def make_params(law: int, table: np.ndarray | None = None, w_bp_min: float = W_B
     tab = tab if table is None else table
     p = SmoParams()
     p._keep = tab  # keep the table alive with the params
-    assert smo_init(ct.byref(p), T, law, tab.ctypes.data, tab.shape[0], w0, dw, Q[0], Q[1],
-                    BW_REL[0], BW_REL[1], w_bp_min) == SMD_OK
+    cfg = smo_config(law, tab, w0, dw, Q=Q, w_bp_min=w_bp_min)
+    assert smo_init(ct.byref(p), ct.byref(cfg)) == SMD_OK
     return p
 
 
@@ -212,7 +192,7 @@ _DP: dict = {}
 
 def dpoint(n_rpm: float) -> dz.ObserverMatrices:
     if n_rpm not in _DP:
-        _DP[n_rpm] = dz.design_point(PARS, w_of(n_rpm), DESIGN)
+        _DP[n_rpm] = dz.design_point(PLANT, w_of(n_rpm), DESIGN)
     return _DP[n_rpm]
 
 
@@ -489,7 +469,7 @@ def run_linear_plant(law: int, n_rpm: float, n_steps: int, w_bp_min: float,
     w = w_of(n_rpm)
     d = dpoint(n_rpm)
     G, H, F = d.G, d.H, d.F
-    e0 = np.array([0.0, w * PARS.psi_m])
+    e0 = np.array([0.0, w * PSI])
     x = np.linalg.solve(np.eye(6) - G, F @ e0)
     p = make_params(law, table=table, w_bp_min=w_bp_min)
     st = SmoState()
@@ -762,7 +742,7 @@ def test_bandpass_suppresses_2fe_ripple_on_measured_currents():
     w = w_of(n_rpm)
     W = 2 * w * T
     d = dpoint(n_rpm)
-    e0 = np.array([0.0, w * PARS.psi_m])
+    e0 = np.array([0.0, w * PSI])
     rms = {}
     for law in (PROPOSED, TDE17):
         x = np.linalg.solve(np.eye(6) - d.G, d.F @ e0)
@@ -788,7 +768,8 @@ def make_lin_params() -> LinParams:
     _, lin, w0, dw = tables()
     p = LinParams()
     p._keep = lin
-    assert lin_init(ct.byref(p), lin.ctypes.data, lin.shape[0], w0, dw) == SMD_OK
+    cfg = LinConfig(table=lin.ctypes.data, n=lin.shape[0], w_min=w0, dw=dw)
+    assert lin_init(ct.byref(p), ct.byref(cfg)) == SMD_OK
     return p
 
 
@@ -838,13 +819,13 @@ def test_linobs_converges_with_designed_poles(n_rpm):
     has the eigenvalues p_lin to 1e-3 (Theta is diagonalisable, Tits-Yang
     placement, so they move linearly with the ~1e-7 float32 error)."""
     w = w_of(n_rpm)
-    d = dz.design_point(PARS, w, DESIGN)
-    Gs, Hs = dz.stationary_model(PARS, w)
+    d = dz.design_point(PLANT, w, DESIGN)
+    Gs, Hs = dz.stationary_model(PLANT, w)
     p = make_lin_params()
     st = LinState()
     lin_reset(ct.byref(st))
     th = 0.7
-    e = w * PARS.psi_m * np.array([-math.sin(th), math.cos(th)])  # j w psi e^{j theta}
+    e = w * PSI * np.array([-math.sin(th), math.cos(th)])  # j w psi e^{j theta}
     x = np.concatenate([[3.0, -2.0], [8.0, 4.0], [7.0, 5.0], e])  # [u_c, i_1, i_2, e]
     errs = []
     for k in range(40):
@@ -881,7 +862,7 @@ def test_linobs_converges_with_designed_poles(n_rpm):
 
 # --------------------------------------------------- 6. argument checks --
 
-GOOD = dict(T=T, law=PROPOSED, n=None, w_min=None, dw=None, Q1=0.5, Q2=0.5, bw_rel2=0.2,
+GOOD = dict(T_sp=T, law=PROPOSED, n=None, w_min=None, dw=None, Q1=0.5, Q2=0.5, bw_rel2=0.2,
             bw_rel3=0.2, w_bp_min=W_BP_MIN)
 NAN = float("nan")
 
@@ -890,12 +871,13 @@ NAN = float("nan")
     (dict(), SMD_OK),
     (dict(table=None), SMD_ERR_NULL),
     (dict(p=None), SMD_ERR_NULL),
-    (dict(T=0.0), SMD_ERR_TS), (dict(T=-T), SMD_ERR_TS), (dict(T=2.0), SMD_ERR_TS),
-    (dict(T=NAN), SMD_ERR_TS),
+    (dict(config=None), SMD_ERR_NULL),
+    (dict(T_sp=0.0), SMD_ERR_TS), (dict(T_sp=-T), SMD_ERR_TS), (dict(T_sp=2.0), SMD_ERR_TS),
+    (dict(T_sp=NAN), SMD_ERR_TS),
     (dict(law=-1), SMD_ERR_MODE), (dict(law=3), SMD_ERR_MODE),
-    (dict(n=1), SMD_ERR_LIMIT), (dict(n=0), SMD_ERR_LIMIT), (dict(n=-5), SMD_ERR_LIMIT),
-    (dict(dw=0.0), SMD_ERR_LIMIT), (dict(dw=-1.0), SMD_ERR_LIMIT), (dict(dw=NAN), SMD_ERR_LIMIT),
-    (dict(w_min=NAN), SMD_ERR_LIMIT), (dict(w_min=float("inf")), SMD_ERR_LIMIT),
+    (dict(n=1), SMD_ERR_TABLE), (dict(n=0), SMD_ERR_TABLE), (dict(n=-5), SMD_ERR_TABLE),
+    (dict(dw=0.0), SMD_ERR_TABLE), (dict(dw=-1.0), SMD_ERR_TABLE), (dict(dw=NAN), SMD_ERR_TABLE),
+    (dict(w_min=NAN), SMD_ERR_TABLE), (dict(w_min=float("inf")), SMD_ERR_TABLE),
     (dict(Q1=1.0), SMD_ERR_STABILITY), (dict(Q1=-1.0), SMD_ERR_STABILITY),
     (dict(Q2=1.5), SMD_ERR_STABILITY), (dict(Q2=NAN), SMD_ERR_STABILITY),
     (dict(bw_rel2=0.0), SMD_ERR_LIMIT), (dict(bw_rel2=-0.1), SMD_ERR_LIMIT),
@@ -904,38 +886,50 @@ NAN = float("nan")
     (dict(Q1=-0.9, Q2=0.0, bw_rel2=1.0, w_bp_min=0.0), SMD_OK),
 ])
 def test_smo_init_rejects_bad_arguments(change, code):
+    """A bad config is refused with the status naming what is wrong (the
+    table grid: SMD_ERR_TABLE) and leaves the params untouched; a good one is
+    copied into the params field by field."""
     tab, _, w0, dw = tables()
     a = dict(GOOD, n=tab.shape[0], w_min=w0, dw=dw)
-    a.update({k: v for k, v in change.items() if k not in ("p", "table")})
+    a.update({k: v for k, v in change.items() if k not in ("p", "table", "config")})
     table = None if change.get("table", 1) is None else tab.ctypes.data
+    cfg = SmoConfig(table=table, **{k: v for k, v in a.items()})
     obj, buf, n = _guarded(SmoParams)
     pp = None if change.get("p", 1) is None else ct.byref(obj)
-    rc = smo_init(pp, a["T"], a["law"], table, a["n"], a["w_min"], a["dw"], a["Q1"], a["Q2"],
-                  a["bw_rel2"], a["bw_rel3"], a["w_bp_min"])
+    pc = None if change.get("config", 1) is None else ct.byref(cfg)
+    rc = smo_init(pp, pc)
     assert rc == code
     if code != SMD_OK:
         assert bytes(buf) == bytes([GUARD]) * len(buf), "params written on failure"
     else:
         assert obj.law == a["law"] and obj.n == a["n"] and obj.Q1 == np.float32(a["Q1"])
+        assert [getattr(obj, f) for f, _ in SmoParams._fields_] == \
+            [getattr(cfg, f) for f, _ in SmoConfig._fields_]
 
 
 @pytest.mark.parametrize("change,code", [
     (dict(), SMD_OK),
     (dict(table=None), SMD_ERR_NULL), (dict(p=None), SMD_ERR_NULL),
-    (dict(n=1), SMD_ERR_LIMIT), (dict(n=0), SMD_ERR_LIMIT),
-    (dict(dw=0.0), SMD_ERR_LIMIT), (dict(dw=-2.0), SMD_ERR_LIMIT),
-    (dict(w_min=NAN), SMD_ERR_LIMIT),
+    (dict(config=None), SMD_ERR_NULL),
+    (dict(n=1), SMD_ERR_TABLE), (dict(n=0), SMD_ERR_TABLE),
+    (dict(dw=0.0), SMD_ERR_TABLE), (dict(dw=-2.0), SMD_ERR_TABLE),
+    (dict(w_min=NAN), SMD_ERR_TABLE),
 ])
 def test_linobs_init_rejects_bad_arguments(change, code):
     _, lin, w0, dw = tables()
     a = dict(n=lin.shape[0], w_min=w0, dw=dw)
-    a.update({k: v for k, v in change.items() if k not in ("p", "table")})
+    a.update({k: v for k, v in change.items() if k not in ("p", "table", "config")})
     table = None if change.get("table", 1) is None else lin.ctypes.data
+    cfg = LinConfig(table=table, **a)
     obj, buf, n = _guarded(LinParams)
     pp = None if change.get("p", 1) is None else ct.byref(obj)
-    assert lin_init(pp, table, a["n"], a["w_min"], a["dw"]) == code
+    pc = None if change.get("config", 1) is None else ct.byref(cfg)
+    assert lin_init(pp, pc) == code
     if code != SMD_OK:
         assert bytes(buf) == bytes([GUARD]) * len(buf), "params written on failure"
+    else:
+        assert [getattr(obj, f) for f, _ in LinParams._fields_] == \
+            [getattr(cfg, f) for f, _ in LinConfig._fields_]
 
 
 # ---------------------------------------------- 7. position error (47) --
@@ -951,21 +945,24 @@ def test_theta_err_sign_convention(sign):
     st = SmoState()
     smo_reset(ct.byref(st), 0.0)
     for th in np.linspace(-3.1, 3.1, 63):
-        e = 1j * w * PARS.psi_m * np.exp(1j * th)
+        e = 1j * w * PSI * np.exp(1j * th)
         st.e_hat[0], st.e_hat[1] = e.real, e.imag
         got = smo_theta_err(ct.byref(st), w)
         assert got == pytest.approx(th, abs=1e-6)
         if abs(th) < 1.5:  # the atan form of (47)
             assert got == pytest.approx(math.atan(-e.real / e.imag), abs=1e-6)
     # theta_r - theta_hat = +0.05 rad reads positive for either sign of the speed
-    e = 1j * w * PARS.psi_m * np.exp(1j * 0.05)
+    e = 1j * w * PSI * np.exp(1j * 0.05)
     st.e_hat[0], st.e_hat[1] = e.real, e.imag
     assert smo_theta_err(ct.byref(st), w) > 0
 
 
 # ------------------------------------------------ frame change (reframe) --
 
-smo_reframe = _sig("smd_lcl_smo_reframe", None, P_SS, real)
+# not declared by the binding: a private function object of the library
+smo_reframe = lib["smd_lcl_smo_reframe"]
+smo_reframe.restype = None
+smo_reframe.argtypes = [ct.POINTER(SmoState), real]
 
 
 @pytest.mark.parametrize("use_reframe", [True, False])
@@ -978,7 +975,7 @@ def test_reframe_keeps_the_converged_estimate(use_reframe):
     n_rpm = 60e3
     w = w_of(n_rpm)
     d = dpoint(n_rpm)
-    e0 = complex(0.0, w * PARS.psi_m)
+    e0 = complex(0.0, w * PSI)
     u = np.array([0.0, 3.0])
     x = np.linalg.solve(np.eye(6) - d.G, d.F @ np.array([e0.real, e0.imag]) + d.H @ u)
     p = make_params(PROPOSED, w_bp_min=1e6)

@@ -278,6 +278,7 @@ _sig("smd_status_str", ct.c_char_p, ct.c_int)
 _sig("smd_plant_field", ct.c_char_p, ct.c_int)
 _sig("smd_log_channel_name", ct.c_char_p, ct.c_int)
 _sig("smd_layout_rows", ct.c_int)
+_sig("smd_layout_type_at", ct.c_char_p, ct.c_int)
 _sig("smd_layout_row_at", ct.c_int, ct.c_int, P(ct.c_char_p), P(ct.c_char_p), P(ct.c_ulong),
      P(ct.c_ulong))
 _sig("smd_sizeof_engine", ct.c_ulong)
@@ -322,6 +323,7 @@ _sig("smd_lcl_smo_step", ct.c_int, P(SmoParams), P(SmoState), Cplx, Cplx, Cplx, 
 _sig("smd_lcl_smo_reach", None, P(SmoParams), P(SmoState), P(LclModel), Cplx, Cplx, real)
 _sig("smd_lcl_smo_predict", None, P(LclModel), P(SmoState), Cplx)
 _sig("smd_lcl_smo_theta_err", real, P(SmoState), real)
+_sig("smd_lcl_smo_reframe", None, P(SmoState), real)
 _sig("smd_linobs_init", ct.c_int, P(LinParams), P(LinConfig))
 _sig("smd_linobs_reset", None, P(LinState))
 _sig("smd_linobs_step", ct.c_int, P(LinParams), P(LinState), Cplx, Cplx, Cplx, real)
@@ -331,16 +333,31 @@ def status_str(code: int) -> str:
     return lib.smd_status_str(code).decode()
 
 
-def layout_table() -> dict[str, list[tuple[str, int, int]]]:
-    """The library's layout table: struct -> [(field, offset, size)], with
-    the struct's own size as the field "" first."""
-    out: dict[str, list[tuple[str, int, int]]] = {}
+def layout_table() -> dict[str, list[tuple]]:
+    """The library's layout table: struct -> [(field, offset, size, type)],
+    with the struct's own size as the field "" first."""
+    out: dict[str, list[tuple]] = {}
     s, f = ct.c_char_p(), ct.c_char_p()
     off, size = ct.c_ulong(), ct.c_ulong()
     for k in range(lib.smd_layout_rows()):
         lib.smd_layout_row_at(k, ct.byref(s), ct.byref(f), ct.byref(off), ct.byref(size))
-        out.setdefault(s.value.decode(), []).append((f.value.decode(), off.value, size.value))
+        out.setdefault(s.value.decode(), []).append(
+            (f.value.decode(), off.value, size.value, lib.smd_layout_type_at(k).decode()))
     return out
+
+
+# C type names a ctypes scalar mirrors (smd_real is float in the default build)
+_C_TYPES = {ct.c_float: {"smd_real", "float"}, ct.c_double: {"double"}, ct.c_int: {"int"},
+            ct.c_uint64: {"uint64_t"}, ct.c_void_p: {"*"}}
+
+
+def _c_type_ok(t, c_type: str) -> bool:
+    """Whether ctypes type t (or its array element type) mirrors C type c_type."""
+    while hasattr(t, "_length_"):
+        t = t._type_
+    if isinstance(t, type) and issubclass(t, ct.Structure):
+        return getattr(t, "_c_name_", None) == c_type
+    return c_type in _C_TYPES.get(t, set())
 
 
 def layout_errors(table: dict[str, list[tuple[str, int, int]]] | None = None,
@@ -354,20 +371,23 @@ def layout_errors(table: dict[str, list[tuple[str, int, int]]] | None = None,
         if rows is None:
             errors.append(f"{c_name}: not in the library's layout table")
             continue
-        (_, _, c_size), c_fields = rows[0], rows[1:]
+        (_, _, c_size, _), c_fields = rows[0], rows[1:]
         # a C field named like a Python keyword is mirrored with a trailing _
         py = [(name[:-1] if keyword.iskeyword(name[:-1]) else name, getattr(cls, name).offset,
-               getattr(cls, name).size) for name, *_ in cls._fields_]
+               getattr(cls, name).size, typ) for name, typ, *_ in cls._fields_]
         if getattr(cls, "_prefix_", False):  # a head: the leading fields only
             c_fields, c_size = c_fields[:len(py)], ct.sizeof(cls)
         if [f[0] for f in py] != [f[0] for f in c_fields]:
             errors.append(f"{c_name}: fields {[f[0] for f in py]} in Python, "
                           f"{[f[0] for f in c_fields]} in C")
             continue
-        for (name, o_py, s_py), (_, o_c, s_c) in zip(py, c_fields):
+        for (name, o_py, s_py, t_py), (_, o_c, s_c, t_c) in zip(py, c_fields):
             if (o_py, s_py) != (o_c, s_c):
                 errors.append(f"{c_name}.{name}: offset/size {o_py}/{s_py} in Python, "
                               f"{o_c}/{s_c} in C")
+            elif not _c_type_ok(t_py, t_c):
+                errors.append(f"{c_name}.{name}: {getattr(t_py, '__name__', t_py)} in Python, "
+                              f"{t_c} in C")
         if ct.sizeof(cls) != c_size:
             errors.append(f"{c_name}: sizeof {ct.sizeof(cls)} in Python, {c_size} in C")
     return errors

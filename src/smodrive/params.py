@@ -16,7 +16,7 @@ Example
 >>> MotorPars(L_s=-1.0)
 Traceback (most recent call last):
 ...
-smodrive.params.ParameterError: motor.L_s = -1.0 is outside its valid range [1e-07, 10] H
+smodrive.params.ParameterError: motor.L_s = -1.0 is outside its valid range [1e-08, 10] H
 """
 
 from __future__ import annotations

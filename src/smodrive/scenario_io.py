@@ -81,12 +81,14 @@ def _profile_fields(cls: type) -> set[str]:
 def _kwargs(cls: type, section: str, data: dict[str, Any]) -> dict[str, Any]:
     names = {f.name for f in dataclasses.fields(cls)} - set(SECTIONS)
     profiles = _profile_fields(cls)
+    speeds = {p for p in profiles if p.startswith("w_")}  # the profiles with an _rpm form
     kwargs: dict[str, Any] = {}
     for key, value in data.items():
-        if key.endswith("_rpm") and key[:-4] in profiles:
+        if key.endswith("_rpm") and key[:-4] in speeds:
             kwargs[key[:-4]] = _profile_from(f"{section}.{key}", value, RPM)
         elif key not in names:
-            known = sorted(names | {p + "_rpm" for p in profiles})
+            known = sorted(names | {p + "_rpm" for p in speeds}
+                           | ({"base"} if cls is Scenario else set()))
             raise ParameterError(
                 f"{section}.{key}: unknown parameter (known: {', '.join(known)})")
         elif key in profiles:
@@ -131,6 +133,9 @@ _LEGACY_PLANT = {
     "k_fan": ("load", "k_fan"),
 }
 _LEGACY_ADC = {"gain_i2": "gain", "offset_i2": "offset"}
+# the old LCL controller used the plant's own values for its model and speed PI
+_LEGACY_ESTIMATES = {"R": ("R_s_hat",), "Ls": ("L_s_hat",), "psi_m": ("psi_r_hat", "psi_r_pi"),
+                     "J": ("J_hat",)}
 
 
 def _from_legacy_lcl(data: dict[str, Any]) -> dict[str, Any]:
@@ -140,12 +145,19 @@ def _from_legacy_lcl(data: dict[str, Any]) -> dict[str, Any]:
     moved: list[str] = []
     for sec in ("motor", "lcl", "inverter", "load", "adc", "controller"):
         out[sec] = {}
+    ctrl_given = set(data.get("controller", {}))
     for key, value in data.pop("plant", {}).items():
         if key not in _LEGACY_PLANT:
             raise ParameterError(f"plant.{key}: unknown parameter of the LCL plant")
         sec, new = _LEGACY_PLANT[key]
         out[sec][new] = value
         moved.append(f"[plant] {key} -> [{sec}] {new}")
+        for est in _LEGACY_ESTIMATES.get(key, ()):
+            if est not in ctrl_given:
+                out["controller"][est] = value
+                moved.append(f"[controller] {est} = {value!r} (the old drive used the plant's)")
+    # the old ADC defaults were exact gains (yao2022.base has +-1 %)
+    out["adc"].update({"gain": [1.0, 1.0, 1.0], "gain_i1": [1.0, 1.0, 1.0]})
     for key, value in data.pop("adc", {}).items():
         out["adc"][_LEGACY_ADC.get(key, key)] = value
         if key in _LEGACY_ADC:

@@ -1,0 +1,272 @@
+"""The ctypes binding (smodrive._ffi) against the compiled library.
+
+Every mirror is checked field by field (name, offset, size, order) against
+the layout table that sim/src/smd_layout.c exports (generated from the
+headers by tools/gen_layout.py, laid out by the compiler). The tests here
+show that the check passes on the real mirrors, that it catches each kind of
+drift (two fields swapped, a field missing, a field of the wrong type) and
+turns it into an ImportError, that the committed table is current, and that
+the log channels are described.
+"""
+
+from __future__ import annotations
+
+import ctypes as ct
+import importlib.util
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from smodrive import _ffi as F
+from smodrive.simulate import CHANNEL_INFO, CHANNELS
+
+ROOT = Path(__file__).resolve().parents[1]
+real = F.real
+
+
+def _copy(cls: type[ct.Structure], fields: list) -> type[ct.Structure]:
+    return type(f"Drifted{cls.__name__}", (ct.Structure,), {"_fields_": fields})
+
+
+def _swapped(cls: type[ct.Structure], a: str, b: str) -> type[ct.Structure]:
+    """A copy of mirror cls with fields a and b exchanged."""
+    fields = list(cls._fields_)
+    names = [n for n, *_ in fields]
+    i, j = names.index(a), names.index(b)
+    fields[i], fields[j] = fields[j], fields[i]
+    return _copy(cls, fields)
+
+
+# ------------------------------------------------------- the real mirrors --
+
+def test_every_mirror_matches_the_library():
+    assert F.layout_errors() == []
+    F.check_layout()  # raises ImportError on any mismatch
+
+
+def test_every_mirrored_struct_is_in_the_table_and_vice_versa():
+    """The table has a row for each mirror (so none is checked against
+    nothing), and gen_layout mirrors no struct the binding lacks."""
+    table = F.layout_table()
+    assert set(table) == set(F.MIRRORS)
+    assert len(F.MIRRORS) >= 27
+    for name, rows in table.items():
+        assert rows[0][0] == "" and rows[0][2] > 0, name  # the struct's own size first
+        assert len(rows) >= 2, name
+
+
+def test_sizes_the_library_exports_agree():
+    assert F.lib.smd_sizeof_plant_config() == ct.sizeof(F.PlantConfig)
+    sizes = {name: rows[0][2] for name, rows in F.layout_table().items()}
+    for name in ("smd_drive_config", "smd_profiles", "smd_plant_config", "smd_drive_view"):
+        assert sizes[name] == ct.sizeof(F.MIRRORS[name]), name
+    # the plant is mirrored by its head only: the C struct is longer
+    assert sizes["smd_plant"] == F.lib.smd_sizeof_plant() > ct.sizeof(F.PlantHead)
+    assert F.ENGINE_SIZE == F.lib.smd_sizeof_engine() > 0
+
+
+# --------------------------------------------------------- drifted mirrors --
+
+@pytest.mark.parametrize("c_name,cls,a,b", [
+    ("smd_smdo_params", F.SmdoParams, "L_s_hat", "R_s_hat"),
+    ("smd_drive_config", F.DriveConfig, "k_p_i", "k_i_i"),
+    ("smd_pll_params", F.PllParams, "k_omega", "k_a"),
+    ("smd_plant_config", F.PlantConfig, "L1", "L2o"),
+])
+def test_two_swapped_float_fields_are_caught_naming_them(c_name, cls, a, b):
+    """Two adjacent fields of the same type swapped: every offset and size
+    still agrees, only the order tells (a run would silently exchange the
+    two gains)."""
+    Swapped = _swapped(cls, a, b)
+    assert ct.sizeof(Swapped) == ct.sizeof(cls)
+    errors = F.layout_errors(mirrors={c_name: Swapped})
+    assert len(errors) == 1
+    msg = errors[0]
+    assert msg.startswith(f"{c_name}: fields ")
+    py, c = msg.split(" in Python, ")
+    assert py.index(repr(b)) < py.index(repr(a))  # the mirror's order ...
+    assert c.index(repr(a)) < c.index(repr(b))    # ... and the header's
+    assert F.layout_errors(mirrors={c_name: cls}) == []
+
+
+def test_a_missing_field_is_caught():
+    fields = [f for f in F.SmdoParams._fields_ if f[0] != "rho"]
+    errors = F.layout_errors(mirrors={"smd_smdo_params": _copy(F.SmdoParams, fields)})
+    assert len(errors) == 1 and errors[0].startswith("smd_smdo_params: fields ")
+    assert "'rho'" in errors[0].split(" in Python, ")[1]
+
+
+@pytest.mark.parametrize("c_name,cls,field,typ", [
+    ("smd_drive_config", F.DriveConfig, "T_sp", ct.c_double),  # float build: smd_real is float
+    ("smd_lcl_smo_config", F.SmoConfig, "n", ct.c_int64),
+    ("smd_plant_config", F.PlantConfig, "seed", ct.c_uint32),
+    ("smd_smdo_state", F.SmdoState, "u_smo", real * 3),
+])
+def test_a_field_of_the_wrong_type_is_caught(c_name, cls, field, typ):
+    """A field of another size than in C: its own size disagrees (and the
+    offsets of the fields after it, and the struct's size)."""
+    old = dict((n, t) for n, t, *_ in cls._fields_)[field]
+    assert ct.sizeof(typ) != ct.sizeof(old)
+    fields = [(n, typ) if n == field else (n, t) for n, t, *_ in cls._fields_]
+    errors = F.layout_errors(mirrors={c_name: _copy(cls, fields)})
+    assert errors[0].startswith(f"{c_name}.{field}: offset/size "), errors
+    assert f"/{ct.sizeof(typ)} in Python, " in errors[0]
+    assert errors[0].endswith(f"/{ct.sizeof(old)} in C")
+
+
+@pytest.mark.parametrize("c_name,cls,field,typ", [
+    ("smd_drive_config", F.DriveConfig, "current", real),      # int -> float, both 4 bytes
+    ("smd_drive_config", F.DriveConfig, "T_sp", ct.c_int),     # float -> int
+    ("smd_plant_config", F.PlantConfig, "seed", ct.c_double),  # uint64_t -> double
+    ("smd_lcl_smo_config", F.SmoConfig, "table", ct.c_uint64),  # pointer -> integer
+])
+def test_a_field_of_the_same_size_but_another_type_is_caught(c_name, cls, field, typ):
+    """The table carries each field's declared type, so an int mirrored as
+    a float (same size, same offsets) is caught by name."""
+    old = dict((n, t) for n, t, *_ in cls._fields_)[field]
+    assert ct.sizeof(typ) == ct.sizeof(old)
+    fields = [(n, typ) if n == field else (n, t) for n, t, *_ in cls._fields_]
+    errors = F.layout_errors(mirrors={c_name: _copy(cls, fields)})
+    assert len(errors) == 1 and errors[0].startswith(f"{c_name}.{field}: "), errors
+    assert errors[0].endswith(" in C") and "offset/size" not in errors[0]
+
+
+def test_a_struct_the_library_does_not_know_is_caught():
+    class Stray(ct.Structure):
+        _fields_ = [("x", real)]
+
+    assert F.layout_errors(mirrors={"smd_no_such_struct": Stray}) == [
+        "smd_no_such_struct: not in the library's layout table"]
+
+
+def test_a_drifted_head_is_caught():
+    """PlantHead is checked as a prefix of struct smd_plant: a swap inside
+    the prefix is caught although the C struct goes on."""
+    Swapped = _swapped(F.PlantHead, "i_re", "i_im")
+    Swapped._prefix_ = True
+    errors = F.layout_errors(mirrors={"smd_plant": Swapped})
+    assert len(errors) == 1 and errors[0].startswith("smd_plant: fields ")
+
+
+def test_check_layout_raises_import_error_on_a_drifted_mirror(monkeypatch):
+    Swapped = _swapped(F.SmdoParams, "L_s_hat", "R_s_hat")
+    monkeypatch.setattr(F, "MIRRORS", {**F.MIRRORS, "smd_smdo_params": Swapped})
+    with pytest.raises(ImportError) as ei:
+        F.check_layout()
+    msg = str(ei.value)
+    assert msg.startswith("smodrive binding out of date with its C library")
+    assert "smd_smdo_params: fields" in msg
+    monkeypatch.undo()
+    F.check_layout()  # the real mirrors pass again
+
+
+# ------------------------------------------------ mirrors written by C ----
+
+GUARD = 0xA5
+
+
+def _guarded(cls):
+    """A struct inside a buffer with GUARD bytes after it."""
+    n = ct.sizeof(cls)
+    buf = (ct.c_ubyte * (n + 64))(*([GUARD] * (n + 64)))
+    return cls.from_buffer(buf), buf, n
+
+
+@pytest.mark.parametrize("cls,call", [
+    (F.DbpcParams, lambda p: F.lib.smd_dbpc_init(p, 1e-4, 0.02, 2.0, 0.4)),
+    (F.SmdoParams, lambda p: F.lib.smd_smdo_init(p, 1e-4, 0.02, 2.0, 800.0, 1200.0, 1500.0, 0.2)),
+    (F.PiParams, lambda p: F.lib.smd_pi_init(p, 0.1, 10.0, 1e-4, 15.0)),
+    (F.SvmParams, lambda p: F.lib.smd_svm_init(p, 1, 0.01)),
+    (F.EmfPosParams, lambda p: F.lib.smd_emf_pos_init(p, 1e-4, 200.0, 5.0, 1000.0)),
+    (F.SmdoState, lambda s: F.lib.smd_smdo_reset(s, F.Cplx(1.0, 2.0), F.Cplx(3.0, 4.0))),
+    (F.PiState, lambda s: F.lib.smd_pi_reset(s, 1.0)),
+    (F.EmfPosState, lambda s: F.lib.smd_emf_pos_reset(s, 10.0)),
+])
+def test_block_struct_mirrors_match_c(cls, call):
+    """Independently of the table: C must write every mirrored field (mirror
+    not too long) and nothing beyond it (not too short)."""
+    obj, buf, n = _guarded(cls)
+    rc = call(ct.byref(obj))
+    assert rc in (None, 0)
+    assert bytes(buf[n:]) == bytes([GUARD]) * 64, "C wrote past the Python struct"
+    raw = bytes(buf[:n])
+    for name, typ in cls._fields_:
+        off = getattr(cls, name).offset
+        size = ct.sizeof(typ)
+        assert raw[off:off + size] != bytes([GUARD]) * size, f"{cls.__name__}.{name} unwritten"
+
+
+# --------------------------------------------------- the generated table --
+
+def test_committed_layout_table_is_current():
+    res = subprocess.run([sys.executable, str(ROOT / "tools" / "gen_layout.py"), "--check"],
+                         capture_output=True, text=True, cwd=ROOT)
+    assert res.returncode == 0, res.stderr
+
+
+def _gen_layout():
+    spec = importlib.util.spec_from_file_location("gen_layout", ROOT / "tools" / "gen_layout.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_layout_check_fails_on_a_stale_table(tmp_path, monkeypatch):
+    """--check compares; a table that lacks a field is reported, not
+    rewritten."""
+    gen = _gen_layout()
+    stale = gen.render().replace('    F(smd_pll_params, k_a, "smd_real"),\n', "")
+    assert stale != gen.render()
+    out = tmp_path / "smd_layout.c"
+    out.write_text(stale)
+    monkeypatch.setattr(gen, "OUT", out)
+    monkeypatch.setattr(sys, "argv", ["gen_layout.py", "--check"])
+    with pytest.raises(SystemExit, match="out of date"):
+        gen.main()
+    assert out.read_text() == stale
+
+
+def test_gen_layout_mirrors_what_the_binding_mirrors():
+    gen = _gen_layout()
+    assert set(gen.MIRRORED) == set(F.MIRRORS)
+    fields = gen.structs()
+    # the parsed headers give the mirrors' field names in order (a C field
+    # named like a Python keyword, lambda, is mirrored as lambda_)
+    for c_name, cls in F.MIRRORS.items():
+        py = [n[:-1] if n.endswith("_") else n for n, *_ in cls._fields_]
+        c = [f for f, _ in fields[c_name]]
+        c = c[:len(py)] if getattr(cls, "_prefix_", False) else c
+        assert py == c, c_name
+
+
+# ------------------------------------------------------- log channels -----
+
+def test_log_channel_table():
+    assert F.N_LOG == 44
+    assert len(CHANNELS) == len(set(CHANNELS)) == 44
+    assert CHANNELS[0] == "t" and CHANNELS[-1] == "status"
+    # outside the table the name is "" (what check_layout relies on)
+    assert F.lib.smd_log_channel_name(44) == F.lib.smd_log_channel_name(-1) == b""
+    assert all(F.lib.smd_log_channel_name(k) for k in range(44))
+
+
+DIMENSIONLESS = {"phase", "status"}
+
+
+def test_every_channel_has_a_unit_and_a_description():
+    assert set(CHANNEL_INFO) == set(CHANNELS)
+    for name in CHANNELS:
+        unit, doc = CHANNEL_INFO[name]
+        assert isinstance(unit, str) and isinstance(doc, str)
+        assert (unit == "") == (name in DIMENSIONLESS), name
+        assert len(doc) >= 10, name
+    # the motor current is i_* for both plants; the filter's are i1_*, uc_*
+    for name in ("i_alpha", "i_beta", "i_d", "i_q", "i_g", "i_dl", "i_d_ref", "i_q_ref",
+                 "i1_alpha", "i1_beta", "uc_alpha", "uc_beta"):
+        assert name in CHANNELS, name
+    for old in ("i2_g", "i2_dl", "i_ref_g", "i_ref_dl", "i2_alpha", "i2_d", "i2_q"):
+        assert old not in CHANNELS, old
+    assert CHANNEL_INFO["w_M"][0] == "rad/s" and CHANNEL_INFO["theta_r"][0] == "rad"
+    assert CHANNEL_INFO["T_e"][0] == "N m" and CHANNEL_INFO["u_alpha"][0] == "V"
