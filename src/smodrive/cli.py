@@ -112,12 +112,13 @@ def run(scenario: Path, out: Path) -> None:
             r.theta_error[last] ** 2)))),
     }
     (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
-    plots.lcl_time_panels(
-        out, s.name.replace(".", "_"), [r], [s.name], s.name,
+    plots.save(plots.time_panels(
+        [r], [s.name], s.name,
         [("speed (r/min)", [("n_ref_rpm", "reference"), ("n_rpm", "true"),
                             ("n_hat_rpm", "estimated")]),
          ("motor current (A)", [("i_d", "d"), ("i_q", "q")]),
-         ("position error (rad)", [("theta_error", "true")])])
+         ("position error (rad)", [("theta_error", "true")])]),
+        out, s.name.replace(".", "_"))
     console.print(json.dumps(summary, indent=2))
 
 

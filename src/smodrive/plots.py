@@ -1,38 +1,109 @@
 """Figures laid out like the papers' (speed, currents, position and
-estimation error against time; Bode plots of the analyses)."""
+estimation error against time; Bode plots of the analyses).
+
+Every drawing function takes the Axes to draw on (``ax``: one Axes, or for a
+multi-panel layout any sequence or array of Axes, row-major, of the size the
+function documents) and returns them, as a NumPy array shaped like the
+layout. With ``ax=None`` it makes its own :class:`matplotlib.figure.Figure`
+(object-oriented API: no pyplot state, the user's backend untouched) with
+the paper's layout. :func:`save` writes the figure of the returned Axes as
+``NAME.png``:
+
+>>> axes = time_panels([r], ["run"], [("speed (r/min)", [("n_rpm", "true")])])  # doctest: +SKIP
+>>> save(axes, Path("figures"), "my_run")  # doctest: +SKIP
+
+Nothing here changes ``matplotlib.rcParams``: the house style :data:`STYLE`
+is applied inside each function with :func:`style` (a
+:func:`matplotlib.rc_context`), so it shapes what the function creates
+(figure size, dpi, layout, grid, fonts, line widths) and is gone on return.
+On Axes the caller made, only the artists drawn here follow the style (the
+grid and layout are the caller's).
+"""
 
 from __future__ import annotations
 
+import contextlib
+import functools
 from pathlib import Path
-from typing import Sequence
+from typing import Callable, Iterator, Sequence
 
 import matplotlib
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from .analysis import tf
+from .params import RPM, MotorPars
+from .simulate import Result
 
-from .analysis import tf  # noqa: E402
-from .params import RPM, MotorPars  # noqa: E402
-from .simulate import Result  # noqa: E402
-
-plt.rcParams.update({"figure.dpi": 110, "font.size": 8, "axes.grid": True, "grid.alpha": 0.3,
-                     "figure.constrained_layout.use": True,
-                     "lines.linewidth": 0.9})
+#: The house style, applied in a context by every drawing function.
+STYLE: dict[str, object] = {"figure.dpi": 110, "font.size": 8, "axes.grid": True,
+                            "grid.alpha": 0.3, "figure.constrained_layout.use": True,
+                            "lines.linewidth": 0.9}
 
 
-def _save(fig, fig_dir: Path, name: str) -> Path:
+@contextlib.contextmanager
+def style(**overrides) -> Iterator[None]:
+    """:data:`STYLE` (updated by `overrides`, rcParams names with dots
+    written as in ``style(**{"font.size": 10})``) in a
+    :func:`matplotlib.rc_context`; the previous rcParams return on exit."""
+    with matplotlib.rc_context({**STYLE, **overrides}):
+        yield
+
+
+def _styled(fn: Callable) -> Callable:
+    @functools.wraps(fn)
+    def wrapper(*args, **kwargs):
+        with style():
+            return fn(*args, **kwargs)
+
+    return wrapper
+
+
+def _layout(ax, nrows: int, ncols: int, figsize: tuple[float, float], **subplots_kw
+            ) -> np.ndarray:
+    """The (nrows, ncols) array of Axes to draw on: `ax` reshaped (row-major),
+    or, for ``ax=None``, the Axes of a new Figure (call inside :func:`style`,
+    which the new figure's dpi and layout engine are read from)."""
+    if ax is None:
+        fig = Figure(figsize=figsize)
+        return fig.subplots(nrows, ncols, squeeze=False, **subplots_kw)
+    items = [ax] if isinstance(ax, Axes) else list(np.ravel(np.asarray(ax, dtype=object)))
+    a = np.empty(len(items), dtype=object)
+    a[:] = items
+    if a.size != nrows * ncols or not all(isinstance(x, Axes) for x in a):
+        raise ValueError(f"ax: expected {nrows * ncols} Axes ({nrows} x {ncols}), got "
+                         f"{a.size} object(s)")
+    return a.reshape(nrows, ncols)
+
+
+def _suptitle(axes: np.ndarray, title: str | None) -> None:
+    if title is not None:
+        np.ravel(axes)[0].figure.suptitle(title)
+
+
+def save(ax, fig_dir: Path, name: str) -> Path:
+    """Write the figure of `ax` (a Figure, an Axes or an array of Axes of one
+    figure) to ``fig_dir/name.png`` in :data:`STYLE`; returns the path."""
+    fig = ax if isinstance(ax, Figure) else np.ravel(np.asarray(ax, dtype=object))[0].figure
+    fig_dir = Path(fig_dir)
     fig_dir.mkdir(parents=True, exist_ok=True)
     path = fig_dir / f"{name}.png"
-    fig.savefig(path, bbox_inches="tight")
-    plt.close(fig)
+    with style():
+        fig.savefig(path, bbox_inches="tight")
     return path
 
 
-def fig1_bode(fig_dir: Path, m: MotorPars, T_sp: float, f_meas: float, gain_meas: float) -> Path:
+# ------------------------------------------------------------- yang2018 ----
+
+@_styled
+def fig1_bode(m: MotorPars, T_sp: float, f_meas: float, gain_meas: float,
+              ax=None) -> np.ndarray:
+    """Fig. 1: |H(z)| and arg H(z) of eq. (14) for five inductance errors and
+    the measured point. `ax`: 2 Axes (magnitude, phase); returns them."""
+    a1, a2 = _layout(ax, 2, 1, (5, 4.5), sharex=True)[:, 0]
     f = np.logspace(1, np.log10(0.5 / T_sp), 2000)
     z = np.exp(2j * np.pi * f * T_sp)
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(5, 4.5), sharex=True)
     for k in (0.5, 0.75, 1.0, 1.5, 2.0):
         H = tf.H_dbpc(m.L_s, k * m.L_s, m.R_s, T_sp)
         h = H(z)
@@ -44,12 +115,15 @@ def fig1_bode(fig_dir: Path, m: MotorPars, T_sp: float, f_meas: float, gain_meas
     a2.set_xlabel("frequency (Hz)")
     a1.legend(fontsize=7)
     a1.set_title("Fig. 1: H(z) of eq. (14), 10 kHz")
-    return _save(fig, fig_dir, "yang2018_fig1")
+    return np.array([a1, a2], dtype=object)
 
 
-def fig2_bode(fig_dir: Path, w_r: float, g_meas: float, ph_meas: float) -> Path:
+@_styled
+def fig2_bode(w_r: float, g_meas: float, ph_meas: float, ax=None) -> np.ndarray:
+    """Fig. 2: G(j w) of eq. (33) over both sequences for four cut-offs and
+    the simulated point. `ax`: 2 Axes (magnitude, phase); returns them."""
+    a1, a2 = _layout(ax, 2, 1, (5, 4.5), sharex=True)[:, 0]
     w = np.linspace(-6 * w_r, 6 * w_r, 4001)
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(5, 4.5), sharex=True)
     for k in (0.1, 0.2, 0.3, 0.4):
         G = tf.G_smdo(k * w_r, w_r)(1j * w)
         a1.plot(w / (2 * np.pi), 20 * np.log10(np.abs(G)), label=rf"$\omega_c={k:g}\omega_r$")
@@ -62,14 +136,17 @@ def fig2_bode(fig_dir: Path, w_r: float, g_meas: float, ph_meas: float) -> Path:
     a2.set_xlabel("frequency (Hz), negative = negative sequence")
     a1.legend(fontsize=7)
     a1.set_title(r"Fig. 2: G(s) of eq. (33), $\omega_r$ at 1500 r/min")
-    return _save(fig, fig_dir, "yang2018_fig2")
+    return np.array([a1, a2], dtype=object)
 
 
-def dq_panels(fig_dir: Path, name: str, results: Sequence[Result], labels: Sequence[str],
-              title: str) -> Path:
-    """Paper Fig. 5/6 layout: per case, speed on top, i_d and i_q below."""
+@_styled
+def dq_panels(results: Sequence[Result], labels: Sequence[str], title: str | None = None,
+              ax=None) -> np.ndarray:
+    """Paper Fig. 5/6 layout: per case (column), speed on top, i_d and i_q
+    below, each with its reference. `ax`: 3 x len(results) Axes; returns
+    them as a (3, len(results)) array."""
     n = len(results)
-    fig, axes = plt.subplots(3, n, figsize=(3.2 * n, 5.5), sharex=True, squeeze=False)
+    axes = _layout(ax, 3, n, (3.2 * n, 5.5), sharex=True)
     for j, (r, lab) in enumerate(zip(results, labels)):
         t = r.t
         axes[0, j].plot(t, r["w_M_ref"] / RPM, "k--", label="reference")
@@ -84,17 +161,23 @@ def dq_panels(fig_dir: Path, name: str, results: Sequence[Result], labels: Seque
     axes[1, 0].set_ylabel("$i_d$ (A)")
     axes[2, 0].set_ylabel("$i_q$ (A)")
     axes[0, 0].legend(fontsize=7)
-    fig.suptitle(title)
-    return _save(fig, fig_dir, name)
+    _suptitle(axes, title)
+    return axes
 
 
-def sensorless_panels(fig_dir: Path, name: str, results: Sequence[Result], labels: Sequence[str],
-                      title: str, t_window: Sequence[tuple[float, float]]) -> Path:
-    """Paper Fig. 7-9 layout: speed (true, estimated), currents, position
-    (true, estimated) and the estimation errors."""
+@_styled
+def sensorless_panels(results: Sequence[Result], labels: Sequence[str],
+                      title: str | None = None,
+                      t_window: Sequence[tuple[float, float]] | None = None,
+                      ax=None) -> np.ndarray:
+    """Paper Fig. 7-9 layout, per run (column): speed (reference, true,
+    estimated), currents, position (true, estimated) and the estimation
+    errors, over `t_window[j]` (default the whole run). `ax`: 4 x
+    len(results) Axes; returns them as a (4, len(results)) array."""
     n = len(results)
-    fig, axes = plt.subplots(4, n, figsize=(4.2 * n, 7), squeeze=False)
-    for j, (r, lab, (t0, t1)) in enumerate(zip(results, labels, t_window)):
+    axes = _layout(ax, 4, n, (4.2 * n, 7))
+    windows = t_window if t_window is not None else [(0.0, np.inf)] * n
+    for j, (r, lab, (t0, t1)) in enumerate(zip(results, labels, windows)):
         m = r.window(t0, t1)
         t = r.t[m]
         n_p = r.scenario.motor.n_p
@@ -119,8 +202,77 @@ def sensorless_panels(fig_dir: Path, name: str, results: Sequence[Result], label
         a[3].set_ylabel("estimation error")
         a[3].set_xlabel("t (s)")
         a[3].legend(fontsize=7)
-    fig.suptitle(title)
-    return _save(fig, fig_dir, name)
+    _suptitle(axes, title)
+    return axes
+
+
+# ------------------------------------------------- time panels, any plant ----
+
+#: Channels computed from the logged ones, usable wherever :func:`channel`
+#: reads one (both plants log the same channels): name -> (unit, meaning, f).
+DERIVED: dict[str, tuple[str, str, Callable[[Result], np.ndarray]]] = {
+    "n_ref_rpm": ("r/min", "mechanical speed reference", lambda r: r["w_M_ref"] / RPM),
+    "n_rpm": ("r/min", "true mechanical speed", lambda r: r.n_rpm),
+    "n_hat_rpm": ("r/min", "mechanical speed the controller uses", lambda r: r.n_hat_rpm),
+    "n_error_rpm": ("r/min", "speed-estimation error n - n_hat",
+                    lambda r: r.n_rpm - r.n_hat_rpm),
+    "theta_error": ("rad", "angle error theta_r - theta_hat wrapped to [-pi, pi)",
+                    lambda r: r.theta_error),
+    "theta_error_deg": ("deg", "angle error in degrees", lambda r: np.degrees(r.theta_error)),
+    "theta_r_mod": ("rad", "true electrical angle in [0, 2 pi)",
+                    lambda r: np.mod(r["theta_r"], 2 * np.pi)),
+    "theta_hat_mod": ("rad", "controller's angle in [0, 2 pi)",
+                      lambda r: np.mod(r["theta_hat"], 2 * np.pi)),
+    "i_abs": ("A", "motor current magnitude |i_d + j i_q|",
+              lambda r: np.hypot(r["i_d"], r["i_q"])),
+    "i1_abs": ("A", "inverter-side current magnitude |i1_alpha + j i1_beta|",
+               lambda r: np.hypot(r["i1_alpha"], r["i1_beta"])),
+    "uc_abs": ("V", "filter-capacitor voltage magnitude (0 without filter)",
+               lambda r: np.hypot(r["uc_alpha"], r["uc_beta"])),
+    "s_abs": ("A", "LCL sliding-mode observer: |s(k)| (0 for the other sources)",
+              lambda r: np.hypot(r["s_g"], r["s_dl"])),
+    "u_d_hat_abs": ("V", "SMDO disturbance estimate magnitude (0 for the other sources)",
+                    lambda r: np.hypot(r["u_d_hat_alpha"], r["u_d_hat_beta"])),
+}
+
+
+def channel(r: Result, name: str) -> np.ndarray:
+    """A logged channel of `r` (:data:`smodrive.simulate.CHANNELS`) or a
+    derived one (:data:`DERIVED`), by name."""
+    if name in DERIVED:
+        return DERIVED[name][2](r)
+    try:
+        return r[name]
+    except ValueError:
+        raise KeyError(f"unknown channel {name!r}: neither logged (smodrive.simulate.CHANNELS) "
+                       f"nor derived ({', '.join(DERIVED)})") from None
+
+
+@_styled
+def time_panels(results: Sequence[Result], labels: Sequence[str], title: str | None,
+                rows: Sequence[tuple[str, Sequence[tuple[str, str]]]],
+                t_window: tuple[float, float] | None = None, ax=None) -> np.ndarray:
+    """Columns per run, rows of ``(ylabel, [(channel, legend), ...])``, one
+    curve per channel (logged or :data:`DERIVED`), over `t_window` (default
+    the whole run); either plant. `ax`: len(rows) x len(results) Axes;
+    returns them as a (len(rows), len(results)) array."""
+    n = len(results)
+    axes = _layout(ax, len(rows), n, (4.0 * n, 1.9 * len(rows) + 0.6), sharex="col")
+    for j, (r, lab) in enumerate(zip(results, labels)):
+        m = r.window(*t_window) if t_window else np.ones(r.t.size, bool)
+        t = r.t[m]
+        for i, (ylabel, chans) in enumerate(rows):
+            a = axes[i, j]
+            for ch, leg in chans:
+                a.plot(t, channel(r, ch)[m], label=leg)
+            if j == 0:
+                a.set_ylabel(ylabel)
+            if len(chans) > 1:
+                a.legend(fontsize=6, loc="best")
+        axes[0, j].set_title(lab)
+        axes[-1, j].set_xlabel("t (s)")
+    _suptitle(axes, title)
+    return axes
 
 
 # ------------------------------------------------------------- yao2022 ----
@@ -132,50 +284,32 @@ def _spectrum(x: np.ndarray, T: float) -> tuple[np.ndarray, np.ndarray]:
     return np.fft.rfftfreq(x.size, T), X
 
 
-def lcl_time_panels(fig_dir: Path, name: str, results: Sequence, labels: Sequence[str],
-                    title: str, rows: Sequence[tuple[str, Sequence[tuple[str, str]]]],
-                    t_window: tuple[float, float] | None = None) -> Path:
-    """Columns per run, rows of (ylabel, [(channel or derived name, legend)])."""
-    n = len(results)
-    fig, axes = plt.subplots(len(rows), n, figsize=(4.0 * n, 1.9 * len(rows) + 0.6),
-                             squeeze=False, sharex="col")
-    for j, (r, lab) in enumerate(zip(results, labels)):
-        m = r.window(*t_window) if t_window else np.ones(r.t.size, bool)
-        t = r.t[m]
-        for i, (ylabel, chans) in enumerate(rows):
-            ax = axes[i, j]
-            for ch, leg in chans:
-                y = _derived(r, ch)[m]
-                ax.plot(t, y, label=leg)
-            if j == 0:
-                ax.set_ylabel(ylabel)
-            if len(chans) > 1:
-                ax.legend(fontsize=6, loc="best")
-        axes[0, j].set_title(lab)
-        axes[-1, j].set_xlabel("t (s)")
-    fig.suptitle(title)
-    return _save(fig, fig_dir, name)
+@_styled
+def pll_bode(f: np.ndarray, responses: Sequence[tuple[str, np.ndarray]], title: str,
+             ax=None) -> np.ndarray:
+    """Fig. 7 of yao2022: magnitude and phase of open-loop responses `h`
+    sampled at frequencies `f` (Hz), one curve per ``(label, h)``. `ax`: 2
+    Axes (magnitude, phase); returns them."""
+    a1, a2 = _layout(ax, 2, 1, (5, 4.5), sharex=True)[:, 0]
+    for label, h in responses:
+        a1.semilogx(f, 20 * np.log10(np.abs(h)), label=label)
+        a2.semilogx(f, np.degrees(np.angle(h)))
+    a1.set_ylabel("|G_PLL| (dB)")
+    a2.set_ylabel("phase (deg)")
+    a2.set_xlabel("f (Hz)")
+    a1.legend(fontsize=7)
+    a1.set_title(title)
+    return np.array([a1, a2], dtype=object)
 
 
-def _derived(r, ch: str) -> np.ndarray:
-    if ch == "n_rpm":
-        return r.n_rpm
-    if ch == "n_hat_rpm":
-        return r.n_hat_rpm
-    if ch == "theta_error":
-        return r.theta_error
-    if ch == "n_ref_rpm":
-        return r["w_M_ref"] / RPM
-    if ch == "s_abs":
-        return np.abs(r["s_g"] + 1j * r["s_dl"])
-    return r[ch]
-
-
-def ripple_panels(fig_dir: Path, name: str, results: dict, speeds: Sequence[float],
-                  title: str) -> Path:
+@_styled
+def ripple_panels(results: dict, speeds: Sequence[float], title: str | None = None,
+                  ax=None) -> np.ndarray:
     """Figs. 12-13 layout: estimated speed and its spectrum, chattering s(k),
-    for the baseline (61)-(63) and the proposed reaching law at each speed."""
-    fig, axes = plt.subplots(3, len(speeds), figsize=(4.2 * len(speeds), 7), squeeze=False)
+    for the baseline (61)-(63) and the proposed reaching law at each speed
+    (`results[(law, speed)]`, law "tde17" or "proposed"). `ax`: 3 x
+    len(speeds) Axes; returns them as a (3, len(speeds)) array."""
+    axes = _layout(ax, 3, len(speeds), (4.2 * len(speeds), 7))
     for j, n in enumerate(speeds):
         for law, col in (("tde17", "C3"), ("proposed", "C0")):
             r = results[(law, n)]
@@ -185,7 +319,7 @@ def ripple_panels(fig_dir: Path, name: str, results: dict, speeds: Sequence[floa
             axes[0, j].plot(t, r.n_hat_rpm[m], color=col, label=lab, lw=0.6)
             f, X = _spectrum(r.n_hat_rpm[m], r.scenario.T_sp * r.scenario.log_stride)
             axes[1, j].semilogy(f, X + 1e-6, color=col, lw=0.6)
-            axes[2, j].plot(t, np.abs(r["s_g"][m] + 1j * r["s_dl"][m]), color=col, lw=0.5)
+            axes[2, j].plot(t, channel(r, "s_abs")[m], color=col, lw=0.5)
         axes[0, j].set_title(f"{n / 1e3:g} kr/min")
         axes[1, j].set_xlim(0, 10e3)
         axes[1, j].set_xlabel("f (Hz)")
@@ -194,37 +328,44 @@ def ripple_panels(fig_dir: Path, name: str, results: dict, speeds: Sequence[floa
     axes[1, 0].set_ylabel("speed ripple spectrum (r/min)")
     axes[2, 0].set_ylabel("|s(k)| (A)")
     axes[0, 0].legend(fontsize=7)
-    fig.suptitle(title)
-    return _save(fig, fig_dir, name)
+    _suptitle(axes, title)
+    return axes
 
 
-def waveform_spectrum(fig_dir: Path, name: str, results: Sequence, labels: Sequence[str],
-                      channel: str, ylabel: str, title: str, span: float = 0.004,
-                      f_max: float = 10e3) -> Path:
-    """Figs. 17-18 layout: a phase waveform over a few periods and its spectrum."""
+@_styled
+def waveform_spectrum(results: Sequence[Result], labels: Sequence[str], channel_name: str,
+                      ylabel: str, title: str | None = None, span: float = 0.004,
+                      f_max: float = 10e3, ax=None) -> np.ndarray:
+    """Figs. 17-18 layout: per run (column), the last `span` seconds of
+    `channel_name` and its spectrum from 0.1 s on. `ax`: 2 x len(results)
+    Axes; returns them as a (2, len(results)) array."""
     n = len(results)
-    fig, axes = plt.subplots(2, n, figsize=(4.2 * n, 5), squeeze=False)
+    axes = _layout(ax, 2, n, (4.2 * n, 5))
     for j, (r, lab) in enumerate(zip(results, labels)):
         t1 = r.scenario.duration
+        x = channel(r, channel_name)
         m = r.window(t1 - span, t1)
-        axes[0, j].plot(r.t[m] * 1e3, r[channel][m])
+        axes[0, j].plot(r.t[m] * 1e3, x[m])
         axes[0, j].set_title(lab)
         axes[0, j].set_xlabel("t (ms)")
         mm = r.window(0.1, t1)
-        f, X = _spectrum(r[channel][mm], r.scenario.T_sp * r.scenario.log_stride)
+        f, X = _spectrum(x[mm], r.scenario.T_sp * r.scenario.log_stride)
         axes[1, j].semilogy(f, X + 1e-9)
         axes[1, j].set_xlim(0, f_max)
         axes[1, j].set_xlabel("f (Hz)")
     axes[0, 0].set_ylabel(ylabel)
     axes[1, 0].set_ylabel("amplitude")
-    fig.suptitle(title)
-    return _save(fig, fig_dir, name)
+    _suptitle(axes, title)
+    return axes
 
 
-def disturbance_panels(fig_dir: Path, name: str, t: np.ndarray, d: np.ndarray,
-                       e17: np.ndarray, e18: np.ndarray, T: float, title: str) -> Path:
-    """Fig. 4 layout: d(k) and the compensation errors of [17], [18], with spectra."""
-    fig, axes = plt.subplots(2, 3, figsize=(11, 5))
+@_styled
+def disturbance_panels(t: np.ndarray, d: np.ndarray, e17: np.ndarray, e18: np.ndarray,
+                       T: float, title: str | None = None, ax=None) -> np.ndarray:
+    """Fig. 4 layout: d(k) and the compensation errors of [17], [18] (gamma
+    and delta against t), with the spectra of their magnitudes below.
+    `ax`: 2 x 3 Axes; returns them as a (2, 3) array."""
+    axes = _layout(ax, 2, 3, (11, 5))
     for j, (x, lab) in enumerate(((d, "d(k)"), (e17, "error [17], eq. (31)"),
                                   (e18, "error [18], eq. (32)"))):
         axes[0, j].plot(t[: x.size] * 1e3, x.real, lw=0.6, label="gamma")
@@ -236,5 +377,5 @@ def disturbance_panels(fig_dir: Path, name: str, t: np.ndarray, d: np.ndarray,
         axes[1, j].set_xlim(0, 10e3)
         axes[1, j].set_xlabel("f (Hz)")
     axes[0, 0].legend(fontsize=7)
-    fig.suptitle(title)
-    return _save(fig, fig_dir, name)
+    _suptitle(axes, title)
+    return axes

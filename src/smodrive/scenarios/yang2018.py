@@ -249,7 +249,7 @@ def run_fig1(progress: ProgressFn) -> Outcome:
     def plot(fig_dir):
         from .. import plots
 
-        return plots.fig1_bode(fig_dir, MOTOR, T, f_ex, amp)
+        return plots.save(plots.fig1_bode(MOTOR, T, f_ex, amp), fig_dir, "yang2018_fig1")
 
     return Outcome(claims, {s.name: r_sim}, [("yang2018_fig1", plot)])
 
@@ -313,7 +313,8 @@ def run_fig2(progress: ProgressFn) -> Outcome:
     def plot(fig_dir):
         from .. import plots
 
-        return plots.fig2_bode(fig_dir, w_mean, abs(G), float(np.angle(G)))
+        return plots.save(plots.fig2_bode(w_mean, abs(G), float(np.angle(G))), fig_dir,
+                          "yang2018_fig2")
 
     return Outcome(claims, {s.name: r}, [("yang2018_fig2", plot)])
 
@@ -450,23 +451,21 @@ def run_fig5_fig6(progress: ProgressFn) -> Outcome:
     def plot5(fig_dir):
         from .. import plots
 
-        return plots.dq_panels(
-            fig_dir, "yang2018_fig5",
+        return plots.save(plots.dq_panels(
             [res[f"yang2018.fig5{t}"] for t in "abcd"],
             [r"(a) $\hat L_s=0.5L_s$", r"(b) $\hat L_s=2L_s$", r"(c) $\hat\psi_r=0.5\psi_r$",
              r"(d) $\hat\psi_r=2\psi_r$"],
             "Fig. 5: conventional DBPC with mismatched parameters",
-        )
+        ), fig_dir, "yang2018_fig5")
 
     def plot6(fig_dir):
         from .. import plots
 
-        return plots.dq_panels(
-            fig_dir, "yang2018_fig6",
+        return plots.save(plots.dq_panels(
             [res["yang2018.fig6a"], res["yang2018.fig6b"]],
             [r"(a) $\hat L_s=2L_s$", r"(b) $\hat L_s=0.5L_s$"],
             "Fig. 6: robust DBPC (SMDO) with mismatched inductance",
-        )
+        ), fig_dir, "yang2018_fig6")
 
     return Outcome(claims, res, [("yang2018_fig5", plot5), ("yang2018_fig6", plot6)])
 
@@ -517,11 +516,11 @@ def run_fig7(progress: ProgressFn) -> Outcome:
     def plot(fig_dir):
         from .. import plots
 
-        return plots.sensorless_panels(
-            fig_dir, "yang2018_fig7", list(res.values()),
+        return plots.save(plots.sensorless_panels(
+            list(res.values()),
             ["(a) 1500 r/min, rated load", "(b) 75 r/min, rated load"],
             "Fig. 7: sensorless steady state", t_window=[(0.9, 1.0), (0.6, 1.0)],
-        )
+        ), fig_dir, "yang2018_fig7")
 
     return Outcome(claims, res, [("yang2018_fig7", plot)])
 
@@ -576,10 +575,10 @@ def run_fig8(progress: ProgressFn) -> Outcome:
     def plot(fig_dir):
         from .. import plots
 
-        return plots.sensorless_panels(
-            fig_dir, "yang2018_fig8", [r], ["rated load applied and released at 1500 r/min"],
+        return plots.save(plots.sensorless_panels(
+            [r], ["rated load applied and released at 1500 r/min"],
             "Fig. 8: step load at 1500 r/min", t_window=[(0.2, s.duration)],
-        )
+        ), fig_dir, "yang2018_fig8")
 
     return Outcome(claims, {s.name: r}, [("yang2018_fig8", plot)])
 
@@ -615,10 +614,10 @@ def run_fig9(progress: ProgressFn) -> Outcome:
     def plot(fig_dir):
         from .. import plots
 
-        return plots.sensorless_panels(
-            fig_dir, "yang2018_fig9", [r], ["150 -> 1500 -> 150 r/min"],
+        return plots.save(plots.sensorless_panels(
+            [r], ["150 -> 1500 -> 150 r/min"],
             "Fig. 9: speed steps at 4500 r/min/s", t_window=[(0.0, s.duration)],
-        )
+        ), fig_dir, "yang2018_fig9")
 
     return Outcome(claims, {s.name: r}, [("yang2018_fig9", plot)])
 

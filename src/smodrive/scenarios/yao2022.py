@@ -141,10 +141,10 @@ def run_fig4(progress: ProgressFn) -> Outcome:
         from .. import plots
 
         n = min(d.size, int(0.005 / s.T_sp))
-        return plots.disturbance_panels(fig_dir, "yao2022_fig4", r.t[:-1][m][:n], d[:n], e17[:n],
-                                        e18[:n], s.T_sp,
-                                        "Fig. 4: lumped disturbance and time-delay "
-                                        "compensation errors, 100 kr/min")
+        return plots.save(plots.disturbance_panels(
+            r.t[:-1][m][:n], d[:n], e17[:n], e18[:n], s.T_sp,
+            "Fig. 4: lumped disturbance and time-delay compensation errors, 100 kr/min"),
+            fig_dir, "yao2022_fig4")
 
     return Outcome(claims, {s.name: r}, [("yao2022_fig4", plot)])
 
@@ -182,20 +182,15 @@ def run_fig7(progress: ProgressFn) -> Outcome:
     def plot(fig_dir):
         from .. import plots
 
-        plt = plots.plt
-        fig, (a1, a2) = plt.subplots(2, 1, figsize=(5, 4.5), sharex=True)
         f = np.logspace(0, np.log10(0.5 / pll.T), 800)
-        for kt, kw, ka in ((0.1, 10, 10), (0.2, 10, 10), (0.1, 50, 10), (0.1, 10, 100)):
-            g = dz.pll_open_loop(dataclasses.replace(pll, k_theta=kt, k_omega=kw, k_a=ka))
-            h = g(np.exp(2j * np.pi * f * pll.T))
-            a1.semilogx(f, 20 * np.log10(np.abs(h)), label=f"k = ({kt}, {kw}, {ka})")
-            a2.semilogx(f, np.degrees(np.angle(h)))
-        a1.set_ylabel("|G_PLL| (dB)")
-        a2.set_ylabel("phase (deg)")
-        a2.set_xlabel("f (Hz)")
-        a1.legend(fontsize=7)
-        a1.set_title(f"Fig. 7: G_PLL of eq. (49); closed loop -3 dB at {rep:.1f} Hz")
-        return plots._save(fig, fig_dir, "yao2022_fig7")
+        responses = [
+            (f"k = ({kt}, {kw}, {ka})",
+             dz.pll_open_loop(dataclasses.replace(pll, k_theta=kt, k_omega=kw, k_a=ka))(
+                 np.exp(2j * np.pi * f * pll.T)))
+            for kt, kw, ka in ((0.1, 10, 10), (0.2, 10, 10), (0.1, 50, 10), (0.1, 10, 100))]
+        return plots.save(plots.pll_bode(
+            f, responses, f"Fig. 7: G_PLL of eq. (49); closed loop -3 dB at {rep:.1f} Hz"),
+            fig_dir, "yao2022_fig7")
 
     return Outcome([Claim(
         id="yao2022.fig7.pll_bandwidth_hz",
@@ -274,13 +269,14 @@ def run_fig9_10(progress: ProgressFn) -> Outcome:
         from .. import plots
 
         rs = list(res.values())
-        return plots.lcl_time_panels(
-            fig_dir, "yao2022_fig10", rs, [f"{n / 1e3:g} kr/min" for n in SPEEDS],
+        return plots.save(plots.time_panels(
+            rs, [f"{n / 1e3:g} kr/min" for n in SPEEDS],
             f"Figs. 9-10: position accuracy by +5 A gamma injection at {INJ_T:g} s",
             [("i_2 gamma, delta (A)", [("i_g", "gamma"), ("i_dl", "delta")]),
              ("position error (rad)", [("theta_error", "true"),
                                        ("theta_err_est", "estimated, eq. (47)")]),
-             ("speed (r/min)", [("n_rpm", "true"), ("n_hat_rpm", "estimated")])])
+             ("speed (r/min)", [("n_rpm", "true"), ("n_hat_rpm", "estimated")])]),
+            fig_dir, "yao2022_fig10")
 
     return Outcome(claims, res, [("yao2022_fig10", plot)])
 
@@ -386,19 +382,22 @@ def run_table5(progress: ProgressFn) -> Outcome:
         from .. import plots
 
         rs = [by_key[("proposed", 60e3)], by_key[("proposed", 100e3)]]
-        plots.waveform_spectrum(fig_dir, "yao2022_fig17", rs, ["60 kr/min", "100 kr/min"],
-                                "i_alpha", "phase A motor current (A)",
-                                "Fig. 17: motor current (LCL-filtered)")
-        return plots.waveform_spectrum(fig_dir, "yao2022_fig18", rs[1:], ["100 kr/min"],
-                                       "uc_alpha", "phase A capacitor voltage (V)",
-                                       "Fig. 18: capacitor voltage and its spectrum")
+        plots.save(plots.waveform_spectrum(rs, ["60 kr/min", "100 kr/min"], "i_alpha",
+                                           "phase A motor current (A)",
+                                           "Fig. 17: motor current (LCL-filtered)"),
+                   fig_dir, "yao2022_fig17")
+        return plots.save(plots.waveform_spectrum(rs[1:], ["100 kr/min"], "uc_alpha",
+                                                  "phase A capacitor voltage (V)",
+                                                  "Fig. 18: capacitor voltage and its spectrum"),
+                          fig_dir, "yao2022_fig18")
 
     def plot(fig_dir):
         from .. import plots
 
-        return plots.ripple_panels(fig_dir, "yao2022_fig12_13", by_key, SPEEDS,
-                                   "Figs. 12-13, Table V: speed-estimation ripple and "
-                                   "chattering, baseline vs proposed")
+        return plots.save(plots.ripple_panels(by_key, SPEEDS,
+                                              "Figs. 12-13, Table V: speed-estimation ripple "
+                                              "and chattering, baseline vs proposed"),
+                          fig_dir, "yao2022_fig12_13")
 
     return Outcome(claims, res, [("yao2022_fig12_13", plot), ("yao2022_fig17_18", plot17)])
 
@@ -442,14 +441,15 @@ def run_fig14(progress: ProgressFn) -> Outcome:
     def plot(fig_dir):
         from .. import plots
 
-        return plots.lcl_time_panels(
-            fig_dir, "yao2022_fig14_16", [r], ["0 -> 100 kr/min"],
+        return plots.save(plots.time_panels(
+            [r], ["0 -> 100 kr/min"],
             "Figs. 14-16: forced-angle start, handover and sensorless acceleration",
             [("speed (r/min)", [("n_ref_rpm", "reference"), ("n_rpm", "true"),
                                 ("n_hat_rpm", "estimated")]),
              ("position error (rad)", [("theta_error", "true")]),
              ("i_2 delta (A)", [("i_dl", "measured"), ("i_q_ref", "reference")]),
-             ("phase", [("phase", "0 open loop, 1 sensorless")])])
+             ("phase", [("phase", "0 open loop, 1 sensorless")])]),
+            fig_dir, "yao2022_fig14_16")
 
     return Outcome(claims, {s.name: r}, [("yao2022_fig14_16", plot)])
 
@@ -490,12 +490,13 @@ def run_fig19_21(progress: ProgressFn) -> Outcome:
     def plot(fig_dir):
         from .. import plots
 
-        return plots.lcl_time_panels(
-            fig_dir, "yao2022_fig19_21", [r], ["i_delta step 10 -> 15 A at 0.05 s"],
+        return plots.save(plots.time_panels(
+            [r], ["i_delta step 10 -> 15 A at 0.05 s"],
             "Figs. 19-21: torque-current step with the fan load",
             [("i_2 delta (A)", [("i_dl", "measured"), ("i_q_ref", "reference")]),
              ("position error (rad)", [("theta_error", "true")]),
-             ("speed (r/min)", [("n_rpm", "true"), ("n_hat_rpm", "estimated")])])
+             ("speed (r/min)", [("n_rpm", "true"), ("n_hat_rpm", "estimated")])]),
+            fig_dir, "yao2022_fig19_21")
 
     return Outcome(claims, {s.name: r}, [("yao2022_fig19_21", plot)])
 
@@ -516,6 +517,17 @@ def run_fig22(progress: ProgressFn) -> Outcome:
     r = _sim(s, progress)
     m = r.window(0.05, s.duration) & (np.abs(r.n_rpm) > REVERSAL_BAND)
     peak = float(np.max(np.abs(r.theta_error[m])))
+
+    def plot(fig_dir):
+        from .. import plots
+
+        return plots.save(plots.time_panels(
+            [r], ["+30 -> -30 kr/min"], "Fig. 22: speed reversal",
+            [("speed (r/min)", [("n_ref_rpm", "reference"), ("n_rpm", "true"),
+                                ("n_hat_rpm", "estimated")]),
+             ("position error (rad)", [("theta_error", "true")])]),
+            fig_dir, "yao2022_fig22")
+
     return Outcome([Claim(
         id="yao2022.fig22.reversal_pos_error_peak_rad",
         statement=("Speed reversal +30 -> -30 kr/min in 2 s, sensorless throughout: peak "
@@ -528,12 +540,7 @@ def run_fig22(progress: ProgressFn) -> Outcome:
                   "for a moment (excluded band), then the PLL re-locks; just outside the "
                   "band, at 3-4 kr/min (EMF 0.4-0.5 V), the assumed 0.02 A ADC noise puts the "
                   "error at the bound (about 0.06 rad with an ideal ADC)"),
-    )], {s.name: r}, [("yao2022_fig22", lambda fig_dir: __import__(
-        "smodrive.plots", fromlist=["x"]).lcl_time_panels(
-        fig_dir, "yao2022_fig22", [r], ["+30 -> -30 kr/min"], "Fig. 22: speed reversal",
-        [("speed (r/min)", [("n_ref_rpm", "reference"), ("n_rpm", "true"),
-                            ("n_hat_rpm", "estimated")]),
-         ("position error (rad)", [("theta_error", "true")])]))])
+    )], {s.name: r}, [("yao2022_fig22", plot)])
 
 
 # -------------------------------------------------------------- Fig. 23 -----
@@ -564,6 +571,18 @@ def run_fig23(progress: ProgressFn) -> Outcome:
     basis = ("stable = in the sensorless loop, speed held within 5 % and angle error below "
              "0.5 rad over the second half of a 0.4 s run at 60 kr/min")
     lin, smo = verdict["linear"], verdict["smo"]
+
+    def plot(fig_dir):
+        from .. import plots
+
+        return plots.save(plots.time_panels(
+            list(res.values()),
+            ["linear observer (65), C_hat = 2 C", "sliding-mode observer, C_hat = 2 C"],
+            "Fig. 23: robustness to a capacitance error (sensorless, 60 kr/min)",
+            [("position error (rad)", [("theta_error", "true")]),
+             ("speed (r/min)", [("n_rpm", "true"), ("n_hat_rpm", "estimated")])]),
+            fig_dir, "yao2022_fig23")
+
     return Outcome([
         Claim(id="yao2022.fig23.linear_observer_stable",
               statement=("Sensorless at 60 kr/min with the linear reduced-order observer "
@@ -583,13 +602,7 @@ def run_fig23(progress: ProgressFn) -> Outcome:
                          f"error {smo[2]:.3f} rad."),
               paper=1.0, expected=None, reproduced=float(smo[0]), unit="", tolerance=0.0,
               basis=basis),
-    ], res, [("yao2022_fig23", lambda fig_dir: __import__(
-        "smodrive.plots", fromlist=["x"]).lcl_time_panels(
-        fig_dir, "yao2022_fig23", list(res.values()),
-        ["linear observer (65), C_hat = 2 C", "sliding-mode observer, C_hat = 2 C"],
-        "Fig. 23: robustness to a capacitance error (sensorless, 60 kr/min)",
-        [("position error (rad)", [("theta_error", "true")]),
-         ("speed (r/min)", [("n_rpm", "true"), ("n_hat_rpm", "estimated")])]))])
+    ], res, [("yao2022_fig23", plot)])
 
 
 # ------------------------------------------------------------- Table VI -----
