@@ -1,4 +1,6 @@
-"""Physics tests of the host plant (sim/src/smd_plant.c) through smodrive.plant.
+"""Physics tests of the host plant without the filter (sim/src/smd_spmsm.c and
+the shared mechanics, ADC and PWM of sim/src/smd_plant.c) through
+smodrive.plant.Plant; the plant behind the LCL filter: test_lcl_plant.py.
 
 Every reference below is computed independently of the plant's own
 formulation (closed forms, a rotor-frame matrix exponential, Fourier sums of
@@ -19,66 +21,27 @@ import math
 import numpy as np
 import pytest
 from scipy.linalg import expm
-from scipy.special import jv
 from scipy.stats import chi2
 
-from smodrive.params import RPM, AdcCfg, InverterCfg, LoadCfg, MotorPars, Scenario
-from smodrive.plant import Plant, leg_edges
-
-A = cmath.exp(2j * math.pi / 3)
-EPS = np.finfo(float).eps
+from plant_helpers import SPMSM, A, duties_for, leg_dir, phase, pwm_segments, vary, wrap
+from smodrive.analysis.pwm import leg_harmonics_bessel, leg_harmonics_from_edges
+from smodrive.params import RPM
+from smodrive.plant import Plant
 
 
 # ------------------------------------------------------------------ helpers --
 
 
-def scenario(
-    *,
-    T=1e-4,
-    pwm="averaged",
-    t_dead=0.0,
-    n_M0=0.0,
-    theta_r0=0.0,
-    adc=None,
-    w_brake_eps=1.0,
-    k_fan=0.0,
-    **motor,
-) -> Scenario:
-    return Scenario(
-        T_sp=T,
-        n_M0=n_M0,
-        theta_r0=theta_r0,
-        motor=MotorPars(**motor),
-        inverter=InverterCfg(pwm=pwm, t_dead=t_dead),
-        adc=adc if adc is not None else AdcCfg(noise=0.0, bits=0),
-        load=LoadCfg(w_brake_eps=w_brake_eps, k_fan=k_fan),
-    )
-
-
-def leg_dir(u_dc: float) -> np.ndarray:
-    return np.array([2.0 / 3.0 * u_dc * A**x for x in range(3)])
-
-
-def phase(i: complex) -> np.ndarray:
-    return np.array([(i * A ** (-x)).real for x in range(3)])
-
-
-def duties_for(u: complex, u_dc: float) -> tuple[float, float, float]:
-    """Duties whose switching-cycle average is the stator vector u:
-    (2/3) sum_x Re(u a^-x) a^x = u, and sum_x a^x = 0 absorbs the 0.5."""
-    return tuple(0.5 + (u * A ** (-x)).real / u_dc for x in range(3))
-
-
-def exact_period(i0: complex, th0: float, w: float, segs, s: Scenario):
+def exact_period(i0: complex, th0: float, w: float, segs, c):
     """Exact solution of the electrical equation over consecutive segments
     [(tau, u_stationary), ...] at constant electrical speed w, in the ROTOR
     frame (independent of the plant, which works in the stationary frame):
       q = i e^{-j theta}:  L dq/dt = v - (R + j w L) q - j w psi,
       v = u e^{-j theta}:  dv/dt = -j w v,     Q = int q dt.
     The system in (q, v, Q, 1) is complex-linear, so one matrix exponential per
-    segment is exact. Returns (i_end, theta_end, int_0^T q dt)."""
-    m = s.motor
-    R, L, psi = m.R_s, m.L_s, m.psi_r
+    segment is exact (c: the plant's config). Returns (i_end, theta_end,
+    int_0^T q dt)."""
+    R, L, psi = c.R_s, c.L_s, c.psi_r
     Amat = np.array(
         [
             [-(R / L + 1j * w), 1.0 / L, 0.0, -1j * w * psi / L],
@@ -100,32 +63,13 @@ def exact_period(i0: complex, th0: float, w: float, segs, s: Scenario):
     return q * cmath.exp(1j * th), th, Q
 
 
-def pwm_segments(s: Scenario, d_abc, i_abc):
-    """Piecewise-constant stator voltage of one carrier period from the leg
-    edges the plant uses (dead-time direction from the phase currents)."""
-    T = s.T_sp
-    ld = leg_dir(s.inverter.u_dc)
-    edges = [leg_edges(s, d, ix) for d, ix in zip(d_abc, i_abc)]
-    cuts = sorted({0.0, T, *[e for pair in edges for e in pair]})
-    segs = []
-    for ta, tb in zip(cuts, cuts[1:]):
-        tm = 0.5 * (ta + tb)
-        u = sum(ld[x] for x in range(3) if edges[x][0] <= tm < edges[x][1])
-        segs.append((tb - ta, complex(u)))
-    return segs
-
-
-def wrap(x: float) -> float:
-    return (x + math.pi) % (2 * math.pi) - math.pi
-
-
 # ------------------------------------------------------ 1. locked rotor, avg --
 
 
 def test_locked_rotor_step_response_averaged():
     # psi_r = 0: no EMF and no torque, so the rotor stays at w = 0 exactly and
     # the equation is L di/dt = u - R i with u constant.
-    s = scenario(psi_r=0.0, J=1e4, B=0.0)
+    s = vary(SPMSM, psi_r=0.0, J=1e4, B=0.0)
     R, L, T = s.motor.R_s, s.motor.L_s, s.T_sp
     d = (0.55, 0.47, 0.49)
     u = complex(leg_dir(s.inverter.u_dc) @ np.array(d))
@@ -150,15 +94,15 @@ def test_locked_rotor_step_response_averaged():
 
 @pytest.mark.parametrize("t_dead", [0.0, 2e-6])
 def test_locked_rotor_carrier_pwm_matches_piecewise_solution(t_dead):
-    s = scenario(pwm="carrier", t_dead=t_dead, psi_r=0.0, J=1e4, B=0.0)
+    s = vary(SPMSM, pwm="carrier", t_dead=t_dead, psi_r=0.0, J=1e4, B=0.0)
     rng = np.random.default_rng(7)
     p = Plant(s)
     i_ref = 0j
     worst, scale = 0.0, 1.0
     for _ in range(300):
         d = tuple(rng.uniform(0.2, 0.8, 3))
-        segs = pwm_segments(s, d, phase(i_ref))
-        i_ref, _, _ = exact_period(i_ref, 0.0, 0.0, segs, s)
+        segs = pwm_segments(p.config, d, phase(i_ref))
+        i_ref, _, _ = exact_period(i_ref, 0.0, 0.0, segs, p.config)
         p.step(d)
         worst = max(worst, abs(p.i_s - i_ref))
         scale = max(scale, abs(i_ref))
@@ -180,7 +124,7 @@ def test_rotating_carrier_pwm_one_period_and_torque():
     # <= T/L * 1.9e-7 = 8e-10 A, i.e. ~1e-10 of the ~8 A current (the angle
     # difference, <= 5e-7 * T = 5e-11 rad, is smaller still). Tolerance 1e-9 of
     # the current scale; a one-edge error of 1 ns would be 2e-5 A.
-    s = scenario(pwm="carrier", t_dead=2e-6, J=1e4, B=0.0, n_M0=1000.0, theta_r0=0.3)
+    s = vary(SPMSM, pwm="carrier", t_dead=2e-6, J=1e4, B=0.0, n_M0=1000.0, theta_r0=0.3)
     m, T = s.motor, s.T_sp
     Kt = 1.5 * m.n_p * m.psi_r
     p = Plant(s)
@@ -192,8 +136,8 @@ def test_rotating_carrier_pwm_one_period_and_torque():
             1j * th0
         )
         d = duties_for(u, s.inverter.u_dc)
-        segs = pwm_segments(s, d, phase(i0))
-        i1, _, Q = exact_period(i0, th0, w, segs, s)
+        segs = pwm_segments(p.config, d, phase(i0))
+        i1, _, Q = exact_period(i0, th0, w, segs, p.config)
         p.step(d)
         worst_i = max(worst_i, abs(p.i_s - i1) / max(1.0, abs(i1)))
         worst_T = max(worst_T, abs(p.T_e_mean - Kt * Q.imag / T) / (Kt * max(1.0, abs(i1))))
@@ -217,7 +161,7 @@ def test_sinusoidal_steady_state_averaged_exact_discrete():
     U / (R + jwL) as T -> 0), and from i_0 = 0 the transient is exactly
     i_k = I e^{jwkT} - I e^{-akT} (the error obeys x_{k+1} = e^{-aT} x_k)."""
     th0 = 0.3
-    s = scenario(J=1e4, B=0.0, n_M0=1000.0, theta_r0=th0)
+    s = vary(SPMSM, J=1e4, B=0.0, n_M0=1000.0, theta_r0=th0)
     m, T = s.motor, s.T_sp
     R, L, psi, a = m.R_s, m.L_s, m.psi_r, m.R_s / m.L_s
     w = m.n_p * 1000.0 * RPM
@@ -254,7 +198,7 @@ def test_sinusoidal_steady_state_averaged_exact_discrete():
     # (the last step was period k = 1499, from t = 1499 T)
     thk = th0 + w * 1499 * T
     _, _, Q = exact_period(I * cmath.exp(1j * w * 1499 * T), thk, w,
-                           [(T, U * cmath.exp(1j * w * 1499.5 * T))], s)
+                           [(T, U * cmath.exp(1j * w * 1499.5 * T))], p.config)
     Te_ref = 1.5 * m.n_p * psi * Q.imag / T
     # remaining transient e^{-a * 0.15} ~ 5e-7 of I plus the 1e-7 drift above
     assert abs(p.T_e_mean - Te_ref) <= 2e-6 * 1.5 * m.n_p * psi * abs(I)
@@ -279,7 +223,7 @@ def test_energy_balance_accelerating_under_load():
     load evaluated at the wrong instant) shows up at >= 1e-4."""
     k_fan = 2e-5
     T_ext = 1.0
-    s = scenario(T=2e-6, B=0.002, J=0.012, k_fan=k_fan)
+    s = vary(SPMSM, T_sp=2e-6, B=0.002, J=0.012, k_fan=k_fan)
     m, T = s.motor, s.T_sp
     R, L, J, B = m.R_s, m.L_s, m.J, m.B
     p = Plant(s)
@@ -319,7 +263,7 @@ def test_viscous_decay_exact():
     # J dw/dt = -B w -> w = w0 e^{-B t / J}, theta = n_p w0 J/B (1 - e^{-Bt/J}).
     # The plant integrates this linear ODE exactly per period; only rounding
     # remains (~2000 * 1 ulp ~ 5e-13 relative) -> 1e-11.
-    s = scenario(T=1e-3, psi_r=0.0, J=0.012, B=0.002, n_M0=1500.0)
+    s = vary(SPMSM, T_sp=1e-3, psi_r=0.0, J=0.012, B=0.002, n_M0=1500.0)
     m = s.motor
     w0 = 1500.0 * RPM
     p = Plant(s)
@@ -350,7 +294,7 @@ def test_brake_constant_deceleration_and_taper(J, T_brake, eps):
     reversing by more than eps (no sign chattering beyond w_brake_eps)."""
     T = 1e-4
     w0 = 22.3
-    s = scenario(T=T, psi_r=0.0, J=J, B=0.0, n_M0=w0 / RPM, w_brake_eps=eps)
+    s = vary(SPMSM, T_sp=T, psi_r=0.0, J=J, B=0.0, w_M0=w0, w_brake_eps=eps)
     p = Plant(s)
     ws = [p.w_M]
     for _ in range(3000):
@@ -370,55 +314,18 @@ def test_brake_constant_deceleration_and_taper(J, T_brake, eps):
 # ------------------------------------------------------ 6. PWM spectrum ------
 
 
-def _leg_harmonics(s: Scenario, V_Q: float, M: float, N: int, nmax: int) -> np.ndarray:
-    """Exact Fourier amplitudes of the leg voltage (0..V_Q) over one
-    fundamental period N T_s: sum of the exact integrals of the pulses
-    [kT + t_on, kT + t_off) of height V_Q, duties sampled at t_k = k T."""
-    Ts = s.T_sp
-    Te = N * Ts
-    we = 2 * math.pi / Te
-    amps = []
-    for n in range(1, nmax + 1):
-        c = 0j
-        for k in range(N):
-            d = 0.5 * (1 + M * math.cos(we * k * Ts))
-            t_on, t_off = leg_edges(s, d)
-            ta, tb = k * Ts + t_on, k * Ts + t_off
-            c += V_Q * (cmath.exp(-1j * n * we * tb) - cmath.exp(-1j * n * we * ta)) / (
-                -1j * n * we
-            )
-        amps.append(abs(2.0 / Te * c))
-    return np.array(amps)
-
-
-def _bessel_harmonics(V_Q: float, M: float, N: int, nmax: int) -> np.ndarray:
-    """Symmetric regular sampling, pulse k centred at (k + 1/2) T_s of width
-    d_k T_s. Its n-th harmonic is (2 V_Q / (T_e n w_e)) sum_k e^{-jnw_e c_k}
-    2 sin(beta (1 + M cos phi_k)), beta = n pi / (2N). Jacobi-Anger
-    e^{jz cos phi} = sum_m j^m J_m(z) e^{jm phi} and sum_k e^{j2pi(m-n)k/N} =
-    N [m = n mod N] give
-      c_n = (2 V_Q N / (n pi)) e^{-jn pi/N} sum_l sin-part(m = n + lN),
-      sin-part = (e^{j beta} j^m - e^{-j beta} (-j)^m) / (2j) * J_m(beta M).
-    The l = 0 term is Holmes & McGrath's baseband term
-    (2 V_Q / (q pi)) J_n(q pi M / 2) sin((n + q) pi / 2), q = n / N; the l != 0
-    terms are the carrier sidebands that alias onto n w_e."""
-    out = []
-    for n in range(1, nmax + 1):
-        beta = n * math.pi / (2 * N)
-        tot = 0j
-        for l in range(-3, 4):
-            mm = n + l * N
-            tot += (cmath.exp(1j * beta) * 1j**mm - cmath.exp(-1j * beta) * (-1j) ** mm) / (
-                2j
-            ) * jv(mm, beta * M)
-        out.append(abs(2 * V_Q * N / (n * math.pi) * cmath.exp(-1j * n * math.pi / N) * tot))
-    return np.array(out)
-
-
 def test_regular_sampled_pwm_spectrum_yao2022_table1():
+    """smodrive.analysis.pwm: the exact Fourier integrals of the pulses the
+    plant's own edge function (leg_edges) produces, duties sampled at the
+    carrier peaks, against yao2022 Table I and against the Jacobi-Anger
+    (Bessel) series of symmetric regular sampling: pulse k centred at
+    (k + 1/2) T_s of width d_k T_s has the n-th harmonic
+    (2 V_Q / (T_e n w_e)) sum_k e^{-jnw_e c_k} 2 sin(beta (1 + M cos phi_k)),
+    beta = n pi / (2N); Jacobi-Anger and sum_k e^{j2pi(m-n)k/N} = N [m = n
+    mod N] leave the terms m = n + lN: l = 0 is Holmes & McGrath's baseband
+    term, l != 0 the carrier sidebands that alias onto n w_e."""
     V_Q, M, N = 60.0, 0.9, 12
-    s = scenario(T=1.0 / 20e3, pwm="carrier", t_dead=0.0)
-    amps = _leg_harmonics(s, V_Q, M, N, 5)
+    amps = leg_harmonics_from_edges(V_Q, M, N, 5, T=1.0 / 20e3, t_dead=0.0)
     table = ["26.723", "0.4097", "0.1288", "0.0073", "0.0013"]  # yao2022 Table I, V
     for a, txt in zip(amps, table):
         # the paper prints the value rounded to its last shown decimal: the true
@@ -429,7 +336,7 @@ def test_regular_sampled_pwm_spectrum_yao2022_table1():
     # Analytic Bessel series: the sidebands beyond |l| = 3 are below
     # J_37(0.6) ~ 1e-70; both sides are then exact up to rounding of a few
     # dozen terms -> 1e-12 relative.
-    bes = _bessel_harmonics(V_Q, M, N, 5)
+    bes = leg_harmonics_bessel(V_Q, M, N, 5, l_max=3)
     np.testing.assert_allclose(amps, bes, rtol=1e-12, atol=1e-12 * V_Q)
     # fundamental: ideal M V_Q / 2 reduced by the sampling, 27 -> 26.72
     assert abs(amps[0] - M * V_Q / 2) > 0.2
@@ -448,7 +355,7 @@ def test_dead_time_mean_voltage_loss(pwm, angle):
     Duties stay in [0.3, 0.7] so that no edge is clipped at the period end.
     Both forms are a handful of double operations: 1e-12 u_dc."""
     t_dead = 2e-6
-    s = scenario(pwm=pwm, t_dead=t_dead, psi_r=0.0, J=1e4)
+    s = vary(SPMSM, pwm=pwm, t_dead=t_dead, psi_r=0.0, J=1e4)
     u_dc, T = s.inverter.u_dc, s.T_sp
     ld = leg_dir(u_dc)
     p = Plant(s)
@@ -476,7 +383,7 @@ def test_dead_time_mean_voltage_loss(pwm, angle):
 
 def test_adc_gain_offset_per_phase_exact():
     gain, offset = (1.03, 0.97, 1.11), (0.05, -0.2, 0.7)
-    s = scenario(psi_r=0.0, J=1e4, adc=AdcCfg(gain=gain, offset=offset, noise=0.0, bits=0))
+    s = vary(SPMSM, psi_r=0.0, J=1e4, gain=gain, offset=offset)
     p = Plant(s)
     for _ in range(30):
         p.step((0.6, 0.45, 0.47))
@@ -502,14 +409,14 @@ def test_adc_quantisation_mid_tread_and_clamp():
     vals = list(cases)
     for j in range(0, len(vals), 3):
         chunk = (vals[j:j + 3] + [0.0, 0.0])[:3]
-        s = scenario(adc=AdcCfg(offset=tuple(chunk), noise=0.0, bits=bits, full_scale=FS))
+        s = vary(SPMSM, offset=tuple(chunk), bits=bits, full_scale=FS)
         got = Plant(s).sample()
         assert list(got) == [cases[v] for v in chunk], (chunk, got)
     # property over many inputs: output on the code grid, |error| <= lsb/2 inside range
     rng = np.random.default_rng(3)
     v = rng.uniform(-FS, FS - lsb, 300)
     for j in range(0, 300, 3):
-        s = scenario(adc=AdcCfg(offset=tuple(v[j:j + 3]), noise=0.0, bits=bits, full_scale=FS))
+        s = vary(SPMSM, offset=tuple(v[j:j + 3]), bits=bits, full_scale=FS)
         got = Plant(s).sample()
         assert np.all(np.abs(got - v[j:j + 3]) <= lsb / 2 + 1e-12)
         assert np.all(got / lsb == np.round(got / lsb))
@@ -517,7 +424,7 @@ def test_adc_quantisation_mid_tread_and_clamp():
 
 def test_adc_noise_statistics_and_seed():
     sigma = 0.1
-    s = scenario(adc=AdcCfg(noise=sigma, bits=0, seed=42))
+    s = vary(SPMSM, noise=sigma, seed=42)
     p = Plant(s)  # current 0: samples are pure noise
     x = np.array([p.sample() for _ in range(20000)]).ravel()
     n = x.size
@@ -531,7 +438,7 @@ def test_adc_noise_statistics_and_seed():
     # lag-1 correlation of white noise ~ N(0, 1/n), 5 sigma
     assert abs(np.corrcoef(x[1:], x[:-1])[0, 1]) <= 5 / math.sqrt(n)
     # same seed, same sequence; another seed, another sequence
-    p1, p2, p3 = Plant(s), Plant(s), Plant(s.replace(adc=AdcCfg(noise=sigma, bits=0, seed=43)))
+    p1, p2, p3 = Plant(s), Plant(s), Plant(vary(s, seed=43))
     a = np.array([p1.sample() for _ in range(50)])
     b = np.array([p2.sample() for _ in range(50)])
     c = np.array([p3.sample() for _ in range(50)])

@@ -28,11 +28,18 @@ _D3 = ct.c_double * 3
 
 class Plant:
     """Inverter (+ LCL filter) + SPMSM + ADC of a scenario, stepped one
-    carrier period at a time."""
+    carrier period at a time. Keyword arguments set fields of the C config
+    (``smd_plant_config``) before init, e.g. an arbitrary initial rotor-frame
+    state (``i_d0``, ``i_q0``, ``uc_d0``, ``uc_q0``, ``i1_d0``, ``i1_q0``) that a
+    Scenario sets only as its warm start."""
 
-    def __init__(self, s: Scenario):
+    def __init__(self, s: Scenario, **config_fields: float):
         self.scenario = s
         self.config = plant_config(s)
+        for k, v in config_fields.items():
+            if not hasattr(self.config, k):
+                raise TypeError(f"smd_plant_config has no field {k!r}")
+            setattr(self.config, k, v)
         self._buf = (ct.c_double * math.ceil(_ffi.lib.smd_sizeof_plant() / 8 + 1))()
         rc = _ffi.lib.smd_plant_init(self._buf, ct.byref(self.config))
         if rc != 0:
