@@ -27,7 +27,7 @@ static smd_status check_parts(const smd_drive_config *c)
     if (c->lcl && c->position == SMD_POS_SMDO_EMF) {
         return SMD_ERR_COMBINATION; /* the SMDO's model (15) has no filter */
     }
-    if (!c->lcl && smd_in_range(c->R_v, SMD_R(0.0), SMD_R(1e4)) && c->R_v > SMD_R(0.0)) {
+    if (!c->lcl && c->R_v > SMD_R(0.0)) {
         return SMD_ERR_COMBINATION; /* active damping needs the filter current i_1 */
     }
     return SMD_OK;
@@ -220,6 +220,13 @@ static smd_status observe_lcl(const smd_drive_params *p, smd_drive_state *s, smd
         st = smd_linobs_step(&p->lin, &s->pos.u.lin, i1_ab, i2_ab, s->u_ab, w_o);
         sg = w_o < SMD_R(0.0) ? SMD_R(-1.0) : SMD_R(1.0);
         s->pos.theta_err = smd_wrap_pi(SMD_ATAN2(-sg * l->x2[2], sg * l->x2[3]) - theta_o);
+        if (st != SMD_OK) {
+            /* the observer was reset (non-finite data): its zero EMF has no
+             * angle, and atan2(0, 0) - theta_o would kick the PLL by up to
+             * pi; no correction this sample, as from the sliding-mode
+             * observer after its reset */
+            s->pos.theta_err = SMD_R(0.0);
+        }
     }
     return st;
 }
@@ -235,8 +242,11 @@ static smd_cplx emf_estimate(const smd_drive_params *p, const smd_drive_state *s
     case SMD_POS_LCL_LINEAR:
         return smd_ab_to_dq(smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3]), theta_k);
     case SMD_POS_SMDO_EMF:
-        /* u_d_hat^{k+1} belongs to the middle of [t_{k+1}, t_{k+2}) */
-        return smd_ab_to_dq(s->smdo.u_d_hat, theta_k + SMD_R(1.5) * w_k * p->T_sp);
+        /* u_d_hat^{k+1} belongs to the middle of [t_{k+1}, t_{k+2}); the
+         * disturbance of model (15) is minus the EMF, u_d = -j w psi e^{j theta}
+         * (eq. (43)), so the EMF estimate is -u_d_hat */
+        return smd_ab_to_dq(smd_cscale(s->smdo.u_d_hat, SMD_R(-1.0)),
+                            theta_k + SMD_R(1.5) * w_k * p->T_sp);
     default:
         return smd_c(SMD_R(0.0), w_k * p->psi_r_hat); /* e = j w psi, rotor frame */
     }
@@ -309,7 +319,9 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
         theta_next = smd_wrap_pi(in->theta_enc + in->w_enc * T);
         w_next = in->w_enc;
         s->samples++;
-        if (s->samples >= p->handover) {
+        if (s->samples >= p->handover && isfinite(theta_next) && isfinite(w_next)) {
+            /* (a non-finite encoder sample would stay in the PLL for good:
+             * the handover waits for a finite one) */
             s->phase = SMD_PHASE_SOURCE;
             smd_pll_reset(&s->pos.pll, theta_next, w_next);
         }
@@ -391,9 +403,10 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
     }
     s->u_ab_ref = u_ref;
     smd_svm_step(&p->svm, u_ref, in->u_dc, out->d_abc, &s->u_ab_next);
-    if (p->current == SMD_CC_PI) {
+    if (p->current == SMD_CC_PI && p->k_i_i > SMD_R(0.0)) {
         /* anti-windup: keep the integrator where the limited voltage is what
-         * the law would have given */
+         * the law would have given (without integral action there is no
+         * integrator to keep: a P law must not remember a saturation) */
         smd_cplx du = smd_csub(s->u_ab_next, u_ref);
         if (smd_cabs(du) > SMD_R(1e-6) * (SMD_R(1.0) + smd_cabs(u_ref))) {
             s->x_i = smd_cadd(s->x_i, smd_ab_to_dq(du, theta_k + SMD_R(1.5) * w_k * T));

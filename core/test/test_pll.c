@@ -18,6 +18,7 @@ static void test_recursion_hand_values(void)
     smd_pll_params p;
     smd_pll_state s;
     CHECK_INT(smd_pll_init(&p, R(1e-3), R(0.1), R(10.0), R(10.0)), SMD_OK);
+    CHECK_CLOSE(p.T_sp, R(1e-3), 0.0); /* the sampling period is kept as T_sp */
     smd_pll_reset(&s, R(0.1), R(100.0));
     smd_pll_step(&p, &s, R(0.2));
     CHECK_CLOSE(s.theta, 0.22, 1e3 * SMDT_EPS);
