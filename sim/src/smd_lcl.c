@@ -20,8 +20,6 @@
 #include <complex.h>
 #include <math.h>
 
-#define TWO_PI 6.283185307179586476925
-#define PI 3.141592653589793238463
 
 /* a = e^{j 2 pi / 3}: phase b and c unit vectors */
 static const double A_RE = -0.5;
@@ -30,8 +28,6 @@ static const double A_IM = 0.86602540378443864676;
 /* Below these |arguments| the divided differences use their Taylor series
  * (truncation error ~ x^4 / 120 < 1e-14; the direct forms lose ~1e-16/|x|). */
 #define SERIES_EPS 1e-3
-
-static double wrap_pi(double x) { return x - TWO_PI * floor((x + PI) / TWO_PI); }
 
 /* |z| < SERIES_EPS without a square root */
 static int small(double complex z)
@@ -230,7 +226,7 @@ void smd_lcl_step(smd_plant *p, const double d_abc[3], double T_ext, double T_br
     double complex x[3], z[3], zT[3], Sint[3], G[3] = {0.0, 0.0, 0.0}, S[3] = {0.0, 0.0, 0.0};
     double complex leg_dir[3], ejth0, E0, ejwT, u_mean = 0.0, i2_int;
     double i1_abc[3];
-    double T_L, T_e0, w_mid, w_e, T_e_mean, w1, th_int;
+    double T_L, T_e0, w_mid, w_e, T_e_mean;
     lcl_kernel k;
     int m, xl;
 
@@ -317,19 +313,11 @@ void smd_lcl_step(smd_plant *p, const double d_abc[3], double T_ext, double T_br
     i2_int = conj(ejth0) * (md->v[2][0] * Sint[0] + md->v[2][1] * Sint[1] + md->v[2][2] * Sint[2]);
     T_e_mean = Kt * cimag(i2_int) / T;
 
-    /* Mechanics: J dw/dt = T_e - T_L - B w, exact for the period's torque. */
-    smd_mech_advance(c, T_e_mean, T_L, T_brake, p->w_M, T, &w1, &th_int, &T_L);
-
     p->uc_re = creal(x[0]);
     p->uc_im = cimag(x[0]);
     p->i1_re = creal(x[1]);
     p->i1_im = cimag(x[1]);
     p->i_re = creal(x[2]);
     p->i_im = cimag(x[2]);
-    p->theta_r = wrap_pi(p->theta_r + c->n_p * th_int);
-    p->w_M = w1;
-    p->T_e_mean = T_e_mean;
-    p->T_L_mean = T_L;
-    p->u_re = creal(u_mean);
-    p->u_im = cimag(u_mean);
+    smd_plant_end_period(p, T_e_mean, T_L, T_brake, u_mean);
 }

@@ -249,3 +249,16 @@ void smd_mech_advance(const smd_plant_config *c, double T_e, double T_L, double 
     }
 }
 
+void smd_plant_end_period(smd_plant *p, double T_e_mean, double T_L, double T_brake,
+                          double complex u_mean)
+{
+    double w1, th_int;
+    /* J dw/dt = T_e - T_L - B w, exact for the period's mean torque */
+    smd_mech_advance(&p->c, T_e_mean, T_L, T_brake, p->w_M, p->c.T_sw, &w1, &th_int, &T_L);
+    p->theta_r = wrap_pi(p->theta_r + p->c.n_p * th_int);
+    p->w_M = w1;
+    p->T_e_mean = T_e_mean;
+    p->T_L_mean = T_L;
+    p->u_re = creal(u_mean);
+    p->u_im = cimag(u_mean);
+}

@@ -6,8 +6,6 @@
 #include <complex.h>
 #include <math.h>
 
-#define TWO_PI 6.283185307179586476925
-#define PI 3.141592653589793238463
 
 /* a = e^{j 2 pi / 3}: phase b and c unit vectors */
 static const double A_RE = -0.5;
@@ -20,11 +18,6 @@ static double complex phi1(double complex x)
         return 1.0 - x / 2.0 + x * x / 6.0 - x * x * x / 24.0;
     }
     return (1.0 - cexp(-x)) / x;
-}
-
-static double wrap_pi(double x)
-{
-    return x - TWO_PI * floor((x + PI) / TWO_PI);
 }
 
 /* Integral over [0, tau] of the unit step response g(s) = (1 - e^{-a s}) / R
@@ -87,7 +80,7 @@ void smd_spmsm_step(smd_plant *p, const double d_abc[3], double T_ext, double T_
     double complex leg_dir[3];
     double complex i1, i_int, u_mean, C, Ap;
     double i_abc[3];
-    double T_e0, T_L, T_e_mean, w_mid, w_e, w1, th_int;
+    double T_e0, T_L, T_e_mean, w_mid, w_e;
     double complex ejth0 = cexp(I * p->theta_r);
     edge_kernel ek;
     int x;
@@ -146,15 +139,7 @@ void smd_spmsm_step(smd_plant *p, const double d_abc[3], double T_ext, double T_
     /* Mean torque over the period, 1.5 n_p psi Im{i e^{-j theta}}. */
     T_e_mean = Kt * cimag(i_int) / T;
 
-    /* Mechanics: J dw/dt = T_e - T_L - B w, exact for the period's torque. */
-    smd_mech_advance(c, T_e_mean, T_L, T_brake, p->w_M, T, &w1, &th_int, &T_L);
-
     p->i_re = creal(i1);
     p->i_im = cimag(i1);
-    p->theta_r = wrap_pi(p->theta_r + c->n_p * th_int);
-    p->w_M = w1;
-    p->T_e_mean = T_e_mean;
-    p->T_L_mean = T_L;
-    p->u_re = creal(u_mean);
-    p->u_im = cimag(u_mean);
+    smd_plant_end_period(p, T_e_mean, T_L, T_brake, u_mean);
 }

@@ -137,5 +137,10 @@ double smd_load_torque(const smd_plant_config *c, double w_M, double T_ext, doub
  * (from smd_load_torque at w0): end speed, integral of w, mean load torque. */
 void smd_mech_advance(const smd_plant_config *c, double T_e, double T_L, double T_brake,
                       double w0, double T, double *w1, double *th, double *T_L_mean);
+/* End of a solver's period: the mechanics over it (smd_mech_advance with the
+ * period's mean torque and the load T_L of its start), the angle, and the
+ * period means; the solver has written the electrical state. */
+void smd_plant_end_period(smd_plant *p, double T_e_mean, double T_L, double T_brake,
+                          double complex u_mean);
 
 #endif
