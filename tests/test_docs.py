@@ -15,7 +15,10 @@ import json
 import math
 import re
 import shlex
-import tomllib
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10: the same parser as a package
+    import tomli as tomllib
 from contextlib import redirect_stdout
 from pathlib import Path
 

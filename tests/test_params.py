@@ -15,7 +15,10 @@ from __future__ import annotations
 import dataclasses
 import math
 import string
-import tomllib
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10: the same parser as a package
+    import tomli as tomllib
 from pathlib import Path
 
 import pytest

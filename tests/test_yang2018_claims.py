@@ -9,6 +9,7 @@ bring the result inside the claim's bound.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import json
 import math
 
@@ -16,7 +17,7 @@ import numpy as np
 import pytest
 
 from smodrive.analysis import metrics
-from smodrive.claims import write_claims
+from smodrive.claims import Claim, write_claims
 from smodrive.scenarios import yang2018 as y
 from smodrive.simulate import simulate
 
@@ -53,12 +54,17 @@ KNOWN_FAILING = {
 }
 
 
+@functools.cache
+def paper_claims() -> tuple[Claim, ...]:
+    """Every claim of yang2018 in the order of the reproduction, computed
+    once per test session (tests/test_claims_data.py checks them against
+    the data file)."""
+    return tuple(c for exp in y.EXPERIMENTS for c in exp.run(lambda name, frac: None).claims)
+
+
 @pytest.fixture(scope="module")
 def claims():
-    out = []
-    for exp in y.EXPERIMENTS:
-        out += exp.run(lambda name, frac: None).claims
-    return {c.id: c for c in out}
+    return {c.id: c for c in paper_claims()}
 
 
 def test_every_required_claim_is_produced(claims):
@@ -144,11 +150,16 @@ def test_fig6a_ripple_is_adc_noise():
     assert r_mm / r_ex <= 1.5
 
 
-@pytest.mark.parametrize("scenario", [lambda: y.fig7_scenario(75.0), y.fig9_scenario])
-def test_low_speed_peaks_are_adc_noise_and_dead_time(scenario):
+@pytest.mark.parametrize("scenario, cid", [
+    (lambda: y.fig7_scenario(75.0), "yang2018.fig7b.pos_error_peak_deg"),
+    (y.fig9_scenario, "yang2018.fig9.pos_error_peak_deg"),
+])
+def test_low_speed_peaks_are_adc_noise_and_dead_time(claims, scenario, cid):
     """With an ideal ADC and no dead time the low-speed peak position error
-    is inside the claims' 10 deg bound."""
+    is inside the claims' 10 deg bound (and its quoted 1.1 deg)."""
+    bound = claims[cid].tolerance
+    assert bound == 10.0 and claims[cid].check == "max"
     s = _ideal_inverter(_ideal_adc(scenario()))
     r = simulate(s)
     m = r.window(y.HANDOVER, s.duration)
-    assert np.max(np.abs(np.degrees(r.theta_error[m]))) <= y.POS_PEAK_MAX_DEG
+    assert np.max(np.abs(np.degrees(r.theta_error[m]))) <= min(bound, 1.1)

@@ -7,6 +7,7 @@ or the number the reason quotes is verified.
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 
@@ -14,7 +15,7 @@ import numpy as np
 import pytest
 
 from smodrive.analysis import metrics
-from smodrive.claims import write_claims
+from smodrive.claims import Claim, write_claims
 from smodrive.design import yao2022 as dz
 import dataclasses
 
@@ -50,12 +51,27 @@ IDEAL = dataclasses.replace(y.ADC, gain=(1.0, 1.0, 1.0), gain_i1=(1.0, 1.0, 1.0)
 GAINS_ONLY = dataclasses.replace(y.ADC, noise=0.0, bits=0)
 
 
-@pytest.fixture(scope="module")
-def claims():
+# the figure closures of Table V's run (kept to check what they write)
+TABLE5_FIGURES: list = []
+
+
+@functools.cache
+def paper_claims() -> tuple[Claim, ...]:
+    """Every claim of yao2022 in the order of the reproduction, computed
+    once per test session (tests/test_claims_data.py checks them against
+    the data file)."""
     out = []
     for exp in y.EXPERIMENTS:
-        out += exp.run(lambda name, frac: None).claims
-    return {c.id: c for c in out}
+        outcome = exp.run(lambda name, frac: None)
+        out += outcome.claims
+        if exp.id == "yao2022.table5":
+            TABLE5_FIGURES[:] = outcome.figures
+    return tuple(out)
+
+
+@pytest.fixture(scope="module")
+def claims():
+    return {c.id: c for c in paper_claims()}
 
 
 def test_every_required_claim_is_produced(claims):
@@ -143,12 +159,23 @@ def test_fig14_peak_is_mostly_adc_noise(claims):
     assert _peak_after_handover(simulate(s.replace(adc=IDEAL)), s) < 0.04
 
 
-def test_fig22_peak_is_adc_noise():
+def test_fig22_peak_is_adc_noise(claims):
     """Without ADC noise the reversal's peak error is inside the claim's bound."""
+    c = claims["yao2022.fig22.reversal_pos_error_peak_rad"]
+    assert c.check == "max" and c.tolerance == 0.2
     s = y.fig22_scenario()
     r = simulate(s.replace(adc=GAINS_ONLY))
     m = r.window(0.05, s.duration) & (np.abs(r.n_rpm) > y.REVERSAL_BAND)
-    assert np.max(np.abs(r.theta_error[m])) <= 0.2
+    assert np.max(np.abs(r.theta_error[m])) <= c.tolerance
+
+
+def test_fig17_18_closure_returns_both_figures(claims, tmp_path):
+    """Table V's run plots Figs. 17 and 18 in one closure; it returns both
+    paths (report.md embeds every path a closure returns)."""
+    plots = dict(TABLE5_FIGURES)
+    paths = plots["yao2022_fig17_18"](tmp_path)
+    assert [p.name for p in paths] == ["yao2022_fig17.png", "yao2022_fig18.png"]
+    assert all(p.is_file() and p.stat().st_size > 10_000 for p in paths)
 
 
 def test_linear_observer_keeps_its_poles_with_a_capacitance_error():

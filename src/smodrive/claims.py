@@ -5,6 +5,9 @@ from __future__ import annotations
 
 import json
 import math
+import re
+import string
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Literal
@@ -77,48 +80,210 @@ def write_claims(claims: list[Claim], path: Path) -> None:
 
 
 # ------------------------------------------------------ claims as data ---
+#
+# A paper's claims live in `<paper>.claims.toml` beside its scenario module:
+# one table per claim id (or per family of ids, the id holding `{fields}`),
+# with the statement, unit, check, the paper's value and the tolerance where
+# they are fixed, the basis of the tolerance and the reason stated if the
+# claim fails. Texts shared by several claims sit in the table `[text]` and
+# are referenced as `{text.NAME}`. The run supplies what it measures.
+
+SPEC_KEYS = ("statement", "unit", "check", "paper", "tolerance", "basis", "why_fail")
+CHECKS = ("abs", "rel", "max", "min")
+TEXT_TABLE = "text"
+# arguments of ClaimSpec.make, so not available as field names
+_RESERVED = {"reproduced", "expected", "paper", "tolerance"}
+
+_formatter = string.Formatter()
+
+
+def _field_names(text: str, where: str) -> set[str]:
+    """The `{name}` fields of a text (format specs allowed, `{{` escapes);
+    positional, indexed or attribute fields are an error."""
+    names = set()
+    try:
+        parsed = list(_formatter.parse(text))
+    except ValueError as exc:
+        raise ValueError(f"{where}: {exc}") from None
+    for _, name, _, conv in parsed:
+        if name is None:
+            continue
+        if not name.isidentifier() or name in _RESERVED or conv:
+            raise ValueError(f"{where}: field {{{name}}} is not a plain name "
+                             f"(or is one of {sorted(_RESERVED)})")
+        names.add(name)
+    return names
+
 
 @dataclass(frozen=True)
 class ClaimSpec:
-    """What a claim says, as data (a paper's `<paper>.claims.toml`): the
-    statement (with `{name}` fields filled by the run), unit, check, the
-    paper's value and the tolerance where they are fixed, the basis of the
-    tolerance and the reason stated if it fails. The run supplies the
-    reproduced value (and what it computes: expected, tolerance, fields)."""
+    """What a claim says, as data: the statement (with `{name}` fields
+    filled by the run), unit, check, the paper's value and the tolerance
+    where they are fixed, the basis of the tolerance and the reason stated if
+    it fails. The id may hold fields too (one spec for a family, e.g. per
+    speed); `paper` and `tolerance` are then a number for every member or a
+    table by concrete claim id. The run supplies the reproduced value (and
+    what it computes: expected, a computed tolerance, the fields)."""
 
     id: str
     statement: str
     unit: str = ""
     check: Check = "abs"
-    paper: float | None = None
-    tolerance: float | None = None
+    paper: float | dict[str, float] | None = None
+    tolerance: float | dict[str, float] | None = None
     basis: str = ""
     why_fail: str = ""
 
-    def make(self, reproduced: float, expected: float | None = None, *,
+    def __post_init__(self) -> None:
+        if self.check not in CHECKS:
+            raise ValueError(f"{self.id}: check {self.check!r} is not one of {CHECKS}")
+        for name in ("id", "statement", "unit", "basis", "why_fail"):
+            if not isinstance(getattr(self, name), str):
+                raise ValueError(f"{self.id}: {name} must be a string")
+        self.fields()  # the texts parse, with plain names only
+        for name in ("paper", "tolerance"):
+            v = getattr(self, name)
+            values = v.values() if isinstance(v, dict) else [] if v is None else [v]
+            if not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in values):
+                raise ValueError(f"{self.id}: {name} must be a number or a table of numbers "
+                                 "by claim id")
+            if isinstance(v, dict):
+                bad = [k for k in v if not self.matches(k)]
+                if bad:
+                    raise ValueError(f"{self.id}: {name} for ids not of this spec: {bad}")
+
+    def fields(self) -> set[str]:
+        """The names the run must supply (in the id and the texts)."""
+        return set().union(*(_field_names(getattr(self, k), f"{self.id}: {k}")
+                             for k in ("id", "statement", "basis", "why_fail")))
+
+    def matches(self, cid: str) -> bool:
+        """Whether the concrete claim id `cid` is a member of this spec."""
+        pattern = "".join(re.escape(lit) + ("" if name is None else ".+?")
+                          for lit, name, _, _ in _formatter.parse(self.id))
+        return re.fullmatch(pattern, cid) is not None
+
+    def ids(self) -> set[str] | None:
+        """The concrete ids the data names (the id itself without fields, the
+        keys of a `paper` or `tolerance` table), or None if only the run
+        can tell."""
+        if not _field_names(self.id, self.id):
+            return {self.id}
+        keys = set()
+        for v in (self.paper, self.tolerance):
+            if isinstance(v, dict):
+                keys |= set(v)
+        return keys or None
+
+    def _fixed(self, name: str, cid: str, from_run: float | None) -> float | None:
+        data = getattr(self, name)
+        if data is not None and from_run is not None:
+            raise ValueError(f"{cid}: {name} is fixed in the data and given by the run")
+        if isinstance(data, dict):
+            if cid not in data:
+                raise ValueError(f"{cid}: no {name} for this id in the table of {self.id}")
+            return data[cid]
+        return data if from_run is None else from_run
+
+    def make(self, reproduced: float, /, expected: float | None = None, *,
              paper: float | None = None, tolerance: float | None = None, **fields) -> Claim:
-        """The claim of one run; `fields` fill `{name}` in the texts."""
-        tol = self.tolerance if tolerance is None else tolerance
+        """The claim of one run; `fields` fill `{name}` in the id and texts.
+        A field the texts need and the run does not give, or one it gives
+        that no text uses, is an error (so neither text nor number is lost)."""
+        need = self.fields()
+        missing, unused = need - set(fields), set(fields) - need
+        if missing or unused:
+            raise ValueError(f"{self.id}: unfilled fields {sorted(missing)}, "
+                             f"unused fields {sorted(unused)}")
+        cid = self.id.format(**fields)
+        tol = self._fixed("tolerance", cid, tolerance)
         if tol is None:
-            raise ValueError(f"{self.id}: no tolerance in the data or from the run")
+            raise ValueError(f"{cid}: no tolerance in the data or from the run")
         return Claim(
-            id=self.id, statement=self.statement.format(**fields),
-            paper=self.paper if paper is None else paper, expected=expected,
+            id=cid, statement=self.statement.format(**fields),
+            paper=self._fixed("paper", cid, paper), expected=expected,
             reproduced=reproduced, unit=self.unit, tolerance=tol, check=self.check,
             basis=self.basis.format(**fields), why_fail=self.why_fail.format(**fields))
 
 
-def load_specs(path: Path) -> dict[str, ClaimSpec]:
-    """Every claim of a `<paper>.claims.toml` by id (tables keyed by id;
-    keys of ClaimSpec; unknown keys are an error)."""
-    import tomllib
+class ClaimSpecs(Mapping[str, ClaimSpec]):
+    """The specs of one data file by (template) id, and `claim(id, ...)` to
+    build a claim from one of them."""
 
-    data = tomllib.loads(Path(path).read_text())
-    names = set(ClaimSpec.__dataclass_fields__) - {"id"}
+    def __init__(self, specs: dict[str, ClaimSpec], path: Path | None = None):
+        self._specs = dict(specs)
+        self.path = path
+
+    def __getitem__(self, key: str) -> ClaimSpec:
+        try:
+            return self._specs[key]
+        except KeyError:
+            raise KeyError(f"no claim spec {key!r} in {self.path}") from None
+
+    def __iter__(self):
+        return iter(self._specs)
+
+    def __len__(self) -> int:
+        return len(self._specs)
+
+    def claim(self, key: str, reproduced: float, /, expected: float | None = None,
+              **kw) -> Claim:
+        """`self[key].make(reproduced, expected, **kw)`."""
+        return self[key].make(reproduced, expected, **kw)
+
+    def spec_of(self, cid: str) -> ClaimSpec | None:
+        """The spec a concrete claim id belongs to (None if none; an error if
+        the templates are ambiguous)."""
+        hits = [s for s in self._specs.values() if s.matches(cid)]
+        if len(hits) > 1:
+            raise ValueError(f"{cid} matches several specs: {[s.id for s in hits]}")
+        return hits[0] if hits else None
+
+
+def _shared_texts(data: dict, path: Path) -> dict[str, str]:
+    texts = data.pop(TEXT_TABLE, {})
+    if not isinstance(texts, dict) or not all(isinstance(v, str) for v in texts.values()):
+        raise ValueError(f"{path}: [{TEXT_TABLE}] must hold strings")
+    return texts
+
+
+def load_specs(path: Path) -> ClaimSpecs:
+    """Every claim spec of a `<paper>.claims.toml` by id: tables keyed by
+    (template) id with the keys of ClaimSpec, and the optional `[text]` table
+    of shared texts referenced as `{text.NAME}`. Unknown keys, missing
+    statements, unknown or unused shared texts are errors."""
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10: the same parser as a package
+        import tomli as tomllib
+
+    path = Path(path)
+    data = tomllib.loads(path.read_text())
+    texts = _shared_texts(data, path)
+    used: set[str] = set()
+    ref = re.compile(r"\{" + TEXT_TABLE + r"\.(\w+)\}")
+
+    def expand(text: str, where: str) -> str:
+        def sub(m: re.Match) -> str:
+            if m.group(1) not in texts:
+                raise ValueError(f"{path}: {where}: no shared text {m.group(0)}")
+            used.add(m.group(1))
+            return texts[m.group(1)]
+        return ref.sub(sub, text)
+
     out = {}
     for cid, spec in data.items():
-        unknown = set(spec) - names
+        if not isinstance(spec, dict):
+            raise ValueError(f"{path}: {cid} is not a table")
+        unknown = set(spec) - set(SPEC_KEYS)
         if unknown:
             raise ValueError(f"{path}: claim {cid}: unknown keys {sorted(unknown)}")
+        if "statement" not in spec:
+            raise ValueError(f"{path}: claim {cid}: no statement")
+        spec = {k: expand(v, f"{cid}.{k}") if isinstance(v, str) else v
+                for k, v in spec.items()}
         out[cid] = ClaimSpec(id=cid, **spec)
-    return out
+    orphans = set(texts) - used
+    if orphans:
+        raise ValueError(f"{path}: shared texts used by no claim: {sorted(orphans)}")
+    return ClaimSpecs(out, path)

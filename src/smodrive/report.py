@@ -42,11 +42,19 @@ def reproduce(
             rep.samples += sum(r.data.shape[0] * r.scenario.log_stride
                                for r in outcome.results.values())
             for _, plot in outcome.figures:
-                rep.figures.append(plot(fig_dir))
+                rep.figures.extend(_paths(plot(fig_dir)))
     rep.seconds = time.perf_counter() - t0
     write_claims(rep.claims, out / "claims.json")
     (out / "report.md").write_text(render_report(rep, papers, out))
     return rep
+
+
+def _paths(written: Path | list[Path] | tuple[Path, ...]) -> list[Path]:
+    """What a figure closure returns: the path of its file, or of each file
+    when it writes several (all are embedded in the report)."""
+    if isinstance(written, (list, tuple)):
+        return [Path(p) for p in written]
+    return [Path(written)]
 
 
 def _fmt(x: float | None) -> str:

@@ -24,7 +24,8 @@ class Experiment:
 class Outcome:
     claims: list[Claim]
     results: dict[str, Result] = field(default_factory=dict)
-    figures: list[tuple[str, Callable]] = field(default_factory=list)  # (name, plot(fig_dir))
+    # (name, plot(fig_dir)): the closure writes the figure(s), returns a path or a list of paths
+    figures: list[tuple[str, Callable]] = field(default_factory=list)
 
 
 def run_sim(s: Scenario, progress: ProgressFn, **kw) -> Result:

@@ -11,13 +11,13 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Callable
 
 import numpy as np
 
 from ..analysis import metrics, tf
-from ..claims import Claim
+from ..claims import Claim, load_specs
 from ..params import (
     RPM,
     AdcCfg,
@@ -31,6 +31,11 @@ from ..params import (
 )
 from ..simulate import Result
 from .common import Experiment, Outcome, ProgressFn, run_sim
+
+# what each claim says (statements, units, checks, fixed values and
+# tolerances, their bases and failure reasons) is data, yang2018.claims.toml
+SPECS = load_specs(Path(__file__).with_suffix(".claims.toml"))
+claim = SPECS.claim
 
 MOTOR = MotorPars()
 T_N = MOTOR.T_N  # rated torque, N m
@@ -205,45 +210,12 @@ def run_fig1(progress: ProgressFn) -> Outcome:
     amp = abs(metrics.sine_amplitude(r_sim.t[m], r_sim["i_d"][m], f_ex)) / s.i_d_sin_amp
     db = lambda x: 20 * math.log10(x)  # noqa: E731
     claims = [
-        Claim(
-            id="yang2018.fig1.peak_gain_db_Lhat_2L",
-            statement=(
-                f"Conventional DBPC with L_hat = 2 L at 10 kHz: peak gain of H(z), eq. (14), "
-                f"from the transfer function (python-control, dense grid), at {f_peak:.1f} Hz; "
-                "expected from the closed form of its pole pair, L_hat / (2 L (1 - r))."
-            ),
-            paper=None, expected=db(peak_closed), reproduced=db(peak), unit="dB",
-            tolerance=0.1,
-            basis="the closed form neglects the pole angle's offset from pi/2 (0.14 deg) and "
-                  "the second pole's distance, both O(1 - r) = 0.24 % in gain",
-        ),
-        Claim(
-            id="yang2018.fig1.sim_peak_gain_db_Lhat_2L_vs_eq14",
-            statement=(
-                f"The same closed loop measured with the C controller and the exact plant "
-                f"(locked rotor, averaged PWM, ideal ADC, i_d reference injected at {f_ex:.1f} "
-                "Hz) against the peak eq. (14) predicts."
-            ),
-            paper=None, expected=db(peak), reproduced=db(amp), unit="dB", tolerance=1.0,
-            basis="1 dB: eq. (14) drops T_sp^2 terms",
-            why_fail=(
-                "eq. (14) takes the Euler model (3) for the plant; its resonance damping is "
-                "itself O(R T_sp / L), so the dropped second-order terms matter: with the "
-                "exact plant the pole radius is 0.99282 instead of 0.99760 and the peak "
-                f"{db(peak_ex):.2f} dB (next claim), not {db(peak):.2f} dB "
-                "(docs/errata.md)."
-            ),
-        ),
-        Claim(
-            id="yang2018.fig1.sim_peak_gain_db_Lhat_2L_vs_exact",
-            statement=(
-                "The measured closed-loop peak against the exact discrete closed loop of "
-                "(8)-(9) with the zero-order-hold plant (no terms dropped)."
-            ),
-            paper=None, expected=db(peak_ex), reproduced=db(amp), unit="dB", tolerance=0.2,
-            basis="float32 controller arithmetic and the finite window; the resonance "
-                  "decays with a 14 ms time constant, so 0.6 s of settling is ample; 0.2 dB",
-        ),
+        claim("yang2018.fig1.peak_gain_db_Lhat_2L", db(peak), expected=db(peak_closed),
+              f_peak=f_peak),
+        claim("yang2018.fig1.sim_peak_gain_db_Lhat_2L_vs_eq14", db(amp), expected=db(peak),
+              f_ex=f_ex, peak_exact_db=db(peak_ex), peak_eq14_db=db(peak)),
+        claim("yang2018.fig1.sim_peak_gain_db_Lhat_2L_vs_exact", db(amp),
+              expected=db(peak_ex)),
     ]
 
     def plot(fig_dir):
@@ -273,41 +245,10 @@ def run_fig2(progress: ProgressFn) -> Outcome:
     G_e, _, _ = measure(s_e)
     g_disc = tf.G_smdo_discrete(BASE.controller.w_c, w_mean, s.T_sp, w_mean)
     claims = [
-        Claim(
-            id="yang2018.fig2.gain_at_wr",
-            statement=(
-                "SMDO: |G(j w_r)| of eq. (33) at 1500 r/min (w_c = 1500 rad/s), measured as "
-                "u_d_hat / u_d in the simulation (robust DBPC, exact parameters, no dead time, "
-                "exact rotation in (36)). With the forward-Euler rotation printed in (36) the "
-                f"simulation gives {abs(G_e):.4f} and the Euler filter predicts "
-                f"{abs(g_disc):.4f} (docs/errata.md)."
-            ),
-            paper=1.0,
-            expected=1.0,
-            reproduced=float(abs(G)),
-            unit="",
-            tolerance=0.02,
-            basis=(
-                "eq. (33) is continuous; with the exact rotation the discrete filter on the "
-                "sliding surface has unity gain at w_r too, and what remains is the float32 "
-                "arithmetic and the small PWM and sampling effects; the Euler form would be "
-                "1.3 % high, so 2 % separates a correct filter from a wrong one"
-            ),
-        ),
-        Claim(
-            id="yang2018.fig2.phase_at_wr_deg",
-            statement="SMDO: arg G(j w_r) of eq. (33) at 1500 r/min, measured as above "
-                      f"(Euler rotation: {np.degrees(np.angle(G_e)):.3f} deg).",
-            paper=0.0,
-            expected=0.0,
-            reproduced=float(np.degrees(np.angle(G))),
-            unit="deg",
-            tolerance=1.0,
-            basis=(
-                "the Euler filter's phase error is (wT)^3 / (6 (w_c T - (wT)^2/2)) = 0.02 deg; "
-                "1 deg = 0.017 rad of angle error, small beside the sensorless claims"
-            ),
-        ),
+        claim("yang2018.fig2.gain_at_wr", float(abs(G)), expected=1.0,
+              gain_euler=abs(G_e), gain_euler_filter=abs(g_disc)),
+        claim("yang2018.fig2.phase_at_wr_deg", float(np.degrees(np.angle(G))), expected=0.0,
+              phase_euler_deg=np.degrees(np.angle(G_e))),
     ]
 
     def plot(fig_dir):
@@ -352,101 +293,33 @@ def run_fig5_fig6(progress: ProgressFn) -> Outcome:
     a = st["yang2018.fig5a"]
     ida, _ = tf.dbpc_steady_state(L, MOTOR.R_s, psi, 0.5 * L, MOTOR.R_s, psi, a["w_r"], T,
                                   a["i_d_ref"], a["i_q"])
-    claims.append(Claim(
-        id="yang2018.fig5a.id_offset_A",
-        statement=(
-            "Conventional DBPC, L_hat = 0.5 L, 1500 r/min, rated load: steady-state mean i_d "
-            "(reference 0); expected from eq. (12) with the measured i_q and speed."
-        ),
-        paper=None, expected=ida, reproduced=a["i_d"] - a["i_d_ref"], unit="A",
-        tolerance=round(0.1 * abs(ida) + 0.05, 3),
-        basis=(
-            "eq. (12) drops T_sp^2 terms (relative O(w T) = 6 %) and ignores dead time and "
-            "PWM; 10 % of the prediction plus 0.05 A (dead-time voltage 2 % of u_dc through "
-            "the deadbeat gain 2 T / L_hat)"
-        ),
-    ))
+    claims.append(claim("yang2018.fig5a.id_offset_A", a["i_d"] - a["i_d_ref"], expected=ida,
+                        tolerance=round(0.1 * abs(ida) + 0.05, 3)))
     # Fig. 5(b): ripple with overestimated inductance
     rb = st["yang2018.fig5b"]["ripple"] / st["yang2018.fig5.exact"]["ripple"]
-    claims.append(Claim(
-        id="yang2018.fig5b.ripple_ratio",
-        statement=(
-            "Conventional DBPC, L_hat = 2 L: RMS ripple of i_d and i_q about their means over "
-            "the ripple with exact parameters, 1500 r/min, rated load. Paper: 'significant "
-            "ripple components'; eq. (14) puts a lightly damped pole pair at 2.5 kHz."
-        ),
-        paper=None, expected=None, reproduced=rb, unit="", tolerance=2.0, check="min",
-        basis=(
-            "Fig. 5(b) shows the ripple visibly larger than in Fig. 5(a)-(d); a factor of at "
-            "least 2 is what 'significant' needs to mean on the paper's scale"
-        ),
-    ))
+    claims.append(claim("yang2018.fig5b.ripple_ratio", rb))
     # Fig. 5(c), (d): q-axis error from the flux error, eq. (13)
     for tag, ratio in (("c", 0.5), ("d", 2.0)):
-        k = f"yang2018.fig5{tag}"
-        c = st[k]
+        c = st[f"yang2018.fig5{tag}"]
         _, iq = tf.dbpc_steady_state(L, MOTOR.R_s, psi, L, MOTOR.R_s, ratio * psi, c["w_r"], T,
                                      c["i_d"], c["i_q_ref"])
         exp = iq - c["i_q_ref"]
-        claims.append(Claim(
-            id=f"{k}.iq_error_A",
-            statement=(
-                f"Conventional DBPC, psi_hat = {ratio:g} psi, 1500 r/min, rated load: mean i_q "
-                "minus mean i_q reference; expected from eq. (13)."
-            ),
-            paper=None, expected=exp, reproduced=c["i_q"] - c["i_q_ref"], unit="A",
-            tolerance=round(0.1 * abs(exp) + 0.05, 3),
-            basis="as for fig5a: T_sp^2 terms, dead time and PWM are outside eq. (13)",
-        ))
+        claims.append(claim("yang2018.fig5{letter}.iq_error_A", c["i_q"] - c["i_q_ref"],
+                            expected=exp, tolerance=round(0.1 * abs(exp) + 0.05, 3),
+                            letter=tag, ratio=ratio))
     # Fig. 6: robust DBPC, inductance errors
     for tag, ratio in (("a", 2.0), ("b", 0.5)):
-        k = f"yang2018.fig6{tag}"
-        c = st[k]
-        claims.append(Claim(
-            id=f"{k}.id_offset_A",
-            statement=f"Robust DBPC (SMDO), L_hat = {ratio:g} L, 1500 r/min, rated load: mean "
-                      "i_d minus its reference (paper: i_d kept at zero).",
-            paper=0.0, expected=0.0, reproduced=c["i_d"] - c["i_d_ref"], unit="A",
-            tolerance=0.05,
-            basis="0.05 A is 0.8 % of rated current and 1/10 of the conventional offset of "
-                  "Fig. 5(a); the SMDO estimate has no steady-state error at w_r (eq. (33))",
-        ))
-        claims.append(Claim(
-            id=f"{k}.iq_error_A",
-            statement=f"Robust DBPC (SMDO), L_hat = {ratio:g} L: mean i_q minus mean i_q "
-                      "reference (paper: accurate tracking).",
-            paper=0.0, expected=0.0, reproduced=c["i_q"] - c["i_q_ref"], unit="A",
-            tolerance=0.05,
-            basis="same argument as the d axis",
-        ))
+        c = st[f"yang2018.fig6{tag}"]
+        claims.append(claim("yang2018.fig6{letter}.id_offset_A", c["i_d"] - c["i_d_ref"],
+                            expected=0.0, letter=tag, ratio=ratio))
+        claims.append(claim("yang2018.fig6{letter}.iq_error_A", c["i_q"] - c["i_q_ref"],
+                            expected=0.0, letter=tag, ratio=ratio))
         ratio_r = c["ripple"] / st["yang2018.fig6.exact"]["ripple"]
-        claims.append(Claim(
-            id=f"{k}.ripple_ratio",
-            statement=f"Robust DBPC (SMDO), L_hat = {ratio:g} L: dq current ripple over the "
-                      "ripple of the robust DBPC with exact parameters (paper: no large "
-                      "ripples like Fig. 5(b)).",
-            paper=None, expected=1.0, reproduced=ratio_r, unit="", tolerance=1.5, check="max",
-            basis="at most 1.5 times the exact-parameter ripple, i.e. well below the "
-                  "conventional Fig. 5(b) case",
-            why_fail=(
-                "the ripple comes from ADC noise amplified by the deadbeat gain L_hat / T_sp "
-                "(it vanishes with an ideal ADC); the SMDO (w_c = 1500 rad/s) cannot cancel a "
-                "2.5 kHz mode, so an overestimated L_hat still doubles or triples the ripple. "
-                "It is smaller than the conventional Fig. 5(b) case (next claim)."
-            ),
-        ))
+        claims.append(claim("yang2018.fig6{letter}.ripple_ratio", ratio_r, expected=1.0,
+                            letter=tag, ratio=ratio))
         if tag == "a":
             rel = c["ripple"] / st["yang2018.fig5b"]["ripple"]
-            claims.append(Claim(
-                id="yang2018.fig6a.ripple_vs_fig5b",
-                statement="Robust DBPC with L_hat = 2 L: dq current ripple over that of the "
-                          "conventional DBPC with L_hat = 2 L (Fig. 5(b)), same operating point "
-                          "and ADC noise (paper: 'no large ripples like that in Fig. 5(b)').",
-                paper=None, expected=None, reproduced=rel, unit="", tolerance=0.7, check="max",
-                basis="'no ripples like Fig. 5(b)' needs at least a clear reduction; 0.7 is "
-                      "30 % less, beyond the run-to-run scatter of a noise-driven RMS over "
-                      "4000 samples (about 2 %)",
-            ))
+            claims.append(claim("yang2018.fig6a.ripple_vs_fig5b", rel))
 
     def plot5(fig_dir):
         from .. import plots
@@ -470,26 +343,6 @@ def run_fig5_fig6(progress: ProgressFn) -> Outcome:
     return Outcome(claims, res, [("yang2018_fig5", plot5), ("yang2018_fig6", plot6)])
 
 
-POS_RMS_MAX_DEG = 5.0
-POS_PEAK_MAX_DEG = 10.0
-_POS_BASIS = (
-    "the paper shows no number, only that the estimated position 'almost coincides' with "
-    "the measured one on a 0-2pi scale; 5 deg RMS (1.4 % of the scale) and a 10 deg peak "
-    "are the largest errors that would still look coincident there"
-)
-
-
-LOW_SPEED_WHY = (
-    "at 75-150 r/min the back EMF is only 12.6-25 V. The SMDO passes the assumed ADC noise "
-    "(0.02 A RMS, 12 bits) into u_d_hat (about 1 V RMS), and the dead-time compensation "
-    "leaves volt-second errors of a few volts around each current zero crossing; the "
-    "arctangent of eq. (44) (no PLL, as in the paper) turns both into angle errors with "
-    "peaks above 10 deg. With an ideal ADC and no dead time the peak is below 1.1 deg "
-    "(tests/test_yang2018_claims.py). The RMS error stays within its bound; the paper's "
-    "noise and dead-time figures are not given."
-)
-
-
 def run_fig7(progress: ProgressFn) -> Outcome:
     claims: list[Claim] = []
     res = {}
@@ -498,20 +351,9 @@ def run_fig7(progress: ProgressFn) -> Outcome:
         r = _sim(s, progress)
         res[s.name] = r
         rms_e, peak_e = _pos_err_deg(r, _ss(r, 0.5, 1.0))
-        claims.append(Claim(
-            id=f"yang2018.fig7{tag}.pos_error_deg",
-            statement=f"Sensorless, rated load, {n:g} r/min: RMS electrical position error in "
-                      "steady state.",
-            paper=None, expected=None, reproduced=rms_e, unit="deg",
-            tolerance=POS_RMS_MAX_DEG, check="max", basis=_POS_BASIS,
-        ))
-        claims.append(Claim(
-            id=f"yang2018.fig7{tag}.pos_error_peak_deg",
-            statement=f"Sensorless, rated load, {n:g} r/min: peak electrical position error in "
-                      "steady state.",
-            paper=None, expected=None, reproduced=peak_e, unit="deg",
-            tolerance=POS_PEAK_MAX_DEG, check="max", basis=_POS_BASIS, why_fail=LOW_SPEED_WHY,
-        ))
+        claims.append(claim("yang2018.fig7{letter}.pos_error_deg", rms_e, letter=tag, n=n))
+        claims.append(claim("yang2018.fig7{letter}.pos_error_peak_deg", peak_e, letter=tag,
+                            n=n))
 
     def plot(fig_dir):
         from .. import plots
@@ -553,23 +395,9 @@ def run_fig8(progress: ProgressFn) -> Outcome:
     exp_dip = speed_loop_load_dip(s.controller, s.motor.J, s.motor.n_p, T_N) / RPM
     _, peak = _pos_err_deg(r, r.window(HANDOVER, s.duration))
     claims = [
-        Claim(
-            id="yang2018.fig8.speed_dip_rpm",
-            statement="Sensorless at 1500 r/min: speed dip after the rated load is applied; "
-                      "expected from the linear speed loop (PI + speed-estimate low-pass, "
-                      "ideal current control) with the assumed inertia and gains.",
-            paper=None, expected=exp_dip, reproduced=dip, unit="r/min",
-            tolerance=round(0.2 * exp_dip, 2), check="abs",
-            basis="the linear model ignores the 2-sample current-loop delay and the SMDO "
-                  "dynamics (w_c = 1500 rad/s, 25 times the speed bandwidth); 20 %",
-        ),
-        Claim(
-            id="yang2018.fig8.pos_error_peak_deg",
-            statement="Sensorless at 1500 r/min: peak electrical position error through the "
-                      "rated load step and release (paper: 'small').",
-            paper=None, expected=None, reproduced=peak, unit="deg",
-            tolerance=POS_PEAK_MAX_DEG, check="max", basis=_POS_BASIS,
-        ),
+        claim("yang2018.fig8.speed_dip_rpm", dip, expected=exp_dip,
+              tolerance=round(0.2 * exp_dip, 2)),
+        claim("yang2018.fig8.pos_error_peak_deg", peak),
     ]
 
     def plot(fig_dir):
@@ -590,25 +418,8 @@ def run_fig9(progress: ProgressFn) -> Outcome:
     steady = r.window(HANDOVER, FIG9_UP) | r.window(0.8, FIG9_DOWN) | r.window(1.9, s.duration)
     dw = (r["w_M"][steady] - r["w_hat"][steady] / MOTOR.n_p) / RPM
     claims = [
-        Claim(
-            id="yang2018.fig9.pos_error_peak_deg",
-            statement="Sensorless, 150 -> 1500 -> 150 r/min at 4500 r/min/s: peak electrical "
-                      "position error (paper: 'no excessive position error').",
-            paper=None, expected=None, reproduced=peak, unit="deg",
-            tolerance=POS_PEAK_MAX_DEG, check="max", basis=_POS_BASIS, why_fail=LOW_SPEED_WHY,
-        ),
-        Claim(
-            id="yang2018.fig9.speed_error_mean_rpm",
-            statement="Sensorless, same run: mean speed-estimation error w_r - w_r_hat in the "
-                      "steady-state intervals (paper: 'the average estimation error of rotor "
-                      "speed is zero').",
-            paper=0.0, expected=0.0, reproduced=float(np.mean(dw)), unit="r/min",
-            tolerance=0.5,
-            basis="the speed estimate is the difference of a bounded angle estimate, so its "
-                  "mean over a window of length T_w is off by at most 2 peak error / T_w: "
-                  "with 10 deg electrical over 0.2 s that is 0.1 r/min; 0.5 r/min leaves room "
-                  "for the low-pass transient",
-        ),
+        claim("yang2018.fig9.pos_error_peak_deg", peak),
+        claim("yang2018.fig9.speed_error_mean_rpm", float(np.mean(dw)), expected=0.0),
     ]
 
     def plot(fig_dir):

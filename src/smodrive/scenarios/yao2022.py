@@ -13,6 +13,7 @@ from __future__ import annotations
 import ctypes as ct
 import dataclasses
 import math
+from pathlib import Path
 from typing import Callable
 
 import numpy as np
@@ -20,7 +21,7 @@ import numpy as np
 from .. import _ffi
 from ..analysis import metrics
 from ..analysis import pwm as pwm_an
-from ..claims import Claim
+from ..claims import load_specs
 from ..design import yao2022 as dz
 from ..params import (
     RPM,
@@ -35,6 +36,11 @@ from ..params import (
 )
 from ..simulate import Result
 from .common import Experiment, Outcome, ProgressFn, run_sim
+
+# what each claim says (statements, units, checks, the paper's values, fixed
+# tolerances, their bases and failure reasons) is data, yao2022.claims.toml
+SPECS = load_specs(Path(__file__).with_suffix(".claims.toml"))
+claim = SPECS.claim
 
 # Table II; J and B are not given (assumed), the fan load is fitted to
 # Table IV (i_q = 30 A at 100 kr/min: 1.5 * 0.0012 * 30 / (10472 rad/s)^2 =
@@ -84,20 +90,8 @@ def run_table1(progress: ProgressFn) -> Outcome:
     V_Q, M, N = 60.0, 0.9, 12  # Table I: V_Q = 60 V, M = 0.9, f_s / f_e = 12
     rep = pwm_an.leg_harmonics_from_edges(V_Q, M, N, 5, T=1 / 20e3)
     exp = pwm_an.leg_harmonics_bessel(V_Q, M, N, 5)
-    table = ["26.723", "0.4097", "0.1288", "0.0073", "0.0013"]
-    claims = []
-    for h, (r, e, txt) in enumerate(zip(rep, exp, table), start=1):
-        half_unit = 0.5 * 10.0 ** (-len(txt.split(".")[1]))
-        claims.append(Claim(
-            id=f"yao2022.table1.h{h}_V",
-            statement=(f"Regular-sampled single-phase leg voltage, V_Q = 60 V, M = 0.9, "
-                       f"f_s/f_e = 12: amplitude of harmonic {h}, from the plant's own PWM edges; "
-                       f"the Bessel series of symmetric regular sampling gives {e:.6f} V."),
-            paper=float(txt), expected=None, reproduced=float(r), unit="V",
-            tolerance=half_unit,
-            basis="the paper prints the value rounded to its last decimal, so the exact value "
-                  "lies within half a unit of that decimal",
-        ))
+    claims = [claim("yao2022.table1.h{h}_V", float(r), h=h, bessel=e)
+              for h, (r, e) in enumerate(zip(rep, exp), start=1)]
     progress("yao2022.table1", 1.0)
     return Outcome(claims)
 
@@ -124,18 +118,8 @@ def run_fig4(progress: ProgressFn) -> Outcome:
     e18 = d[2:] - 2 * d[1:-1] + d[:-2]  # eq. (32)
     ratio = float(np.sqrt(np.mean(np.abs(e18) ** 2) / np.mean(np.abs(e17) ** 2)))
     W2 = 2 * 2 * np.pi * 100e3 / 60 * s.T_sp
-    claims = [Claim(
-        id="yao2022.fig4.comp_error_ratio_18_over_17",
-        statement=("100 kr/min: RMS compensation error of the time-delay estimator of ref. [18] "
-                   "(eq. (32)) over that of ref. [17] (eq. (31)), applied to the lumped "
-                   "disturbance d(k) of the simulation (ADC scaling error and PWM harmonics); "
-                   "paper: 'even become worse in [18]'. Per harmonic the ratio is "
-                   f"2 sin(W/2): {2 * math.sin(W2 / 2):.3f} at 2 f_e, "
-                   f"{2 * math.sin(1.5 * W2 / 2):.3f} at 3 f_e."),
-        paper=None, expected=None, reproduced=ratio, unit="", tolerance=1.0, check="min",
-        basis="'worse' means a ratio above 1; at 100 kr/min every component at or above "
-              "2 f_e (3333 Hz, W = pi/3) has 2 sin(W/2) >= 1",
-    )]
+    claims = [claim("yao2022.fig4.comp_error_ratio_18_over_17", ratio,
+                    gain_2fe=2 * math.sin(W2 / 2), gain_3fe=2 * math.sin(1.5 * W2 / 2))]
 
     def plot(fig_dir):
         from .. import plots
@@ -192,20 +176,12 @@ def run_fig7(progress: ProgressFn) -> Outcome:
             f, responses, f"Fig. 7: G_PLL of eq. (49); closed loop -3 dB at {rep:.1f} Hz"),
             fig_dir, "yao2022_fig7")
 
-    return Outcome([Claim(
-        id="yao2022.fig7.pll_bandwidth_hz",
-        statement=("Closed-loop -3 dB bandwidth of the PLL (48) with the gains of eq. (50), "
-                   "measured on the firmware PLL's impulse response; expected from the "
-                   "transfer function (49) with unity feedback."),
-        paper=None, expected=exp, reproduced=rep, unit="Hz", tolerance=0.01, check="rel",
-        basis="the float32 PLL and the truncated impulse response (20 time constants of the "
-              "slowest pole) change the gain by far less than 1 %",
-    )], figures=[("yao2022_fig7", plot)])
+    return Outcome([claim("yao2022.fig7.pll_bandwidth_hz", rep, expected=exp)],
+                   figures=[("yao2022_fig7", plot)])
 
 
 # ------------------------------------------------------ Figs. 9 and 10 ------
 
-PAPER_FIG10 = {30e3: 0.018, 60e3: 0.008, 100e3: 0.024}  # rad, Sec. VII-A
 INJ_W = 1.0  # s, each averaging window (before and during the injection)
 INJ_T = 0.2 + INJ_W  # +5 A on gamma from here (the start transient settled)
 
@@ -235,35 +211,12 @@ def run_fig9_10(progress: ProgressFn) -> Outcome:
         true_before = -float(np.mean(r.theta_error[before]))
         true_during = -float(np.mean(r.theta_error[after]))
         rot = metrics.scaling_rotation(s.adc.gain)
-        tag = TAG[n]
-        claims.append(Claim(
-            id=f"yao2022.fig10.pos_error_rad_{tag}",
-            statement=(f"{n / 1e3:g} kr/min: position error by the current-injection method, "
-                       "eq. (59)-(60), +5 A on the gamma axis, speed loop active, fan load, "
-                       f"{INJ_W:g} s windows. Expected: the simulation's true mean error while "
-                       f"the 5 A flow ({true_during:+.4f} rad; {true_before:+.4f} before) minus "
-                       f"the rotation the i_2 sensor's +-1 % ADC gains give the measured current "
-                       f"({rot * 1e3:.2f} mrad, the mean part of the scaling error, "
-                       "docs/errata.md Y9)."),
-            paper=PAPER_FIG10[n], expected=true_during - rot, reproduced=inj, unit="rad",
-            tolerance=round(0.002 + 3 * sigma, 4),
-            basis=(f"the method divides a difference of two mean delta currents by 5 A; their "
-                   f"standard error (batch means) gives sigma = {sigma:.4f} rad; 2 mrad more "
-                   "for what the first-order prediction leaves out (the 2 f_e part of the "
-                   "scaling error through the observer's nonlinear angle extraction, products "
-                   "of two ~6 mrad terms, and the float32 controller): 2 mrad + 3 sigma"),
-            why_fail="the reading of eq. (60) departs from the true error plus the ADC "
-                     "scaling rotation by more than noise and second-order terms explain",
-        ))
-        claims.append(Claim(
-            id=f"yao2022.fig9.true_pos_error_rad_{tag}",
-            statement=(f"{n / 1e3:g} kr/min: mean position error from the true angle, steady "
-                       "state (the paper's hardware value by the injection method beside)."),
-            paper=PAPER_FIG10[n], expected=None, reproduced=abs(true_before), unit="rad",
-            tolerance=0.03, check="max",
-            basis="the paper calls its 0.008-0.024 rad 'high accuracy'; 0.03 rad (1.7 deg) "
-                  "keeps the claim on that scale",
-        ))
+        claims.append(claim("yao2022.fig10.pos_error_rad_{speed}", inj,
+                            expected=true_during - rot, tolerance=round(0.002 + 3 * sigma, 4),
+                            speed=TAG[n], krpm=n / 1e3, window=INJ_W, true_during=true_during,
+                            true_before=true_before, rot_mrad=rot * 1e3, sigma=sigma))
+        claims.append(claim("yao2022.fig9.true_pos_error_rad_{speed}", abs(true_before),
+                            speed=TAG[n], krpm=n / 1e3))
 
     def plot(fig_dir):
         from .. import plots
@@ -283,8 +236,8 @@ def run_fig9_10(progress: ProgressFn) -> Outcome:
 
 # --------------------------------------------------- Table V, Figs. 12-13 ----
 
-PAPER_RIPPLE = {"tde17": {30e3: 200.0, 60e3: 600.0, 100e3: 1100.0},
-                "proposed": {30e3: 200.0, 60e3: 350.0, 100e3: 600.0}}
+# the reaching laws compared in Table V: id label and equations
+LAWS = {"tde17": ("baseline", "(61)-(63) of ref. [17]"), "proposed": ("proposed", "(33)-(35)")}
 
 
 def speed_ripple(r: Result) -> float:
@@ -314,82 +267,41 @@ def run_table5(progress: ProgressFn) -> Outcome:
             rip[(law, n)] = speed_ripple(r)
     harm = {(law, n): harmonic_ripple(by_key[(law, n)], n) for law in ("tde17", "proposed")
             for n in SPEEDS}
-    why = ("the speed estimate is the PLL's (eq. (48), (50)), whose closed loop passes only "
-           "351 Hz (gain 0.10 at 3.3 kHz, 0.07 at 5 kHz): the 2 f_e and 3 f_e chattering is "
-           "attenuated by the PLL itself, so with the assumed +-1 % ADC gain error the "
-           "ripple is a few to tens of r/min, dominated by ADC noise, not hundreds; the "
-           "chattering itself is reduced 5x by the proposed law (chattering claim), and the "
-           "2 f_e / 3 f_e lines of the speed estimate with it (at 100 kr/min "
-           f"{harm[('tde17', 100e3)]:.2f} -> {harm[('proposed', 100e3)]:.2f} r/min, "
-           "harmonic-ripple claim); the paper's ADC error and noise are not given")
-    for law, name in (("tde17", "baseline"), ("proposed", "proposed")):
+    # the 2 f_e and 3 f_e lines of the estimated speed, by law label and speed
+    lines = {f"lines_{LAWS[law][0]}_{TAG[n]}": harm[(law, n)] for law, n in harm}
+    for law, (label, equations) in LAWS.items():
         for n in SPEEDS:
-            claims.append(Claim(
-                id=f"yao2022.table5.ripple_rpm_{name}_{TAG[n]}",
-                statement=(f"{n / 1e3:g} kr/min, reaching law "
-                           f"{'(61)-(63) of ref. [17]' if law == 'tde17' else '(33)-(35)'}: half "
-                           "peak-to-peak speed-estimation ripple in steady state."),
-                paper=PAPER_RIPPLE[law][n], expected=None, reproduced=rip[(law, n)],
-                unit="r/min", tolerance=0.5, check="rel",
-                basis="hardware ripple depends on the ADC error and noise the paper does not "
-                      "give; within a factor of about 2 (rel 0.5) would reproduce its scale",
-                why_fail=why,
-            ))
+            claims.append(claim(
+                "yao2022.table5.ripple_rpm_{law}_{speed}", rip[(law, n)], law=label,
+                speed=TAG[n], krpm=n / 1e3, equations=equations,
+                lines_baseline_100k=lines["lines_baseline_100k"],
+                lines_proposed_100k=lines["lines_proposed_100k"]))
     red = rip[("proposed", 100e3)] / rip[("tde17", 100e3)]
-    claims.append(Claim(
-        id="yao2022.table5.ripple_reduction_100k",
-        statement=("100 kr/min: speed-estimation ripple of the proposed reaching law over the "
-                   "baseline (61)-(63) (paper: 600 / 1100)."),
-        paper=600.0 / 1100.0, expected=None, reproduced=red, unit="", tolerance=0.2,
-        check="abs",
-        basis="the paper's ratio from two rounded hardware readings; 0.2 absolute",
-        why_fail="both ripples are small here (see the ripple claims), so the ratio is set by "
-                 "residual noise rather than by the 2 f_e / 3 f_e chattering the method targets; "
-                 "those lines alone fall to "
-                 f"{harm[('proposed', 100e3)] / harm[('tde17', 100e3)]:.2f} of the baseline's "
-                 "(harmonic-ripple claim)",
-    ))
-    claims.append(Claim(
-        id="yao2022.table5.harmonic_ripple_reduction_100k",
-        statement=("100 kr/min: the 2 f_e and 3 f_e lines of the estimated speed (RSS of the two "
-                   "amplitudes) with the proposed reaching law over those with the baseline "
-                   "(61)-(63); the paper's FFTs place its ripple there and its Table V ratio is "
-                   "600 / 1100. Lines, baseline / proposed: " + "; ".join(
-                       f"{n / 1e3:g} kr/min {harm[('tde17', n)]:.3f} / "
-                       f"{harm[('proposed', n)]:.3f} r/min" for n in SPEEDS) + "."),
-        paper=600.0 / 1100.0, expected=None,
-        reproduced=harm[("proposed", 100e3)] / harm[("tde17", 100e3)], unit="",
-        tolerance=600.0 / 1100.0, check="max",
-        basis="the proposed law must cut the chattering lines of the speed estimate at least "
-              "as much as the paper's total ripple fell (its total includes non-periodic "
-              "ripple, so the lines alone should fall at least as far)",
-    ))
+    lines_ratio = harm[("proposed", 100e3)] / harm[("tde17", 100e3)]
+    claims.append(claim("yao2022.table5.ripple_reduction_100k", red, lines_ratio=lines_ratio))
+    claims.append(claim("yao2022.table5.harmonic_ripple_reduction_100k", lines_ratio, **lines))
     chat = {k: float(np.sqrt(np.mean(np.abs(r["s_g"] + 1j * r["s_dl"])[
         r.window(SETTLE, r.scenario.duration)] ** 2))) for k, r in by_key.items()}
-    claims.append(Claim(
-        id="yao2022.fig12_13.chattering_ratio_100k",
-        statement=("100 kr/min: RMS of the switching function |s(k)| (the chattering) with the "
-                   "proposed reaching law over that with the baseline (61)-(63) "
-                   f"({chat[('proposed', 100e3)]:.3f} A over {chat[('tde17', 100e3)]:.3f} A; "
-                   f"30 kr/min: {chat[('proposed', 30e3)]:.3f} over {chat[('tde17', 30e3)]:.3f})"
-                   " - the mechanism behind Table V."),
-        paper=None, expected=None, reproduced=chat[("proposed", 100e3)] / chat[("tde17", 100e3)],
-        unit="", tolerance=0.5, check="max",
-        basis="the paper's point is a clear reduction of the chattering; at least halving it",
-    ))
+    claims.append(claim(
+        "yao2022.fig12_13.chattering_ratio_100k",
+        chat[("proposed", 100e3)] / chat[("tde17", 100e3)],
+        **{f"s_{LAWS[law][0]}_{TAG[n]}": chat[(law, n)] for law, n in chat
+           if n in (30e3, 100e3)}))
 
     def plot17(fig_dir):
         from .. import plots
 
         rs = [by_key[("proposed", 60e3)], by_key[("proposed", 100e3)]]
-        plots.save(plots.waveform_spectrum(rs, ["60 kr/min", "100 kr/min"], "i_alpha",
-                                           "phase A motor current (A)",
-                                           "Fig. 17: motor current (LCL-filtered)"),
-                   fig_dir, "yao2022_fig17")
-        return plots.save(plots.waveform_spectrum(rs[1:], ["100 kr/min"], "uc_alpha",
-                                                  "phase A capacitor voltage (V)",
-                                                  "Fig. 18: capacitor voltage and its spectrum"),
-                          fig_dir, "yao2022_fig18")
+        return [
+            plots.save(plots.waveform_spectrum(rs, ["60 kr/min", "100 kr/min"], "i_alpha",
+                                               "phase A motor current (A)",
+                                               "Fig. 17: motor current (LCL-filtered)"),
+                       fig_dir, "yao2022_fig17"),
+            plots.save(plots.waveform_spectrum(rs[1:], ["100 kr/min"], "uc_alpha",
+                                               "phase A capacitor voltage (V)",
+                                               "Fig. 18: capacitor voltage and its spectrum"),
+                       fig_dir, "yao2022_fig18"),
+        ]
 
     def plot(fig_dir):
         from .. import plots
@@ -423,20 +335,8 @@ def run_fig14(progress: ProgressFn) -> Outcome:
     t_ho = float(r.t[np.argmax(closed)]) if closed.any() else s.duration
     m = closed & (r.t >= t_ho + 0.1)
     peak = float(np.max(np.abs(r.theta_error[m]))) if m.any() else float("nan")
-    claims = [Claim(
-        id="yao2022.fig14.pos_error_peak_rad",
-        statement=(f"0 -> 100 kr/min: forced-angle start at 15 A, handover at 5 kr/min "
-                   f"(t = {t_ho:.2f} s), then sensorless acceleration at "
-                   f"{FIG14_RATE / 1e3:g} kr/min/s; peak position error from 0.1 s after the "
-                   "handover to the end (paper, simulation: below 0.02 rad)."),
-        paper=0.02, expected=None, reproduced=peak, unit="rad", tolerance=0.02, check="max",
-        basis="the paper's own bound",
-        why_fail=("the peak comes right after the handover, at 5-10 kr/min, where the back "
-                  "EMF is only 0.6-1.3 V against the assumed 0.02 A ADC noise; without noise "
-                  "and ADC gain error the peak is about 0.03 rad, the PLL of eq. (50) settling "
-                  "its acceleration state slowly (slowest pole 0.99995). From 25 kr/min on "
-                  "the error stays below about 0.025 rad"),
-    )]
+    claims = [claim("yao2022.fig14.pos_error_peak_rad", peak, t_handover=t_ho,
+                    rate_krpm_s=FIG14_RATE / 1e3)]
 
     def plot(fig_dir):
         from .. import plots
@@ -472,20 +372,8 @@ def run_fig19_21(progress: ProgressFn) -> Outcome:
     m = r.window(0.02, s.duration)
     peak = float(np.max(np.abs(r.theta_error[m])))
     dn = float(np.max(np.abs(r.n_hat_rpm[m] - r.n_rpm[m])))
-    claims = [
-        Claim(id="yao2022.fig19.pos_error_peak_rad",
-              statement="Torque-current step 10 -> 15 A at 0.05 s with the fan load: peak "
-                        "position error (paper: within 0.1 rad).",
-              paper=0.1, expected=None, reproduced=peak, unit="rad", tolerance=0.1,
-              check="max", basis="the paper's own bound"),
-        Claim(id="yao2022.fig21.speed_error_peak_rpm",
-              statement="Same step: peak speed-estimation error while the fan load "
-                        "accelerates the motor (paper: about 150 r/min).",
-              paper=150.0, expected=None, reproduced=dn, unit="r/min", tolerance=150.0,
-              check="max",
-              basis="'about 150 r/min' is the paper's maximum; a simulation without its "
-                    "measurement noise should not exceed it"),
-    ]
+    claims = [claim("yao2022.fig19.pos_error_peak_rad", peak),
+              claim("yao2022.fig21.speed_error_peak_rpm", dn)]
 
     def plot(fig_dir):
         from .. import plots
@@ -528,19 +416,9 @@ def run_fig22(progress: ProgressFn) -> Outcome:
              ("position error (rad)", [("theta_error", "true")])]),
             fig_dir, "yao2022_fig22")
 
-    return Outcome([Claim(
-        id="yao2022.fig22.reversal_pos_error_peak_rad",
-        statement=("Speed reversal +30 -> -30 kr/min in 2 s, sensorless throughout: peak "
-                   f"position error outside +-{REVERSAL_BAND / 1e3:g} kr/min (the paper shows "
-                   "the reversal as a figure only)."),
-        paper=None, expected=None, reproduced=peak, unit="rad", tolerance=0.2, check="max",
-        basis="0.2 rad (11 deg) costs 2 % of torque; the paper's figure shows the estimate "
-              "following the reversal without loss of lock",
-        why_fail=("near zero speed the back EMF vanishes and the estimate loses the angle "
-                  "for a moment (excluded band), then the PLL re-locks; just outside the "
-                  "band, at 3-4 kr/min (EMF 0.4-0.5 V), the assumed 0.02 A ADC noise puts the "
-                  "error at the bound (about 0.06 rad with an ideal ADC)"),
-    )], {s.name: r}, [("yao2022_fig22", plot)])
+    return Outcome([claim("yao2022.fig22.reversal_pos_error_peak_rad", peak,
+                          band_krpm=REVERSAL_BAND / 1e3)],
+                   {s.name: r}, [("yao2022_fig22", plot)])
 
 
 # -------------------------------------------------------------- Fig. 23 -----
@@ -568,8 +446,6 @@ def run_fig23(progress: ProgressFn) -> Outcome:
         r = _sim(s, progress)
         res[s.name] = r
         verdict[obs] = _stable(r)
-    basis = ("stable = in the sensorless loop, speed held within 5 % and angle error below "
-             "0.5 rad over the second half of a 0.4 s run at 60 kr/min")
     lin, smo = verdict["linear"], verdict["smo"]
 
     def plot(fig_dir):
@@ -584,31 +460,16 @@ def run_fig23(progress: ProgressFn) -> Outcome:
             fig_dir, "yao2022_fig23")
 
     return Outcome([
-        Claim(id="yao2022.fig23.linear_observer_stable",
-              statement=("Sensorless at 60 kr/min with the linear reduced-order observer "
-                         "(64)-(65), poles [0.4 0.4 0.5 0.5], designed with twice the real "
-                         f"capacitance: stable (1) or not (0) (paper: unstable). Speed deviation "
-                         f"{lin[1]:.3f}, peak angle error {lin[2]:.3f} rad."),
-              paper=0.0, expected=None, reproduced=float(lin[0]), unit="", tolerance=0.0,
-              basis=basis,
-              why_fail=("the observer's error dynamics Theta = G22 - L G12 keep the designed "
-                        "poles whatever the capacitance error, which only biases the estimate "
-                        "(here by under 1 mrad); the instability the paper observed on hardware "
-                        "needs a mechanism the paper does not describe (with half the real "
-                        "capacitance the same observer does fail in this simulation)")),
-        Claim(id="yao2022.fig23.smo_stable",
-              statement=("Same test with the sliding-mode observer designed with twice the real "
-                         f"capacitance (paper: stable). Speed deviation {smo[1]:.3f}, peak angle "
-                         f"error {smo[2]:.3f} rad."),
-              paper=1.0, expected=None, reproduced=float(smo[0]), unit="", tolerance=0.0,
-              basis=basis),
+        claim("yao2022.fig23.linear_observer_stable", float(lin[0]), speed_dev=lin[1],
+              angle_err=lin[2]),
+        claim("yao2022.fig23.smo_stable", float(smo[0]), speed_dev=smo[1], angle_err=smo[2]),
     ], res, [("yao2022_fig23", plot)])
 
 
 # ------------------------------------------------------------- Table VI -----
 
-PAPER_TABLE6 = {"observer": ("prediction", 489.0), "reaching_law": ("reaching_law", 268.0),
-                "pll": ("pll", 28.0)}
+# Table VI's rows (in the claim ids) and the parts of analysis.cost they count
+TABLE6_PARTS = {"observer": "prediction", "reaching_law": "reaching_law", "pll": "pll"}
 
 
 def run_table6(progress: ProgressFn) -> Outcome:
@@ -621,21 +482,9 @@ def run_table6(progress: ProgressFn) -> Outcome:
         counts = {k: float("nan") for k in cost.PARTS}
         why = str(exc)
     progress("yao2022.table6", 1.0)
-    claims = []
-    for cid, (part, paper) in PAPER_TABLE6.items():
-        claims.append(Claim(
-            id=f"yao2022.table6.instructions_{cid}",
-            statement=(f"Instructions per call of the {part.replace('_', ' ')} part (host "
-                       "x86-64 build of the C core, -O2, float, counted by valgrind's "
-                       "callgrind; benchmarks/cost/obs_cost.c) beside the paper's cycles on a "
-                       "150 MHz TMS320F28335."),
-            paper=paper, expected=None, reproduced=counts[part], unit="instructions",
-            tolerance=10 * paper, check="max",
-            basis="x86-64 instructions and C28x cycles are different units (the C28x has "
-                  "single-cycle float multiply-accumulate; sin/cos/atan2 are library calls on "
-                  "both); the same computational class means within a factor of 10",
-            why_fail=why,
-        ))
+    claims = [claim("yao2022.table6.instructions_{row}", counts[part], row=row,
+                    part=part.replace("_", " "), error=why)
+              for row, part in TABLE6_PARTS.items()]
     return Outcome(claims)
 
 
