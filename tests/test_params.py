@@ -26,33 +26,15 @@ from hypothesis import assume, HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from smodrive import _ffi as F
-from smodrive.params import (
-    RPM,
-    AdcCfg,
-    ControllerCfg,
-    InverterCfg,
-    LclFilterPars,
-    LoadCfg,
-    MotorPars,
-    ParameterError,
-    Profile,
-    Scenario,
-    yang2018_mode,
-)
+from smodrive.params import RPM, AdcCfg, ControllerCfg, InverterCfg, LclFilterPars, LoadCfg
+from smodrive.params import MotorPars, ParameterError, Profile, Scenario, yang2018_mode
+from smodrive.scenario_io import SECTIONS as IO_SECTIONS
 from smodrive.scenario_io import load_scenario, scenario_from_dict, scenario_to_toml
 from smodrive.scenarios import catalogue, yang2018, yao2022
 
 ROOT = Path(__file__).resolve().parents[1]
 
-CLASSES = {
-    "motor": MotorPars,
-    "lcl": LclFilterPars,
-    "controller": ControllerCfg,
-    "inverter": InverterCfg,
-    "adc": AdcCfg,
-    "load": LoadCfg,
-    "scenario": Scenario,
-}
+CLASSES = {**IO_SECTIONS, "scenario": Scenario}
 SECTIONS = [k for k in CLASSES if k != "scenario"]
 
 

@@ -33,19 +33,8 @@ import warnings
 from pathlib import Path
 from typing import Any
 
-from .params import (
-    RPM,
-    AdcCfg,
-    ControllerCfg,
-    InverterCfg,
-    LclFilterPars,
-    LoadCfg,
-    MotorPars,
-    ParameterError,
-    Profile,
-    Scenario,
-    yang2018_mode,
-)
+from .params import (RPM, AdcCfg, ControllerCfg, InverterCfg, LclFilterPars, LoadCfg, MotorPars,
+                     ParameterError, Profile, Scenario, yang2018_mode)
 
 SECTIONS: dict[str, type] = {
     "motor": MotorPars,

@@ -11,31 +11,20 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from pathlib import Path
 from typing import Callable
 
 import numpy as np
 
 from ..analysis import metrics, tf
-from ..claims import Claim, load_specs
-from ..params import (
-    RPM,
-    AdcCfg,
-    ControllerCfg,
-    InverterCfg,
-    LoadCfg,
-    MotorPars,
-    Profile,
-    Scenario,
-    yang2018_mode,
-)
+from ..claims import Claim
+from ..params import (RPM, AdcCfg, ControllerCfg, InverterCfg, LoadCfg, MotorPars, Profile,
+                      Scenario, yang2018_mode)
 from ..simulate import Result
-from .common import Experiment, Outcome, ProgressFn, run_sim
+from .common import Experiments, Outcome, ProgressFn, paper_specs, run_sim
 
-# what each claim says (statements, units, checks, fixed values and
-# tolerances, their bases and failure reasons) is data, yang2018.claims.toml
-SPECS = load_specs(Path(__file__).with_suffix(".claims.toml"))
+SPECS = paper_specs(__file__)  # the claims' texts and fixed values: yang2018.claims.toml
 claim = SPECS.claim
+EXPERIMENTS = Experiments()  # filled by @EXPERIMENTS(id, title) on each run function
 
 MOTOR = MotorPars()
 T_N = MOTOR.T_N  # rated torque, N m
@@ -188,6 +177,7 @@ def dbpc_exact_closed_loop(L: float, R: float, L_hat: float, R_hat: float, T: fl
     return (L_hat / T) / ((z - a) * (z + c) / b + (L_hat / T) * c**2)
 
 
+@EXPERIMENTS("yang2018.fig1", "Bode of H(z), eq. (14)")
 def run_fig1(progress: ProgressFn) -> Outcome:
     L, R, T = MOTOR.L_s, MOTOR.R_s, BASE.T_sp
     H2 = tf.H_dbpc(L, 2 * L, R, T)
@@ -226,6 +216,7 @@ def run_fig1(progress: ProgressFn) -> Outcome:
     return Outcome(claims, {s.name: r_sim}, [("yang2018_fig1", plot)])
 
 
+@EXPERIMENTS("yang2018.fig2", "Bode of G(s), eq. (33)")
 def run_fig2(progress: ProgressFn) -> Outcome:
     def measure(s: Scenario) -> tuple[complex, float, Result]:
         r = _sim(s, progress)
@@ -260,6 +251,7 @@ def run_fig2(progress: ProgressFn) -> Outcome:
     return Outcome(claims, {s.name: r}, [("yang2018_fig2", plot)])
 
 
+@EXPERIMENTS("yang2018.fig5-6", "DBPC under parameter mismatch")
 def run_fig5_fig6(progress: ProgressFn) -> Outcome:
     L, psi = MOTOR.L_s, MOTOR.psi_r
     cases = {
@@ -343,6 +335,7 @@ def run_fig5_fig6(progress: ProgressFn) -> Outcome:
     return Outcome(claims, res, [("yang2018_fig5", plot5), ("yang2018_fig6", plot6)])
 
 
+@EXPERIMENTS("yang2018.fig7", "Sensorless steady state")
 def run_fig7(progress: ProgressFn) -> Outcome:
     claims: list[Claim] = []
     res = {}
@@ -387,6 +380,7 @@ def speed_loop_load_dip(ctrl: ControllerCfg, J: float, n_p: int, dT: float) -> f
     return float(np.max(y)) / n_p
 
 
+@EXPERIMENTS("yang2018.fig8", "Sensorless load step")
 def run_fig8(progress: ProgressFn) -> Outcome:
     s = fig8_scenario()
     r = _sim(s, progress)
@@ -411,6 +405,7 @@ def run_fig8(progress: ProgressFn) -> Outcome:
     return Outcome(claims, {s.name: r}, [("yang2018_fig8", plot)])
 
 
+@EXPERIMENTS("yang2018.fig9", "Sensorless speed steps")
 def run_fig9(progress: ProgressFn) -> Outcome:
     s = fig9_scenario()
     r = _sim(s, progress)
@@ -432,15 +427,6 @@ def run_fig9(progress: ProgressFn) -> Outcome:
 
     return Outcome(claims, {s.name: r}, [("yang2018_fig9", plot)])
 
-
-EXPERIMENTS: list[Experiment] = [
-    Experiment("yang2018.fig1", "Bode of H(z), eq. (14)", run_fig1),
-    Experiment("yang2018.fig2", "Bode of G(s), eq. (33)", run_fig2),
-    Experiment("yang2018.fig5-6", "DBPC under parameter mismatch", run_fig5_fig6),
-    Experiment("yang2018.fig7", "Sensorless steady state", run_fig7),
-    Experiment("yang2018.fig8", "Sensorless load step", run_fig8),
-    Experiment("yang2018.fig9", "Sensorless speed steps", run_fig9),
-]
 
 SCENARIOS: dict[str, Callable[[], Scenario]] = {
     "yang2018.fig1": fig1_scenario,

@@ -13,7 +13,6 @@ from __future__ import annotations
 import ctypes as ct
 import dataclasses
 import math
-from pathlib import Path
 from typing import Callable
 
 import numpy as np
@@ -21,26 +20,15 @@ import numpy as np
 from .. import _ffi
 from ..analysis import metrics
 from ..analysis import pwm as pwm_an
-from ..claims import load_specs
 from ..design import yao2022 as dz
-from ..params import (
-    RPM,
-    AdcCfg,
-    ControllerCfg,
-    InverterCfg,
-    LclFilterPars,
-    LoadCfg,
-    MotorPars,
-    Profile,
-    Scenario,
-)
+from ..params import (RPM, AdcCfg, ControllerCfg, InverterCfg, LclFilterPars, LoadCfg, MotorPars,
+                      Profile, Scenario)
 from ..simulate import Result
-from .common import Experiment, Outcome, ProgressFn, run_sim
+from .common import Experiments, Outcome, ProgressFn, paper_specs, run_sim
 
-# what each claim says (statements, units, checks, the paper's values, fixed
-# tolerances, their bases and failure reasons) is data, yao2022.claims.toml
-SPECS = load_specs(Path(__file__).with_suffix(".claims.toml"))
+SPECS = paper_specs(__file__)  # the claims' texts and fixed values: yao2022.claims.toml
 claim = SPECS.claim
+EXPERIMENTS = Experiments()  # filled by @EXPERIMENTS(id, title) on each run function
 
 # Table II; J and B are not given (assumed), the fan load is fitted to
 # Table IV (i_q = 30 A at 100 kr/min: 1.5 * 0.0012 * 30 / (10472 rad/s)^2 =
@@ -86,6 +74,7 @@ def steady(n: float, law: str = "proposed", name: str | None = None, **kw) -> Sc
 
 # ----------------------------------------------------------- Table I -------
 
+@EXPERIMENTS("yao2022.table1", "Regular-sampled PWM harmonics")
 def run_table1(progress: ProgressFn) -> Outcome:
     V_Q, M, N = 60.0, 0.9, 12  # Table I: V_Q = 60 V, M = 0.9, f_s / f_e = 12
     rep = pwm_an.leg_harmonics_from_edges(V_Q, M, N, 5, T=1 / 20e3)
@@ -108,6 +97,7 @@ def lumped_disturbance(r: Result) -> np.ndarray:
         s[1:].imag - Q[1] * s[:-1].imag - v[:-1].imag)
 
 
+@EXPERIMENTS("yao2022.fig4", "Time-delay compensation errors")
 def run_fig4(progress: ProgressFn) -> Outcome:
     s = steady(100e3, name="yao2022.fig4")
     r = _sim(s, progress)
@@ -157,6 +147,7 @@ def pll_bandwidth_measured(pll: dz.PllPars, n: int = 400_000) -> float:
                                        0.45 / pll.T, xtol=1e-6))
 
 
+@EXPERIMENTS("yao2022.fig7", "PLL bandwidth")
 def run_fig7(progress: ProgressFn) -> Outcome:
     pll = dz.PllPars()
     exp = dz.pll_bandwidth_hz(pll)
@@ -186,6 +177,7 @@ INJ_W = 1.0  # s, each averaging window (before and during the injection)
 INJ_T = 0.2 + INJ_W  # +5 A on gamma from here (the start transient settled)
 
 
+@EXPERIMENTS("yao2022.fig9-10", "Position accuracy by current injection")
 def run_fig9_10(progress: ProgressFn) -> Outcome:
     claims, res = [], {}
     for n in SPEEDS:
@@ -255,6 +247,7 @@ def harmonic_ripple(r: Result, n: float) -> float:
     return float(math.hypot(*amps))
 
 
+@EXPERIMENTS("yao2022.table5", "Speed-estimation ripple")
 def run_table5(progress: ProgressFn) -> Outcome:
     claims, res, rip = [], {}, {}
     by_key = {}
@@ -328,6 +321,7 @@ def fig14_scenario() -> Scenario:
     )
 
 
+@EXPERIMENTS("yao2022.fig14", "Acceleration 0 -> 100 kr/min")
 def run_fig14(progress: ProgressFn) -> Outcome:
     s = fig14_scenario()
     r = _sim(s, progress)
@@ -366,6 +360,7 @@ def fig19_scenario() -> Scenario:
     )
 
 
+@EXPERIMENTS("yao2022.fig19-21", "Torque-current step")
 def run_fig19_21(progress: ProgressFn) -> Outcome:
     s = fig19_scenario()
     r = _sim(s, progress)
@@ -400,6 +395,7 @@ def fig22_scenario() -> Scenario:
 REVERSAL_BAND = 3e3  # r/min around zero where the EMF (< 0.4 V) carries no angle
 
 
+@EXPERIMENTS("yao2022.fig22", "Speed reversal")
 def run_fig22(progress: ProgressFn) -> Outcome:
     s = fig22_scenario()
     r = _sim(s, progress)
@@ -439,6 +435,7 @@ def _stable(r: Result) -> tuple[int, float, float]:
     return int(dn < 0.05 and err < 0.5 and r.status == 0), dn, err
 
 
+@EXPERIMENTS("yao2022.fig23", "Robustness to a capacitance error")
 def run_fig23(progress: ProgressFn) -> Outcome:
     res, verdict = {}, {}
     for obs in ("linear", "smo"):
@@ -472,6 +469,7 @@ def run_fig23(progress: ProgressFn) -> Outcome:
 TABLE6_PARTS = {"observer": "prediction", "reaching_law": "reaching_law", "pll": "pll"}
 
 
+@EXPERIMENTS("yao2022.table6", "Execution cost")
 def run_table6(progress: ProgressFn) -> Outcome:
     from ..analysis import cost
 
@@ -487,19 +485,6 @@ def run_table6(progress: ProgressFn) -> Outcome:
               for row, part in TABLE6_PARTS.items()]
     return Outcome(claims)
 
-
-EXPERIMENTS: list[Experiment] = [
-    Experiment("yao2022.table1", "Regular-sampled PWM harmonics", run_table1),
-    Experiment("yao2022.fig4", "Time-delay compensation errors", run_fig4),
-    Experiment("yao2022.fig7", "PLL bandwidth", run_fig7),
-    Experiment("yao2022.fig9-10", "Position accuracy by current injection", run_fig9_10),
-    Experiment("yao2022.table5", "Speed-estimation ripple", run_table5),
-    Experiment("yao2022.fig14", "Acceleration 0 -> 100 kr/min", run_fig14),
-    Experiment("yao2022.fig19-21", "Torque-current step", run_fig19_21),
-    Experiment("yao2022.fig22", "Speed reversal", run_fig22),
-    Experiment("yao2022.fig23", "Robustness to a capacitance error", run_fig23),
-    Experiment("yao2022.table6", "Execution cost", run_table6),
-]
 
 SCENARIOS: dict[str, Callable[[], Scenario]] = {
     "yao2022.steady.100k": lambda: steady(100e3),
