@@ -48,7 +48,8 @@ test: ctest pytest
 dev: $(STAMP)
 	cmake -S . -B build/dev -DSMD_BUILD_TESTS=OFF -DSMD_BUILD_PYLIB=ON >/dev/null
 	cmake --build build/dev -j 2
-	cp build/dev/libsmodrive.so src/smodrive/
+	cp build/dev/libsmodrive.so src/smodrive/.libsmodrive.so.tmp
+	mv src/smodrive/.libsmodrive.so.tmp src/smodrive/libsmodrive.so  # atomic: running tests keep the old one
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_engine.py

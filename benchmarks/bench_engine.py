@@ -12,39 +12,45 @@ simulated seconds per wall-second (min / median / max over repetitions). Usage:
 from __future__ import annotations
 
 import argparse
-import ctypes as ct
+import dataclasses
 import json
-import math
 import platform
 import statistics
 import time
 
 import numpy as np
 
-from smodrive import _ffi
-from smodrive.params import InverterCfg
+from smodrive.params import Scenario
 from smodrive.scenarios import yang2018 as y
-from smodrive.simulate import Engine
+from smodrive.scenarios import yao2022
+from smodrive.simulate import CHANNELS, Engine
 
 MOTULATOR_STEPS_PER_S = {"carrier": 330.0, "averaged": 1000.0}  # DEVELOPERS.md figures
 
 
-def bench(pwm: str, seconds: float, repeat: int, log: bool) -> dict:
-    base = y.fig9_scenario()
-    s = base.replace(duration=seconds, inverter=InverterCfg(pwm=pwm))
+def _rates(s: Scenario, repeat: int, log: bool) -> list[float]:
+    """Control steps per wall-second of `repeat` fresh runs of `s` (the engine
+    and the log buffer are made before the clock starts)."""
     n = s.n_steps
     rates = []
     for _ in range(repeat):
         eng = Engine(s)
-        buf = np.empty((n if log else 1, _ffi.N_LOG))
+        buf = np.empty((n if log else 1, len(CHANNELS)))
         t0 = time.perf_counter()
         if log:
             eng.run(n, buf, 0, 1)
         else:
-            _ffi.lib.smd_engine_run(eng._buf, n, None, 1)
+            eng.run_nolog(n)
         dt = time.perf_counter() - t0
         rates.append(n / dt)
-    return _summary(pwm, pwm, log, n, rates, s.T_sp)
+    return rates
+
+
+def bench(pwm: str, seconds: float, repeat: int, log: bool) -> dict:
+    """yang2018 Fig. 9 (sensorless robust DBPC + SMDO), T_sp = 100 us."""
+    base = y.fig9_scenario()
+    s = base.replace(duration=seconds, inverter=dataclasses.replace(base.inverter, pwm=pwm))
+    return _summary(pwm, pwm, log, s.n_steps, _rates(s, repeat, log), s.T_sp)
 
 
 def _summary(label: str, pwm: str, log: bool, n: int, rates: list[float], T_sp: float) -> dict:
@@ -62,23 +68,10 @@ def _summary(label: str, pwm: str, log: bool, n: int, rates: list[float], T_sp: 
 
 
 def bench_lcl(pwm: str, seconds: float, repeat: int, log: bool) -> dict:
-    from smodrive.lcl import N_LOG, LclEngine, LclPlantPars
-    from smodrive.scenarios import yao2022
-
-    s = yao2022.steady(100e3).replace(duration=seconds, plant=LclPlantPars(pwm=pwm))
-    n = s.n_steps
-    rates = []
-    for _ in range(repeat):
-        eng = LclEngine(s)
-        buf = np.empty((n if log else 1, N_LOG))
-        t0 = time.perf_counter()
-        if log:
-            eng.run(n, buf, 0, 1)
-        else:
-            eng.run_nolog(n)
-        dt = time.perf_counter() - t0
-        rates.append(n / dt)
-    return _summary(f"{pwm} (LCL)", pwm, log, n, rates, s.T_sp)
+    """yao2022 at 100 kr/min (LCL filter, sliding-mode observer + PLL), T_sp = 50 us."""
+    base = yao2022.steady(100e3)
+    s = base.replace(duration=seconds, inverter=dataclasses.replace(base.inverter, pwm=pwm))
+    return _summary(f"{pwm} (LCL)", pwm, log, s.n_steps, _rates(s, repeat, log), s.T_sp)
 
 
 def main() -> None:

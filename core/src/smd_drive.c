@@ -364,7 +364,6 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
     }
 
     /* 6. current control */
-    s->i_dq = smd_ab_to_dq(i_s_ab, theta_k);
     switch (p->current) {
     case SMD_CC_DBPC:
         u_ref = smd_dbpc_conventional(&p->dbpc, i_s_ab, s->u_ab, s->i_dq_ref, theta_k, w_k);
@@ -378,7 +377,7 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
         /* PI in the frame of k with cross-coupling decoupling, EMF
          * feed-forward and (LCL) active damping by a virtual resistance on
          * the capacitor current i_1 - i_2 */
-        const smd_cplx i2 = s->i_dq;
+        const smd_cplx i2 = s->i_dq = smd_ab_to_dq(i_s_ab, theta_k);
         const smd_cplx e = smd_csub(s->i_dq_ref, i2);
         const smd_cplx x_i = smd_cadd(s->x_i, smd_cscale(e, p->k_i_i * T));
         smd_cplx u = smd_cadd(smd_cscale(e, p->k_p_i), x_i);
@@ -438,7 +437,7 @@ smd_drive_view smd_drive_get_view(const smd_drive_params *p, const smd_drive_sta
     smd_drive_view v;
     smd_cplx zero = smd_c(SMD_R(0.0), SMD_R(0.0));
     v.i_dq_ref = s->i_dq_ref;
-    v.i_dq = s->i_dq;
+    v.i_dq = p->current == SMD_CC_PI ? s->i_dq : zero; /* DBPC has no Park transform */
     v.u_ab = s->u_ab_next;
     v.u_ab_ref = s->u_ab_ref;
     v.i_s_hat = p->use_smdo ? s->smdo.i_s_hat : zero;

@@ -32,6 +32,22 @@ double smd_pwl_eval(const smd_pwl *p, double t)
     return p->y[lo] + (p->y[hi] - p->y[lo]) * (t - p->t[lo]) / (p->t[hi] - p->t[lo]);
 }
 
+/* smd_pwl_eval for a time that only grows: the segment found last time is
+ * tried first (*seg), then the following ones. It returns exactly what the
+ * bisection of smd_pwl_eval gives: the last index lo with t[lo] <= t, and the
+ * same interpolation. */
+static double pwl_eval_seq(const smd_pwl *p, double t, int *seg)
+{
+    int lo = *seg;
+    if (p->n <= 0) return 0.0;
+    if (t <= p->t[0] || p->n == 1) return p->y[0];
+    if (t >= p->t[p->n - 1]) return p->y[p->n - 1];
+    if (lo < 0 || lo > p->n - 2 || p->t[lo] > t) lo = 0;
+    while (p->t[lo + 1] <= t) lo++;
+    *seg = lo;
+    return p->y[lo] + (p->y[lo + 1] - p->y[lo]) * (t - p->t[lo]) / (p->t[lo + 1] - p->t[lo]);
+}
+
 static int pwl_ok(const smd_pwl *p)
 {
     int k;
@@ -64,6 +80,7 @@ int smd_engine_init(smd_engine *e, const smd_plant_config *plant, const smd_driv
                     (smd_real)start->i_q0);
     e->d_abc[0] = e->d_abc[1] = e->d_abc[2] = 0.5;
     e->k = 0;
+    e->seg[0] = e->seg[1] = e->seg[2] = e->seg[3] = e->seg[4] = 0;
     e->T_sp = plant->T_sw;
     e->last_status = 0;
     return 0;
@@ -73,6 +90,7 @@ long smd_engine_run(smd_engine *e, long n, double *log, long stride)
 {
     long j, rows = 0;
     const double n_p = e->plant.c.n_p;
+    const int lcl = e->plant.c.lcl;
     if (stride < 1) stride = 1;
     for (j = 0; j < n; j++) {
         const double t = (double)e->k * e->T_sp;
@@ -80,18 +98,23 @@ long smd_engine_run(smd_engine *e, long n, double *log, long stride)
         smd_drive_in in;
         smd_drive_out out;
         smd_status st;
-        double w_ref = smd_pwl_eval(&e->prof.w_M_ref, t);
-        double T_ext = smd_pwl_eval(&e->prof.T_ext, t);
-        double T_brake = smd_pwl_eval(&e->prof.T_brake, t);
-        double i_d_ref = smd_pwl_eval(&e->prof.i_d_ref, t);
+        double w_ref = pwl_eval_seq(&e->prof.w_M_ref, t, &e->seg[0]);
+        double T_ext = pwl_eval_seq(&e->prof.T_ext, t, &e->seg[1]);
+        double T_brake = pwl_eval_seq(&e->prof.T_brake, t, &e->seg[2]);
+        double i_d_ref = pwl_eval_seq(&e->prof.i_d_ref, t, &e->seg[3]);
         int x;
 
         /* 1. measurements at t_k */
-        smd_plant_sample(&e->plant, i_meas, i1_meas);
+        if (lcl) {
+            smd_plant_sample(&e->plant, i_meas, i1_meas);
+            in.i1_a = (smd_real)i1_meas[0];
+            in.i1_b = (smd_real)i1_meas[1];
+        } else {
+            smd_plant_sample(&e->plant, i_meas, 0);
+            in.i1_a = in.i1_b = SMD_R(0.0);
+        }
         in.i_a = (smd_real)i_meas[0];
         in.i_b = (smd_real)i_meas[1];
-        in.i1_a = (smd_real)i1_meas[0];
-        in.i1_b = (smd_real)i1_meas[1];
         in.theta_enc = (smd_real)e->plant.theta_r;
         in.w_enc = (smd_real)(n_p * e->plant.w_M);
         in.u_dc = (smd_real)e->plant.c.u_dc;
@@ -100,7 +123,7 @@ long smd_engine_run(smd_engine *e, long n, double *log, long stride)
             i_d_ref += e->prof.i_d_sin_amp * sin(6.283185307179586 * e->prof.i_d_sin_freq * t);
         }
         in.i_dq_ref.re = (smd_real)i_d_ref;
-        in.i_dq_ref.im = (smd_real)smd_pwl_eval(&e->prof.i_q_ref, t);
+        in.i_dq_ref.im = (smd_real)pwl_eval_seq(&e->prof.i_q_ref, t, &e->seg[4]);
 
         /* 2. controller: duties for the next period */
         st = smd_drive_step(&e->ctrl_p, &e->ctrl_s, &in, &out);

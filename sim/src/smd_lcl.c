@@ -15,6 +15,7 @@
  * frame-weighted integral int i_2 e^{-j theta} dt is integrated the same way.
  * Dead time acts by the sign of the inverter-side current i_1. */
 #include "smdsim/smd_plant.h"
+#include "smd_mech.h"
 #include "smdsim/smd_pwm.h"
 
 #include <complex.h>

@@ -1,12 +1,11 @@
 #include "smdsim/smd_plant.h"
 #include "smdsim/smd_pwm.h"
+#include "smd_mech.h"
 
 #include <math.h>
 
 #define TWO_PI 6.283185307179586476925
-#define PI 3.141592653589793238463
 
-static double wrap_pi(double x) { return x - TWO_PI * floor((x + PI) / TWO_PI); }
 
 static int bad(double x, double lo, double hi) { return !(isfinite(x) && x >= lo && x <= hi); }
 
@@ -73,7 +72,7 @@ int smd_plant_init(smd_plant *p, const smd_plant_config *c)
     p->c = *c;
     p->L2 = c->L_s + (c->lcl ? c->L2o : 0.0);
     p->a = c->R_s / p->L2;
-    p->theta_r = wrap_pi(c->theta_r0);
+    p->theta_r = smd_wrap_pi_d(c->theta_r0);
     cs = cos(p->theta_r);
     sn = sin(p->theta_r);
     /* x_ab = x_dq e^{j theta} */
@@ -122,13 +121,14 @@ void smd_plant_sample(smd_plant *p, double i_abc[3], double i1_abc[3])
 {
     const smd_plant_config *c = &p->c;
     double t[3], t1[3];
-    smd_plant_phase_currents(p, t, t1);
     if (c->lcl) {
         double dummy[3];
+        smd_plant_phase_currents(p, t, t1);
         smd_adc_sample3(t1, c->adc_gain_i1, c->adc_offset_i1, c->adc_noise, c->adc_bits,
                         c->adc_full_scale, &p->rng, i1_abc != 0 ? i1_abc : dummy);
-    } else if (i1_abc != 0) {
-        i1_abc[0] = i1_abc[1] = i1_abc[2] = 0.0;
+    } else {
+        smd_plant_phase_currents(p, t, 0);
+        if (i1_abc != 0) i1_abc[0] = i1_abc[1] = i1_abc[2] = 0.0;
     }
     smd_adc_sample3(t, c->adc_gain, c->adc_offset, c->adc_noise, c->adc_bits, c->adc_full_scale,
                     &p->rng, i_abc);
@@ -154,43 +154,6 @@ void smd_plant_run_open(smd_plant *p, long n, double m, double delta, double T_e
         }
         smd_plant_step(p, d, T_ext, 0.0);
     }
-}
-
-/* ------------------------------------------------------------ mechanics -- */
-
-/* (1 - e^{-x}) / x, accurate for small |x| */
-static double phi1r(double x)
-{
-    if (fabs(x) < 1e-4) return 1.0 - x / 2.0 + x * x / 6.0 - x * x * x / 24.0;
-    return (1.0 - exp(-x)) / x;
-}
-
-/* phi2(x) = (x - 1 + e^{-x}) / x^2 (real) */
-static double phi2r(double x)
-{
-    if (fabs(x) < 1e-3) {
-        return 0.5 - x / 6.0 + x * x / 24.0 - x * x * x / 120.0 + x * x * x * x / 720.0;
-    }
-    return (x + expm1(-x)) / (x * x);
-}
-
-double smd_load_torque(const smd_plant_config *c, double w_M, double T_ext, double T_brake)
-{
-    double s = w_M / c->w_brake_eps;
-    if (s > 1.0) s = 1.0;
-    if (s < -1.0) s = -1.0;
-    return T_ext + T_brake * s + c->k_fan * w_M * fabs(w_M);
-}
-
-/* Exact solution of J dw/dt = F - B w over tau from w0: end speed and the
- * integral of w. */
-static void lin_mech(double F, double Bv, double J, double w0, double tau, double *w1,
-                     double *th)
-{
-    double b = Bv / J;
-    double acc = F / J - b * w0;
-    *w1 = w0 + acc * tau * phi1r(b * tau);
-    *th = w0 * tau + acc * tau * tau * phi2r(b * tau);
 }
 
 /* Advance the mechanics over T with electromagnetic torque T_e and load T_L
@@ -255,7 +218,7 @@ void smd_plant_end_period(smd_plant *p, double T_e_mean, double T_L, double T_br
     double w1, th_int;
     /* J dw/dt = T_e - T_L - B w, exact for the period's mean torque */
     smd_mech_advance(&p->c, T_e_mean, T_L, T_brake, p->w_M, p->c.T_sw, &w1, &th_int, &T_L);
-    p->theta_r = wrap_pi(p->theta_r + p->c.n_p * th_int);
+    p->theta_r = smd_wrap_pi_d(p->theta_r + p->c.n_p * th_int);
     p->w_M = w1;
     p->T_e_mean = T_e_mean;
     p->T_L_mean = T_L;

@@ -1,6 +1,7 @@
 /* SPMSM without filter: yang2018 eq. (1) solved in closed form over one
  * carrier period (see smd_plant.h and docs/architecture.md). */
 #include "smdsim/smd_plant.h"
+#include "smd_mech.h"
 #include "smdsim/smd_pwm.h"
 
 #include <complex.h>

@@ -63,8 +63,9 @@ CHANNEL_INFO: dict[str, tuple[str, str]] = {
     "i_hat_alpha": ("A", "SMDO current prediction i_hat^{k+1}, alpha"),
     "i_hat_beta": ("A", "SMDO current prediction, beta"),
     "lambda": ("A/s", "SMDO adapted gain, eq. (37)"),
-    "i_g": ("A", "measured motor current in the controller's frame, gamma (d)"),
-    "i_dl": ("A", "measured motor current in the controller's frame, delta (q)"),
+    "i_g": ("A", "PI current control: measured motor current in its frame, gamma (d); "
+                 "0 with DBPC"),
+    "i_dl": ("A", "PI current control: measured motor current in its frame, delta (q)"),
     "theta_err_est": ("rad", "LCL sources: estimated angle error, yao2022 eq. (47)"),
     "e_hat_g": ("V", "LCL sliding-mode observer: EMF estimate, gamma"),
     "e_hat_dl": ("V", "LCL sliding-mode observer: EMF estimate, delta"),

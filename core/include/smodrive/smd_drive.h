@@ -186,7 +186,7 @@ typedef struct smd_drive_state {
     smd_real w_k;         /* speed used at the last step, rad/s */
     smd_real theta_f, w_f; /* forced angle and speed (I/f) */
     smd_cplx i_s_ab;      /* last measured motor current */
-    smd_cplx i_dq;        /* last measured motor current in the frame used */
+    smd_cplx i_dq;        /* last measured motor current in the frame used (PI only) */
     smd_cplx i_dq_ref;    /* last current reference */
     smd_cplx x_i;         /* current PI integrators, V */
     smd_cplx u_ab;        /* voltage applied during [k, k+1) (after limiting) */
@@ -200,7 +200,7 @@ typedef struct smd_drive_state {
 /* Read-only view of the controller's internals for logging. */
 typedef struct smd_drive_view {
     smd_cplx i_dq_ref;
-    smd_cplx i_dq;        /* measured current in the controller's frame */
+    smd_cplx i_dq;        /* PI: the measured current in its frame (0 with DBPC) */
     smd_cplx u_ab;        /* voltage commanded for the next period (after the limit) */
     smd_cplx u_ab_ref;
     smd_cplx i_s_hat;     /* SMDO current prediction (0 without SMDO) */

@@ -72,7 +72,7 @@ enum smd_log_channel {
     SMD_LOG_IHAT_ALPHA,  /* SMDO current prediction i_hat^{k+1}, A */
     SMD_LOG_IHAT_BETA,
     SMD_LOG_LAMBDA,      /* SMDO adapted gain, A/s */
-    SMD_LOG_I_G,         /* measured motor current in the controller's frame, A */
+    SMD_LOG_I_G,         /* PI: measured motor current in its frame, A (0 with DBPC) */
     SMD_LOG_I_DL,
     SMD_LOG_THETA_ERR,   /* LCL sources: angle error of yao2022 eq. (47), rad */
     SMD_LOG_E_G,         /* LCL sliding-mode observer: EMF estimate, controller frame, V */
@@ -101,6 +101,7 @@ typedef struct smd_engine {
     smd_profiles prof;
     double d_abc[3];     /* duties applied during the current period */
     long k;              /* samples done */
+    int seg[5];          /* last segment of each profile (time only grows) */
     double T_sp;
     int last_status;
 } smd_engine;

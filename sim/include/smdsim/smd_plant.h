@@ -125,22 +125,10 @@ void smd_plant_run_open(smd_plant *p, long n, double m, double delta, double T_e
 unsigned long smd_sizeof_plant(void);
 unsigned long smd_sizeof_plant_config(void);
 
-/* The two exact solvers (smd_spmsm.c, smd_lcl.c) and the shared mechanics. */
+/* The two exact solvers (smd_spmsm.c, smd_lcl.c); their shared mechanics are
+ * in sim/src/smd_mech.h. */
 void smd_spmsm_step(smd_plant *p, const double d_abc[3], double T_ext, double T_brake);
 int smd_lcl_setup(smd_plant *p); /* 0 or the field code of repeated/unstable modes */
 void smd_lcl_step(smd_plant *p, const double d_abc[3], double T_ext, double T_brake);
-
-/* Load torque at speed w_M: external + brake (opposes rotation, linear taper
- * inside +-w_brake_eps) + fan; viscous friction B excluded. */
-double smd_load_torque(const smd_plant_config *c, double w_M, double T_ext, double T_brake);
-/* Exact mechanics over T with mean electromagnetic torque T_e and load T_L
- * (from smd_load_torque at w0): end speed, integral of w, mean load torque. */
-void smd_mech_advance(const smd_plant_config *c, double T_e, double T_L, double T_brake,
-                      double w0, double T, double *w1, double *th, double *T_L_mean);
-/* End of a solver's period: the mechanics over it (smd_mech_advance with the
- * period's mean torque and the load T_L of its start), the angle, and the
- * period means; the solver has written the electrical state. */
-void smd_plant_end_period(smd_plant *p, double T_e_mean, double T_L, double T_brake,
-                          double complex u_mean);
 
 #endif
