@@ -24,7 +24,6 @@ from smodrive.params import RPM
 from smodrive.scenarios import yang2018, yao2022
 from smodrive.simulate import CHANNELS, simulate
 
-ROOT = Path(__file__).resolve().parents[1]
 
 # rows of the CLI's `run` figure: 3 + 2 + 1 curves
 ROWS = [("speed (r/min)", [("n_ref_rpm", "reference"), ("n_rpm", "true"),
@@ -108,7 +107,8 @@ def test_import_and_drawing_leave_rcparams_and_backend_alone(tmp_path):
         assert mpl.rcParams["lines.linewidth"] == 2.5
         print(path)
     """)
-    env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
+    # the same smodrive as this process imported (installed, or src/ with PYTHONPATH)
+    env = dict(os.environ, PYTHONPATH=str(Path(plots.__file__).resolve().parents[1]))
     env.pop("MPLBACKEND", None)
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          env=env, timeout=120)

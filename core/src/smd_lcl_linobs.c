@@ -31,29 +31,10 @@ smd_status smd_linobs_step(const smd_linobs_params *p, smd_linobs_state *s, smd_
 {
     smd_linobs_model m;
     smd_real y[4], u[2], zn[4];
-    smd_real x = (w - p->w_min) / p->dw;
-    smd_real f;
-    int k, i, j;
-    const smd_real *a;
-    const smd_real *b;
-    smd_real *o = (smd_real *)&m;
-    const int nf = (int)(sizeof(smd_linobs_model) / sizeof(smd_real));
-    if (!(x > SMD_R(0.0))) {
-        x = SMD_R(0.0);
-    }
-    if (x > (smd_real)(p->n - 1)) {
-        x = (smd_real)(p->n - 1);
-    }
-    k = (int)x;
-    if (k > p->n - 2) {
-        k = p->n - 2;
-    }
-    f = x - (smd_real)k;
-    a = (const smd_real *)&p->table[k];
-    b = (const smd_real *)&p->table[k + 1];
-    for (i = 0; i < nf; i++) {
-        o[i] = a[i] + f * (b[i] - a[i]);
-    }
+    int i, j;
+    smd_table_interp((const smd_real *)p->table,
+                     (int)(sizeof(smd_linobs_model) / sizeof(smd_real)), p->n, p->w_min, p->dw,
+                     w, (smd_real *)&m);
     y[0] = i1_ab.re;
     y[1] = i1_ab.im;
     y[2] = i2_ab.re;

@@ -65,29 +65,8 @@ void smd_lcl_smo_reset(smd_lcl_smo_state *s, smd_real theta0)
 
 void smd_lcl_smo_model(const smd_lcl_smo_params *p, smd_real w, smd_lcl_model *m)
 {
-    smd_real x = (w - p->w_min) / p->dw;
-    smd_real f;
-    int k, i;
-    const smd_real *a;
-    const smd_real *b;
-    smd_real *o = (smd_real *)m;
-    const int nf = (int)(sizeof(smd_lcl_model) / sizeof(smd_real));
-    if (!(x > SMD_R(0.0))) {
-        x = SMD_R(0.0);
-    }
-    if (x > (smd_real)(p->n - 1)) {
-        x = (smd_real)(p->n - 1);
-    }
-    k = (int)x;
-    if (k > p->n - 2) {
-        k = p->n - 2;
-    }
-    f = x - (smd_real)k;
-    a = (const smd_real *)&p->table[k];
-    b = (const smd_real *)&p->table[k + 1];
-    for (i = 0; i < nf; i++) {
-        o[i] = a[i] + f * (b[i] - a[i]);
-    }
+    smd_table_interp((const smd_real *)p->table, (int)(sizeof(smd_lcl_model) / sizeof(smd_real)),
+                     p->n, p->w_min, p->dw, w, (smd_real *)m);
 }
 
 /* y = M x for a 2x2 row-major M */

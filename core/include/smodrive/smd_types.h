@@ -137,4 +137,33 @@ static inline smd_status smd_check_model(smd_real T_sp, smd_real L_s_hat, smd_re
     return SMD_OK;
 }
 
+/* Linear interpolation in a speed-indexed table of n rows of nf reals each
+ * (row k at w_min + k dw), clamped to the table: out = row(w). The yao2022
+ * observers' matrices (smd_lcl_smo, smd_lcl_linobs) are such tables. */
+static inline void smd_table_interp(const smd_real *table, int nf, int n, smd_real w_min,
+                                    smd_real dw, smd_real w, smd_real *out)
+{
+    smd_real x = (w - w_min) / dw;
+    smd_real f;
+    int k, i;
+    const smd_real *a;
+    const smd_real *b;
+    if (!(x > SMD_R(0.0))) {
+        x = SMD_R(0.0);
+    }
+    if (x > (smd_real)(n - 1)) {
+        x = (smd_real)(n - 1);
+    }
+    k = (int)x;
+    if (k > n - 2) {
+        k = n - 2;
+    }
+    f = x - (smd_real)k;
+    a = table + k * nf;
+    b = a + nf;
+    for (i = 0; i < nf; i++) {
+        out[i] = a[i] + f * (b[i] - a[i]);
+    }
+}
+
 #endif /* SMD_TYPES_H */
