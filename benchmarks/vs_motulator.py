@@ -284,7 +284,7 @@ def smodrive_scenario(pwm: str, seconds: float):
     sp = closed_loop_spec(seconds)
     prof = lambda pts: Profile(tuple(p[0] for p in pts), tuple(p[1] for p in pts))  # noqa: E731
     return y.BASE.replace(
-        name=f"vs_motulator.{pwm}", duration=seconds, n_M0=0.0, w_M_ref=prof(sp["w_M_ref"]),
+        name=f"vs_motulator.{pwm}", duration=seconds, w_M0=0.0, w_M_ref=prof(sp["w_M_ref"]),
         inverter=InverterCfg(pwm=pwm, t_dead=0.0), adc=AdcCfg(noise=0.0, bits=0),
         load=LoadCfg(T_ext=prof(sp["T_L"])),
     ).with_controller(mode="sensorless", t_handover=0.25, t_dead_comp=0.0)

@@ -15,7 +15,6 @@ import math
 import numpy as np
 
 from smodrive.params import (
-    RPM,
     AdcCfg,
     InverterCfg,
     LclFilterPars,
@@ -40,16 +39,12 @@ _TOP = {f.name for f in dataclasses.fields(Scenario)} - set(_SECTIONS)
 
 def vary(s: Scenario, **kw) -> Scenario:
     """`s` with plant fields changed by their own names, whatever section
-    holds them (R_s, L1, pwm, gain_i1, k_fan, T_sp, theta_r0, ...); w_M0 is
-    the initial mechanical speed in rad/s (set as n_M0). Filter fields on a
+    holds them (R_s, L1, pwm, gain_i1, k_fan, T_sp, w_M0, theta_r0, ...). Filter fields on a
     scenario without the filter add one (LclFilterPars defaults for the
     rest)."""
     top: dict = {}
     parts: dict[str, dict] = {name: {} for name in _SECTIONS}
     for k, v in kw.items():
-        if k == "w_M0":
-            top["n_M0"] = v / RPM
-            continue
         owner = [name for name, names in _FIELDS.items() if k in names]
         if owner:
             parts[owner[0]][k] = v

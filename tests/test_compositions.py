@@ -77,15 +77,15 @@ def test_pi_with_smdo_position(s):
 @_both(drive.if_start, "if_start.toml")
 def test_if_start_hands_over_to_the_smdo_and_reaches_rated_speed(s):
     """From standstill under the rated brake: step j (from 0) raises the
-    forced speed to w_f = (j + 1) a_start T_sp, which reaches n_handover at
+    forced speed to w_f = (j + 1) a_start T_sp, which reaches w_M_handover at
     j = ceil(w_h / (a T)) - 1 (+-1 for float rounding), where the logged
     phase must switch from forced (0) to the source (2); the drive then
     reaches 1500 r/min (within 1 % over the last 0.3 s, the speed loop has no
     steady error) with < 1 deg RMS angle error, and no fault."""
     r = simulate(s)
     c, n_p = s.controller, s.motor.n_p
-    a = c.a_start_rpm_s * RPM * n_p
-    j_h = math.ceil(c.n_handover * RPM * n_p / (a * s.T_sp)) - 1
+    a = c.a_M_start * n_p
+    j_h = math.ceil(c.w_M_handover * n_p / (a * s.T_sp)) - 1
     ph = r["phase"]
     assert np.all(ph[:j_h - 1] == 0)
     assert abs(int(np.argmax(ph == 2)) - j_h) <= 1

@@ -564,7 +564,7 @@ def test_engine_never_logs_nan(ctrl, n0, n_ref, i_q, svm, pwm):
     from smodrive.params import InverterCfg
     from smodrive.simulate import simulate
 
-    s = Scenario(duration=0.01, n_M0=n0, w_M_ref=Profile.const(n_ref * RPM),
+    s = Scenario(duration=0.01, w_M0=n0 * RPM, w_M_ref=Profile.const(n_ref * RPM),
                  i_q_ref=Profile.const(i_q), controller=ctrl,
                  inverter=InverterCfg(svm_limit=svm, pwm=pwm))
     r = simulate(s)

@@ -501,7 +501,7 @@ def _drive_both(eps: float, n: int = 300):
     LP_k = a int_0^t_k e^{-a (t_k - s)} i(s) ds from the filterless current's
     samples (exact for its chord), and the capacitor-current bound
     2 a C1 max|u_c| (sampled maximum) and a t_n."""
-    base = vary(SPMSM, pwm="carrier", t_dead=0.0, J=1e4, B=0.0, n_M0=1000.0, theta_r0=0.3)
+    base = vary(SPMSM, pwm="carrier", t_dead=0.0, J=1e4, B=0.0, w_M0=1000.0 * RPM, theta_r0=0.3)
     m, T = base.motor, base.T_sp
     p0 = Plant(base)
     p1 = Plant(vary(base, L1=eps * m.L_s, L2o=0.0, C1=1e-10))
@@ -617,7 +617,7 @@ def test_init_checks_the_filter_fields_only_with_the_filter(field, value, name):
         plant_from(TABLE2, **{field: value})
     # without the filter the same garbage is not read: init succeeds and the
     # plant runs bit for bit as with clean filter fields
-    ref = Plant(vary(SPMSM, pwm="carrier", n_M0=500.0, theta_r0=0.4))
+    ref = Plant(vary(SPMSM, pwm="carrier", w_M0=500.0 * RPM, theta_r0=0.4))
     c = plant_config(ref.scenario)
     assert c.lcl == 0
     setattr(c, field, value)

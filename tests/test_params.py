@@ -477,8 +477,8 @@ def test_cross_field_limits_name_the_fields():
     s = Scenario(controller=ControllerCfg(**yang2018_mode("sensorless"), w_lpf=4e4))
     with pytest.raises(ParameterError, match=r"controller\.w_lpf"):
         s.check_controller()
-    s = Scenario(controller=ControllerCfg(**yang2018_mode("sensorless"), n_max=1e5))
-    with pytest.raises(ParameterError, match=r"controller\.n_max"):
+    s = Scenario(controller=ControllerCfg(**yang2018_mode("sensorless"), w_M_max=1e5))
+    with pytest.raises(ParameterError, match=r"controller\.w_M_max"):
         s.check_controller()
 
 
@@ -669,7 +669,7 @@ def _load_legacy(tmp_path, text):
 def test_legacy_lcl_file_loads_with_every_value_in_its_new_place(tmp_path):
     s, msg = _load_legacy(tmp_path, LEGACY_FULL)
     # top level
-    assert (s.name, s.T_sp, s.duration, s.n_M0) == ("legacy.full", 4e-5, 0.3, 30000.0)
+    assert (s.name, s.T_sp, s.duration, s.w_M0) == ("legacy.full", 4e-5, 0.3, 30000.0 * RPM)
     assert s.w_M_ref == Profile.const(31000.0 * RPM)
     # [plant] -> [motor], [lcl], [inverter], [load]
     m = s.motor
@@ -689,7 +689,7 @@ def test_legacy_lcl_file_loads_with_every_value_in_its_new_place(tmp_path):
     assert (c.law, c.k_p_i, c.i_max) == ("tde17", 0.4, 40.0)
     # the rest is the yao2022 preset's
     b = yao2022.BASE
-    assert (c.k_i_i, c.i_start, c.n_handover, c.Q) == (600.0, 15.0, 5e3, (0.5, 0.5))
+    assert (c.k_i_i, c.i_start, c.w_M_handover, c.Q) == (600.0, 15.0, 5e3 * RPM, (0.5, 0.5))
     assert (a.full_scale, a.seed, s.inverter.svm_limit) == (60.0, 1, b.inverter.svm_limit)
     assert m.P_N == b.motor.P_N
     # the warning says where each key went
@@ -874,8 +874,10 @@ def test_unknown_key_names_the_known_ones(sec):
     profiles = {f.name for f in dataclasses.fields(cls)
                 if isinstance(getattr(cls(), f.name), Profile)}
     top = {"base"} if sec == "scenario" else set()  # the catalogue scenario to start from
-    speeds = {p for p in profiles if p.startswith("w_")}  # only speeds have an _rpm form
-    assert set(known) == fields | {p + "_rpm" for p in speeds} | top
+    # mechanical speeds and accelerations also have an r/min form
+    rpm = {f + "_rpm" for f in fields if f.startswith("w_M")}
+    rpm |= {f + "_rpm_s" for f in fields if f.startswith("a_M")}
+    assert set(known) == fields | rpm | top
 
 
 @pytest.mark.parametrize("key", ["T_brake_rpm", "T_ext_rpm"])
@@ -884,6 +886,22 @@ def test_rpm_suffix_only_for_speeds(key):
     scale newton-metres by 2 pi / 60 silently, so it is an unknown key."""
     with pytest.raises(ParameterError, match=f"load.{key}: unknown parameter"):
         scenario_from_dict({"load": {key: 1.0}})
+
+
+@pytest.mark.parametrize("old,new,value", [
+    ("n_M0", "w_M0", 1500.0 * RPM),
+    ("n_max", "w_M_max", 1500.0 * RPM),
+    ("n_handover", "w_M_handover", 1500.0 * RPM),
+    ("a_start_rpm_s", "a_M_start", 1500.0 * RPM),
+])
+def test_r_per_min_names_of_earlier_versions_still_load(old, new, value):
+    """The r/min fields of earlier versions are read into their SI fields
+    (value * 2 pi / 60), with a warning naming the new key."""
+    data = {old: 1500.0} if old == "n_M0" else {"controller": {old: 1500.0}}
+    with pytest.warns(UserWarning, match=f"{old} is now {new}_rpm"):
+        s = scenario_from_dict(data)
+    got = s.w_M0 if old == "n_M0" else getattr(s.controller, new)
+    assert got == value
 
 
 def test_misspelt_key_in_the_filter_section():

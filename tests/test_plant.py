@@ -124,7 +124,7 @@ def test_rotating_carrier_pwm_one_period_and_torque():
     # <= T/L * 1.9e-7 = 8e-10 A, i.e. ~1e-10 of the ~8 A current (the angle
     # difference, <= 5e-7 * T = 5e-11 rad, is smaller still). Tolerance 1e-9 of
     # the current scale; a one-edge error of 1 ns would be 2e-5 A.
-    s = vary(SPMSM, pwm="carrier", t_dead=2e-6, J=1e4, B=0.0, n_M0=1000.0, theta_r0=0.3)
+    s = vary(SPMSM, pwm="carrier", t_dead=2e-6, J=1e4, B=0.0, w_M0=1000.0 * RPM, theta_r0=0.3)
     m, T = s.motor, s.T_sp
     Kt = 1.5 * m.n_p * m.psi_r
     p = Plant(s)
@@ -161,7 +161,7 @@ def test_sinusoidal_steady_state_averaged_exact_discrete():
     U / (R + jwL) as T -> 0), and from i_0 = 0 the transient is exactly
     i_k = I e^{jwkT} - I e^{-akT} (the error obeys x_{k+1} = e^{-aT} x_k)."""
     th0 = 0.3
-    s = vary(SPMSM, J=1e4, B=0.0, n_M0=1000.0, theta_r0=th0)
+    s = vary(SPMSM, J=1e4, B=0.0, w_M0=1000.0 * RPM, theta_r0=th0)
     m, T = s.motor, s.T_sp
     R, L, psi, a = m.R_s, m.L_s, m.psi_r, m.R_s / m.L_s
     w = m.n_p * 1000.0 * RPM
@@ -263,7 +263,7 @@ def test_viscous_decay_exact():
     # J dw/dt = -B w -> w = w0 e^{-B t / J}, theta = n_p w0 J/B (1 - e^{-Bt/J}).
     # The plant integrates this linear ODE exactly per period; only rounding
     # remains (~2000 * 1 ulp ~ 5e-13 relative) -> 1e-11.
-    s = vary(SPMSM, T_sp=1e-3, psi_r=0.0, J=0.012, B=0.002, n_M0=1500.0)
+    s = vary(SPMSM, T_sp=1e-3, psi_r=0.0, J=0.012, B=0.002, w_M0=1500.0 * RPM)
     m = s.motor
     w0 = 1500.0 * RPM
     p = Plant(s)

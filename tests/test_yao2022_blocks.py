@@ -41,7 +41,7 @@ PROPOSED, TDE17, TDE18 = 0, 1, 2
 LAWS = {"proposed": PROPOSED, "tde17": TDE17, "tde18": TDE18}
 Q_DIAG = DESIGN.Q
 BW_REL = (DESIGN.bw_rel_2, DESIGN.bw_rel_3)
-W_BP_MIN = float(dz.rpm_to_w(BASE.controller.n_bp_min, PLANT.motor.n_p))  # 5 kr/min default
+W_BP_MIN = float(BASE.controller.w_M_bp_min * PLANT.motor.n_p)  # 5 kr/min default
 DELAY = _ffi.SMO_DELAY
 
 # status codes of smd_types.h

@@ -8,7 +8,8 @@ One :class:`Scenario` describes every drive smodrive simulates: the plant
 sections (``motor``, the optional ``lcl`` filter, ``inverter``, ``adc``,
 ``load``) and the composed controller (``controller.current``,
 ``controller.position``, ``controller.start``). Speeds are SI (rad/s) in
-Python; a TOML key whose unit is not SI says so in its name (``..._rpm``).
+Python (``w_M...`` mechanical rad/s); a TOML key whose unit is not SI says so
+in its name (``w_M0_rpm``, ``w_M_ref_rpm``, ``a_M_start_rpm_s``).
 
 Example
 -------
@@ -112,12 +113,12 @@ class MotorPars(_Validated):
     J: float = num(0.012, 1e-9, 1e4, "kg m^2", "inertia of motor and load (assumed)")
     B: float = num(0.002, 0.0, 1e3, "N m s/rad", "viscous friction (assumed)")
     P_N: float = num(2400.0, 0.0, 1e8, "W", "rated power")
-    n_N: float = num(1500.0, 1.0, 1e6, "r/min", "rated speed")
+    w_M_N: float = num(1500.0 * RPM, 0.1, 1e5, "rad/s", "rated speed (mechanical)")
 
     @property
     def T_N(self) -> float:
         """Rated torque P_N / (rated mechanical speed), N m."""
-        return self.P_N / (self.n_N * RPM)
+        return self.P_N / self.w_M_N
 
     @property
     def k_t(self) -> float:
@@ -186,7 +187,7 @@ class ControllerCfg(_Validated):
     position: str = choice("encoder", POSITION_SOURCES, "position source")
     start: str = choice("running", STARTS,
                         "running: the source from t = 0; handover: encoder for t_handover "
-                        "first; if: I/f forced start up to n_handover")
+                        "first; if: I/f forced start up to w_M_handover")
     # model estimates
     L_s_hat: float = num(23.45e-3, 0.0, 10.0, "H", "inductance estimate", lo_open=True)
     R_s_hat: float = num(2.25, 0.0, 1e3, "ohm", "resistance estimate")
@@ -201,7 +202,8 @@ class ControllerCfg(_Validated):
     w_lpf: float = num(100.0, 0.0, 1e6, "rad/s", "sensorless speed LPF bandwidth (assumed)",
                        lo_open=True)
     w_hys: float = num(5.0, 0.0, 1e5, "rad/s", "direction hysteresis (electrical)")
-    n_max: float = num(3000.0, 0.0, 1e6, "r/min", "sensorless speed-estimate limit", lo_open=True)
+    w_M_max: float = num(3000.0 * RPM, 0.0, 1e5, "rad/s",
+                         "sensorless speed-estimate limit (mechanical)", lo_open=True)
     # current PI (current = "pi")
     current_bw: float = num(2500.0, 0.0, 1e6, "rad/s",
                             "current-loop bandwidth: k_p_i = bw L, k_i_i = bw R (assumed)",
@@ -229,12 +231,15 @@ class ControllerCfg(_Validated):
     C1_hat_ratio: float = num(1.0, 0.1, 10.0, "", "observer's capacitance / true (Fig. 23)")
     Q: tuple[float, float] = num((0.5, 0.5), -0.999, 0.999, "", "reaching-law Q (Table III)")
     bw_rel: tuple[float, float] = num((0.2, 0.2), 1e-3, 1.9, "", "band-pass widths / f_e")
-    n_bp_min: float = num(5e3, 0.0, 1e6, "r/min", "band-pass suppression above (assumed)")
+    w_M_bp_min: float = num(5e3 * RPM, 0.0, 1e5, "rad/s",
+                            "band-pass suppression above this speed (mechanical, assumed)")
     # start
     t_handover: float = num(0.0, 0.0, 1e3, "s", "handover: time run on the encoder first")
     i_start: float = num(10.0, 0.0, 1e5, "A", "I/f start current (assumed)")
-    a_start_rpm_s: float = num(3000.0, 0.0, 1e9, "r/min/s", "I/f acceleration (assumed)")
-    n_handover: float = num(150.0, 0.0, 1e7, "r/min", "I/f: speed of the handover (assumed)")
+    a_M_start: float = num(3000.0 * RPM, 0.0, 1e8, "rad/s^2",
+                           "I/f acceleration (mechanical, assumed)")
+    w_M_handover: float = num(150.0 * RPM, 0.0, 1e6, "rad/s",
+                              "I/f: speed of the handover (mechanical, assumed)")
     # modulator
     t_dead_comp: float = num(2e-6, 0.0, 1e-3, "s", "dead time compensated by the modulator")
     i_dtc: float = num(0.3, 0.0, 1e5, "A", "linear zone of the compensation", lo_open=True)
@@ -325,7 +330,7 @@ class Scenario(_Validated):
     name: str = "scenario"
     T_sp: float = num(100e-6, 1e-7, 1.0, "s", "sampling (= carrier) period")
     duration: float = num(1.0, 0.0, 1e4, "s", "simulated time", lo_open=True)
-    n_M0: float = num(0.0, -9.5e5, 9.5e5, "r/min", "initial speed")
+    w_M0: float = num(0.0, -9.9e4, 9.9e4, "rad/s", "initial speed (mechanical)")
     theta_r0: float = num(0.0, -1e3, 1e3, "rad", "initial electrical angle")
     w_M_ref: Profile = field(default_factory=lambda: Profile.const(0.0))  # rad/s
     i_d_ref: Profile = field(default_factory=lambda: Profile.const(0.0))
@@ -350,11 +355,6 @@ class Scenario(_Validated):
             raise ParameterError(
                 f"inverter.t_dead = {self.inverter.t_dead!r} is outside its valid range "
                 f"[0, T_sp/4 = {0.25 * self.T_sp:g}] s")
-
-    @property
-    def w_M0(self) -> float:
-        """Initial mechanical speed, rad/s."""
-        return self.n_M0 * RPM
 
     @property
     def L_dec(self) -> float:
@@ -411,25 +411,25 @@ class Scenario(_Validated):
             raise ParameterError(
                 f"controller.t_dead_comp = {c.t_dead_comp!r} is outside its valid range "
                 f"[0, T_sp/4 = {0.25 * T:g}] s")
-        if c.start == "if" and c.n_handover * RPM * self.motor.n_p > nyq:
+        if c.start == "if" and c.w_M_handover * self.motor.n_p > nyq:
             raise ParameterError(
-                f"controller.n_handover = {c.n_handover!r} is outside its valid range: "
-                f"n_handover n_p must be at most pi/T_sp = {nyq:g} rad/s")
+                f"controller.w_M_handover = {c.w_M_handover!r} is outside its valid range: "
+                f"w_M_handover n_p must be at most pi/T_sp = {nyq:g} rad/s")
         if c.position == "smdo_emf":
             if c.w_lpf >= nyq:
                 raise ParameterError(
                     f"controller.w_lpf = {c.w_lpf!r} is outside its valid range "
                     f"(0, pi/T_sp = {nyq:g}) rad/s")
-            w_max = c.n_max * RPM * self.motor.n_p
+            w_max = c.w_M_max * self.motor.n_p
             if not (c.w_hys < w_max <= nyq):
                 raise ParameterError(
-                    f"controller.n_max = {c.n_max!r} is outside its valid range: the "
-                    f"electrical speed limit n_max n_p must lie in (w_hys = {c.w_hys:g}, "
+                    f"controller.w_M_max = {c.w_M_max!r} is outside its valid range: the "
+                    f"electrical speed limit w_M_max n_p must lie in (w_hys = {c.w_hys:g}, "
                     f"pi/T_sp = {nyq:g}] rad/s")
             a, b = 1.0 - c.w_c * T, w_max * T
             if a * a + b * b >= 1.0:
                 raise ParameterError(
-                    f"controller.w_c = {c.w_c!r} with n_max = {c.n_max!r}: the filter (36) "
+                    f"controller.w_c = {c.w_c!r} with w_M_max = {c.w_M_max!r}: the filter (36) "
                     "would be unstable, |1 - w_c T_sp + j w_max T_sp| must be below 1")
         uses_smdo = c.current == "robust_dbpc" or c.position == "smdo_emf"
         if uses_smdo and (c.l + c.lambda_min / c.rho) * T >= 2.0:

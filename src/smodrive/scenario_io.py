@@ -6,8 +6,11 @@ A TOML file sets the top-level scenario fields and the sections
 ``[adc]``, ``[load]`` and ``[controller]``. Every field left out keeps its
 default, or the value of the catalogue scenario named by ``base`` (for
 example ``base = "yao2022.base"`` for the LCL-filtered high-speed drive).
-Keys are SI unless their name says otherwise (``w_M_ref_rpm``,
-``n_M0`` in r/min). ``[controller] mode = "conventional" | "robust" |
+Keys are SI unless their name says otherwise: every mechanical speed
+``w_M...`` may be given in r/min as ``w_M..._rpm`` (``w_M0_rpm``, ``w_M_ref_rpm``,
+``w_M_max_rpm``), an acceleration ``a_M...`` in r/min/s as ``a_M..._rpm_s``. The r/min
+names of earlier versions (``n_M0``, ``n_max``, ...) are read with a warning.
+``[controller] mode = "conventional" | "robust" |
 "sensorless"`` is shorthand for yang2018's three compositions of parts.
 
 A file of the older LCL schema (``kind = "lcl"``, a ``[plant]`` section)
@@ -16,7 +19,7 @@ where they live now, and a warning says what to write instead.
 
 Example
 -------
->>> s = scenario_from_dict({"n_M0": 1000.0, "controller": {"mode": "sensorless"}})
+>>> s = scenario_from_dict({"w_M0_rpm": 1000.0, "controller": {"mode": "sensorless"}})
 >>> (s.controller.current, s.controller.position, s.controller.start)
 ('robust_dbpc', 'smdo_emf', 'handover')
 """
@@ -70,17 +73,44 @@ def _profile_fields(cls: type) -> set[str]:
     return {f.name for f in dataclasses.fields(cls) if isinstance(getattr(obj, f.name), Profile)}
 
 
+# the names fields had before speeds were SI in the Python API (r/min then)
+_RENAMED = {"n_M0": "w_M0_rpm", "n_max": "w_M_max_rpm", "n_bp_min": "w_M_bp_min_rpm",
+            "n_handover": "w_M_handover_rpm", "a_start_rpm_s": "a_M_start_rpm_s",
+            "n_N": "w_M_N_rpm"}
+
+
+def _unit_forms(cls: type) -> dict[str, tuple[str, float]]:
+    """TOML keys in r/min (and r/min/s) for the mechanical speeds (and
+    accelerations) of cls: key -> (field, factor to SI)."""
+    out = {}
+    for f in dataclasses.fields(cls):
+        if f.name.startswith("w_M"):
+            out[f.name + "_rpm"] = (f.name, RPM)
+        elif f.name.startswith("a_M"):
+            out[f.name + "_rpm_s"] = (f.name, RPM)
+    return out
+
+
 def _kwargs(cls: type, section: str, data: dict[str, Any]) -> dict[str, Any]:
     names = {f.name for f in dataclasses.fields(cls)} - set(SECTIONS)
     profiles = _profile_fields(cls)
-    speeds = {p for p in profiles if p.startswith("w_")}  # the profiles with an _rpm form
+    units = _unit_forms(cls)
     kwargs: dict[str, Any] = {}
     for key, value in data.items():
-        if key.endswith("_rpm") and key[:-4] in speeds:
-            kwargs[key[:-4]] = _profile_from(f"{section}.{key}", value, RPM)
+        if key in _RENAMED and _RENAMED[key] in units:
+            warnings.warn(f"{section}.{key} is now {_RENAMED[key]} (SI field "
+                          f"{units[_RENAMED[key]][0]}); read as such", UserWarning, stacklevel=4)
+            key = _RENAMED[key]
+        if key in units:
+            name, k = units[key]
+            if name in profiles:
+                kwargs[name] = _profile_from(f"{section}.{key}", value, k)
+            elif _is_num(value):
+                kwargs[name] = float(value) * k
+            else:
+                raise ParameterError(f"{section}.{key} = {value!r} is not a number")
         elif key not in names:
-            known = sorted(names | {p + "_rpm" for p in speeds}
-                           | ({"base"} if cls is Scenario else set()))
+            known = sorted(names | set(units) | ({"base"} if cls is Scenario else set()))
             raise ParameterError(
                 f"{section}.{key}: unknown parameter (known: {', '.join(known)})")
         elif key in profiles:

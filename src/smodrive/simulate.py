@@ -9,7 +9,7 @@ each chunk of samples is one call into C.
 Example
 -------
 >>> from smodrive.params import Scenario, Profile, RPM
->>> s = Scenario(duration=0.01, n_M0=300.0, w_M_ref=Profile.const(300 * RPM))
+>>> s = Scenario(duration=0.01, w_M0=300 * RPM, w_M_ref=Profile.const(300 * RPM))
 >>> r = simulate(s)
 >>> r["w_M"].shape, r.unit("w_M")
 ((100,), 'rad/s')
@@ -210,7 +210,7 @@ def drive_config(s: Scenario, tables=None) -> _ffi.DriveConfig:
     c.lambda_min, c.l, c.w_c, c.rho = k.lambda_min, k.l, k.w_c, k.rho
     c.smdo_euler = 1 if k.smdo_euler else 0
     c.w_lpf, c.w_hys = k.w_lpf, k.w_hys
-    c.w_max = k.n_max * RPM * n_p
+    c.w_max = k.w_M_max * n_p
     c.k_p_i, c.k_i_i = k.current_pi_gains()
     c.L_dec = s.L_dec
     c.R_v = k.R_v
@@ -224,12 +224,12 @@ def drive_config(s: Scenario, tables=None) -> _ffi.DriveConfig:
         m, lin, w_min, dw = tables
         c.smo = _ffi.SmoConfig(T_sp=T, law=LAWS[k.law], table=m.ctypes.data, n=m.shape[0],
                                w_min=w_min, dw=dw, Q1=k.Q[0], Q2=k.Q[1], bw_rel2=k.bw_rel[0],
-                               bw_rel3=k.bw_rel[1], w_bp_min=k.n_bp_min * RPM * n_p)
+                               bw_rel3=k.bw_rel[1], w_bp_min=k.w_M_bp_min * n_p)
         c.lin = _ffi.LinConfig(table=lin.ctypes.data, n=lin.shape[0], w_min=w_min, dw=dw)
     c.handover = int(round(k.t_handover / T)) if k.start == "handover" else 0
     c.i_start = k.i_start
-    c.a_start = k.a_start_rpm_s * RPM * n_p
-    c.w_handover = k.n_handover * RPM * n_p
+    c.a_start = k.a_M_start * n_p
+    c.w_handover = k.w_M_handover * n_p
     c.svm_limit = 1 if s.inverter.svm_limit == "hexagon" else 0
     c.t_dead_comp = k.t_dead_comp
     c.i_dtc = k.i_dtc

@@ -20,7 +20,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..params import LoadCfg, Profile, Scenario
+from ..params import RPM, LoadCfg, Profile, Scenario
 from ..simulate import Result, simulate
 from . import yang2018 as y
 from . import yao2022 as z
@@ -32,7 +32,7 @@ def _table1_steady(name: str, **ctrl) -> Scenario:
     """yang2018 Table I motor at 1500 r/min with the rated brake load, from a
     warm start, run long enough for a 0.3 s steady-state window."""
     return y.BASE.replace(
-        name=name, duration=STEADY_WINDOW[1], n_M0=1500.0, w_M_ref=Profile.const(y.W_N),
+        name=name, duration=STEADY_WINDOW[1], w_M0=1500.0 * RPM, w_M_ref=Profile.const(y.W_N),
         load=LoadCfg(T_brake=Profile.const(y.T_N)),
     ).with_controller(**ctrl)
 
@@ -54,7 +54,7 @@ def if_start() -> Scenario:
     0.5 s; I/f with the ControllerCfg defaults (10 A, 3000 r/min/s, handover
     at 150 r/min)."""
     return y.BASE.replace(
-        name="drive.if_start", duration=1.5, n_M0=0.0,
+        name="drive.if_start", duration=1.5, w_M0=0.0,
         w_M_ref=Profile((0.0, IF_RAMP), (0.0, y.W_N)),
         load=LoadCfg(T_brake=Profile.const(y.T_N)),
     ).with_controller(current="robust_dbpc", position="smdo_emf", start="if")

@@ -78,7 +78,7 @@ def fig2_scenario() -> Scenario:
     return BASE.replace(
         name="yang2018.fig2",
         duration=0.6,
-        n_M0=1500.0,
+        w_M0=1500.0 * RPM,
         w_M_ref=Profile.const(W_N),
         controller=_ctrl(mode="robust", t_dead_comp=0.0),
         inverter=dataclasses.replace(BASE.inverter, t_dead=0.0),
@@ -100,7 +100,7 @@ def fig56_scenario(name: str, mode: str, **ctrl) -> Scenario:
     return BASE.replace(
         name=name,
         duration=SS_WINDOW[1],
-        n_M0=75.0,
+        w_M0=75.0 * RPM,
         w_M_ref=Profile.steps(75 * RPM, (STEP_T, W_N)),
         controller=_ctrl(mode=mode, **ctrl),
         load=LoadCfg(T_brake=_rated_brake()),
@@ -112,7 +112,7 @@ def fig7_scenario(n: float) -> Scenario:
     return BASE.replace(
         name=f"yang2018.fig7{tag}",
         duration=1.0,
-        n_M0=n,
+        w_M0=n * RPM,
         w_M_ref=Profile.const(n * RPM),
         controller=_ctrl(mode="sensorless", t_handover=HANDOVER),
         load=LoadCfg(T_brake=_rated_brake()),
@@ -126,7 +126,7 @@ def fig8_scenario() -> Scenario:
     return BASE.replace(
         name="yang2018.fig8",
         duration=1.6,
-        n_M0=1500.0,
+        w_M0=1500.0 * RPM,
         w_M_ref=Profile.const(W_N),
         controller=_ctrl(mode="sensorless", t_handover=HANDOVER),
         load=LoadCfg(T_brake=Profile.steps(0.0, (FIG8_ON, T_N), (FIG8_OFF, 0.0))),
@@ -142,7 +142,7 @@ def fig9_scenario() -> Scenario:
     return BASE.replace(
         name="yang2018.fig9",
         duration=2.4,
-        n_M0=150.0,
+        w_M0=150.0 * RPM,
         w_M_ref=Profile.steps(150 * RPM, (FIG9_UP, W_N), (FIG9_DOWN, 150 * RPM), ramp=ramp),
         controller=_ctrl(mode="sensorless", t_handover=HANDOVER),
     )

@@ -34,7 +34,7 @@ EXPERIMENTS = Experiments()  # filled by @EXPERIMENTS(id, title) on each run fun
 # Table IV (i_q = 30 A at 100 kr/min: 1.5 * 0.0012 * 30 / (10472 rad/s)^2 =
 # 4.9e-10 N m s^2), and P_N is that fan load's power at the rated speed.
 MOTOR = MotorPars(R_s=0.023, L_s=24e-6, psi_r=0.0012, n_p=1, J=1e-5, B=0.0, P_N=560.0,
-                  n_N=100e3)
+                  w_M_N=100e3 * RPM)
 # ADC scaling error (assumed; the paper gives none): +-1 % on phases a, b of
 # both current sensors; noise and range assumed (docs/assumptions.md).
 ADC = AdcCfg(gain=(1.01, 0.99, 1.0), gain_i1=(1.01, 0.99, 1.0), noise=0.02, bits=12,
@@ -47,7 +47,7 @@ CONTROLLER = ControllerCfg(
     L_s_hat=MOTOR.L_s, R_s_hat=MOTOR.R_s, psi_r_hat=MOTOR.psi_r,
     k_p_i=0.35, k_i_i=600.0, R_v=0.0, emf_ff=True,
     speed_bw=60.0, J_hat=MOTOR.J, psi_r_pi=MOTOR.psi_r, i_max=45.0,
-    i_start=15.0, a_start_rpm_s=5e3, n_handover=5e3, t_dead_comp=0.0,
+    i_start=15.0, a_M_start=5e3 * RPM, w_M_handover=5e3 * RPM, t_dead_comp=0.0,
 )
 BASE = Scenario(
     name="yao2022.base", T_sp=50e-6, duration=0.5, motor=MOTOR, lcl=LclFilterPars(),
@@ -66,7 +66,7 @@ def steady(n: float, law: str = "proposed", name: str | None = None, **kw) -> Sc
     return BASE.replace(
         name=name or f"yao2022.steady.{law}.{TAG.get(n, int(n))}",
         duration=SETTLE + WINDOW,
-        n_M0=n,
+        w_M0=n * RPM,
         w_M_ref=Profile.const(n * RPM),
         controller=dataclasses.replace(BASE.controller, law=law, **kw),
     )
@@ -315,7 +315,7 @@ FIG14_RATE = 20e3  # r/min per s after the handover (assumed; the paper gives no
 def fig14_scenario() -> Scenario:
     t_up = 1.1 + 95e3 / FIG14_RATE
     return BASE.replace(
-        name="yao2022.fig14", duration=t_up + 0.3, n_M0=0.0,
+        name="yao2022.fig14", duration=t_up + 0.3, w_M0=0.0,
         controller=dataclasses.replace(BASE.controller, start="if"),
         w_M_ref=Profile((0.0, 1.1, t_up), (5e3, 5e3, 100e3)).scaled(RPM), log_stride=2,
     )
@@ -354,7 +354,7 @@ def fig19_scenario() -> Scenario:
     # torque-current step 10 -> 15 A at 0.05 s (speed loop off, fan load)
     n0 = math.sqrt(10.0 * 1.5 * 0.0012 / 4.9e-10) / RPM  # fan equilibrium at 10 A
     return BASE.replace(
-        name="yao2022.fig19", duration=0.35, n_M0=n0, w_M_ref=Profile.const(n0 * RPM),
+        name="yao2022.fig19", duration=0.35, w_M0=n0 * RPM, w_M_ref=Profile.const(n0 * RPM),
         controller=dataclasses.replace(BASE.controller, speed_loop=False),
         i_q_ref=Profile.steps(10.0, (0.05, 15.0)),
     )
@@ -387,7 +387,7 @@ def run_fig19_21(progress: ProgressFn) -> Outcome:
 # -------------------------------------------------------------- Fig. 22 -----
 
 def fig22_scenario() -> Scenario:
-    return BASE.replace(name="yao2022.fig22", duration=2.6, n_M0=30e3,
+    return BASE.replace(name="yao2022.fig22", duration=2.6, w_M0=30e3 * RPM,
                         w_M_ref=Profile((0.0, 0.2, 2.2), (30e3, 30e3, -30e3)).scaled(RPM),
                         log_stride=2)
 
