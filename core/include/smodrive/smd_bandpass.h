@@ -11,6 +11,10 @@
 
 #include "smd_types.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct smd_bandpass {
     smd_real b0;       /* (1 - a2)/2 */
     smd_real a1, a2;
@@ -23,5 +27,9 @@ typedef struct smd_bandpass {
 smd_status smd_bandpass_set(smd_bandpass *f, smd_real w_n, smd_real Omega, smd_real T);
 void smd_bandpass_reset(smd_bandpass *f);
 smd_cplx smd_bandpass_step(smd_bandpass *f, smd_cplx x);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -12,6 +12,10 @@
 
 #include "smd_types.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct smd_dbpc_params {
     smd_real T_sp;      /* sampling period, s */
     smd_real L_s_hat;   /* estimated stator inductance, H */
@@ -41,5 +45,9 @@ smd_cplx smd_dbpc_conventional(const smd_dbpc_params *p, smd_cplx i_s_ab, smd_cp
  * with i^{k+1} and u_d^{k+1} the SMDO predictions of eq. (35)-(36). */
 smd_cplx smd_dbpc_robust(const smd_dbpc_params *p, smd_cplx i_s_ab_k1, smd_cplx u_d_ab_k1,
                          smd_cplx i_ref_ab_k2);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -53,6 +53,10 @@
 #include "smd_svm.h"
 #include "smd_types.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef enum smd_current_ctrl {
     SMD_CC_PI = 0,
     SMD_CC_DBPC = 1,
@@ -227,5 +231,9 @@ void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real the
 smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
                           smd_drive_out *out);
 smd_drive_view smd_drive_get_view(const smd_drive_params *p, const smd_drive_state *s);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -17,6 +17,10 @@
 
 #include "smd_types.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct smd_emf_pos_params {
     smd_real T_sp;  /* s */
     smd_real w_lpf; /* speed low-pass bandwidth, rad/s */
@@ -41,5 +45,9 @@ smd_status smd_emf_pos_init(smd_emf_pos_params *p, smd_real T_sp, smd_real w_lpf
 /* w_r0: initial speed estimate (its sign sets the initial direction). */
 void smd_emf_pos_reset(smd_emf_pos_state *s, smd_real w_r0);
 void smd_emf_pos_step(const smd_emf_pos_params *p, smd_emf_pos_state *s, smd_cplx u_d_hat);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -13,6 +13,10 @@
 
 #include "smd_types.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct smd_linobs_model {
     smd_real L[16];     /* 4x4 */
     smd_real Theta[16]; /* 4x4 */
@@ -46,5 +50,9 @@ void smd_linobs_reset(smd_linobs_state *s);
  * the estimate blew up. */
 smd_status smd_linobs_step(const smd_linobs_params *p, smd_linobs_state *s, smd_cplx i1_ab,
                            smd_cplx i2_ab, smd_cplx u_ab, smd_real w);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

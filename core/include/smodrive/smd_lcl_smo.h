@@ -22,6 +22,10 @@
 #include "smd_bandpass.h"
 #include "smd_types.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Matrices at one speed, row-major. */
 typedef struct smd_lcl_model {
     smd_real G[36];  /* 6x6, eq. (7) */
@@ -120,5 +124,9 @@ void smd_lcl_smo_reframe(smd_lcl_smo_state *s, smd_real dth);
 /* Position error of eq. (47): atan(-e_gamma / e_delta), sign-corrected for
  * negative speed (e_delta < 0 when w < 0). */
 smd_real smd_lcl_smo_theta_err(const smd_lcl_smo_state *s, smd_real w_hat);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

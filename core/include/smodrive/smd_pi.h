@@ -9,6 +9,10 @@
 
 #include "smd_types.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct smd_pi_params {
     smd_real k_p;   /* proportional gain, output unit per input unit */
     smd_real k_i;   /* integral gain, output unit per input unit per second */
@@ -26,5 +30,9 @@ smd_status smd_pi_init(smd_pi_params *p, smd_real k_p, smd_real k_i, smd_real T_
 void smd_pi_reset(smd_pi_state *s, smd_real x_i0);
 /* One execution: returns the limited output for error e = ref - meas. */
 smd_real smd_pi_step(const smd_pi_params *p, smd_pi_state *s, smd_real e);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -10,6 +10,10 @@
 
 #include "smd_types.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct smd_pll_params {
     smd_real T_sp;     /* sampling period, s */
     smd_real k_theta;  /* eq. (50): 0.1 */
@@ -30,5 +34,9 @@ smd_status smd_pll_init(smd_pll_params *p, smd_real T_sp, smd_real k_theta, smd_
 void smd_pll_reset(smd_pll_state *s, smd_real theta0, smd_real w0);
 /* One update with the position error e (rad); non-finite e is ignored. */
 void smd_pll_step(const smd_pll_params *p, smd_pll_state *s, smd_real e);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -11,6 +11,10 @@
 
 #include "smd_types.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct smd_smdo_params {
     smd_real T_sp;       /* sampling period, s */
     smd_real L_s_hat;    /* H */
@@ -52,5 +56,9 @@ void smd_smdo_reset(smd_smdo_state *s, smd_cplx i_s_hat0, smd_cplx u_d_hat0);
  * Returns SMD_ERR_NONFINITE (and resets the state) if NaN/Inf appeared. */
 smd_status smd_smdo_step(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i_s_ab,
                          smd_cplx u_s_ab, smd_real w_r);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -12,6 +12,10 @@
 
 #include "smd_types.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef enum smd_svm_limit {
     SMD_SVM_LIMIT_CIRCLE = 0,
     SMD_SVM_LIMIT_HEXAGON = 1
@@ -36,5 +40,9 @@ void smd_svm_deadtime_comp(smd_real d_abc[3], const smd_real i_abc[3], smd_real 
  * switching-cycle average of the inverter output for ideal switches). */
 void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
                   smd_real d_abc[3], smd_cplx *u_s_ab_applied);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -6,6 +6,10 @@
 
 #include "smd_types.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Phase quantities a, b, c to the stationary vector x_ab (amplitude invariant,
  * the zero-sequence part is rejected). */
 smd_cplx smd_abc_to_ab(const smd_real x_abc[3]);
@@ -27,5 +31,9 @@ static inline smd_cplx smd_dq_to_ab(smd_cplx x_dq, smd_real theta)
 {
     return smd_cmul(x_dq, smd_cexpj(theta));
 }
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

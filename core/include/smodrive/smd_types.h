@@ -4,11 +4,62 @@
  * C99, no allocation, no stdio, no globals. The real type is float unless the
  * build defines SMD_REAL_DOUBLE (analysis builds); every literal goes through
  * SMD_R() so that the float build is free of implicit double promotion.
+ * Every public header can be included from C++ (extern "C").
+ *
+ * Math hooks (float build). The core calls its elementary functions only
+ * through SMD_SIN, SMD_COS, SMD_SQRT, SMD_ATAN2, SMD_FABS, SMD_EXP, SMD_EXPM1
+ * and SMD_FLOOR, which the float build maps to SMD_SINF, SMD_COSF, SMD_SQRTF,
+ * SMD_ATAN2F, SMD_FABSF, SMD_EXPF, SMD_EXPM1F and SMD_FLOORF: by default the
+ * C library's sinf, cosf, ... A firmware may define any of them on the
+ * compiler's command line, e.g. for CMSIS-DSP
+ *     -DSMD_MATH_HEADER='"arm_math.h"' -DSMD_SINF=arm_sin_f32 -DSMD_COSF=arm_cos_f32
+ * or to its own functions (a CORDIC unit, tables); SMD_MATH_HEADER, if
+ * defined, is included after <math.h> for their declarations. Each must take
+ * and return float with the libm function's meaning (SMD_ATAN2F(y, x)). The
+ * same definitions must be seen by the library and by every file that
+ * includes these headers (inline helpers below call SMD_SIN, SMD_COS,
+ * SMD_SQRT, SMD_FLOOR). The results then differ from the host build (the
+ * simulator and the tests use the C library's functions); by how much, for
+ * the drive at hand, is the user's to check. See docs/firmware.md.
  */
 #ifndef SMD_TYPES_H
 #define SMD_TYPES_H
 
 #include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
+#ifdef SMD_MATH_HEADER
+#include SMD_MATH_HEADER
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#ifndef SMD_SINF
+#define SMD_SINF sinf
+#endif
+#ifndef SMD_COSF
+#define SMD_COSF cosf
+#endif
+#ifndef SMD_SQRTF
+#define SMD_SQRTF sqrtf
+#endif
+#ifndef SMD_ATAN2F
+#define SMD_ATAN2F atan2f
+#endif
+#ifndef SMD_FABSF
+#define SMD_FABSF fabsf
+#endif
+#ifndef SMD_EXPF
+#define SMD_EXPF expf
+#endif
+#ifndef SMD_EXPM1F
+#define SMD_EXPM1F expm1f
+#endif
+#ifndef SMD_FLOORF
+#define SMD_FLOORF floorf
+#endif
 
 #ifdef SMD_REAL_DOUBLE
 typedef double smd_real;
@@ -24,14 +75,14 @@ typedef double smd_real;
 #else
 typedef float smd_real;
 #define SMD_R(x) ((smd_real)(x))
-#define SMD_SIN sinf
-#define SMD_COS cosf
-#define SMD_SQRT sqrtf
-#define SMD_ATAN2 atan2f
-#define SMD_FABS fabsf
-#define SMD_EXP expf
-#define SMD_EXPM1 expm1f
-#define SMD_FLOOR floorf
+#define SMD_SIN SMD_SINF
+#define SMD_COS SMD_COSF
+#define SMD_SQRT SMD_SQRTF
+#define SMD_ATAN2 SMD_ATAN2F
+#define SMD_FABS SMD_FABSF
+#define SMD_EXP SMD_EXPF
+#define SMD_EXPM1 SMD_EXPM1F
+#define SMD_FLOOR SMD_FLOORF
 #endif
 
 #define SMD_PI SMD_R(3.14159265358979323846)
@@ -100,7 +151,7 @@ static inline smd_cplx smd_cj(smd_cplx a) { return smd_c(-a.im, a.re); }
 static inline smd_real smd_cabs(smd_cplx a) { return SMD_SQRT(a.re * a.re + a.im * a.im); }
 /* e^{j theta} */
 static inline smd_cplx smd_cexpj(smd_real theta) { return smd_c(SMD_COS(theta), SMD_SIN(theta)); }
-static inline int smd_cfinite(smd_cplx a) { return isfinite(a.re) && isfinite(a.im); }
+static inline bool smd_cfinite(smd_cplx a) { return isfinite(a.re) && isfinite(a.im); }
 
 /* Wrap an angle to [-pi, pi). */
 static inline smd_real smd_wrap_pi(smd_real x)
@@ -109,13 +160,13 @@ static inline smd_real smd_wrap_pi(smd_real x)
 }
 
 /* Range check helper: lo <= x <= hi and finite. */
-static inline int smd_in_range(smd_real x, smd_real lo, smd_real hi)
+static inline bool smd_in_range(smd_real x, smd_real lo, smd_real hi)
 {
     return isfinite(x) && x >= lo && x <= hi;
 }
 
 /* Range check helper: 0 < x <= hi and finite. */
-static inline int smd_in_pos_range(smd_real x, smd_real hi)
+static inline bool smd_in_pos_range(smd_real x, smd_real hi)
 {
     return smd_in_range(x, SMD_R(0.0), hi) && x > SMD_R(0.0);
 }
@@ -165,5 +216,9 @@ static inline void smd_table_interp(const smd_real *table, int nf, int n, smd_re
         out[i] = a[i] + f * (b[i] - a[i]);
     }
 }
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* SMD_TYPES_H */
