@@ -86,112 +86,147 @@ int smd_engine_init(smd_engine *e, const smd_plant_config *plant, const smd_driv
     return 0;
 }
 
+/* The sample's inputs at t_k (step 1): measurements, references and the
+ * profile values the plant needs over [t_k, t_k+1). */
+typedef smd_engine_sample engine_sample;
+
+static inline void engine_inputs(smd_engine *e, engine_sample *x, smd_drive_in *in)
+{
+    const double t = (double)e->k * e->T_sp;
+    double i1_meas[3];
+    double i_d_ref;
+    x->t = t;
+    x->w_ref = pwl_eval_seq(&e->prof.w_M_ref, t, &e->seg[0]);
+    x->T_ext = pwl_eval_seq(&e->prof.T_ext, t, &e->seg[1]);
+    x->T_brake = pwl_eval_seq(&e->prof.T_brake, t, &e->seg[2]);
+    i_d_ref = pwl_eval_seq(&e->prof.i_d_ref, t, &e->seg[3]);
+    if (e->plant.c.lcl) {
+        smd_plant_sample(&e->plant, x->i_meas, i1_meas);
+        in->i1_a = (smd_real)i1_meas[0];
+        in->i1_b = (smd_real)i1_meas[1];
+    } else {
+        smd_plant_sample(&e->plant, x->i_meas, 0);
+        in->i1_a = in->i1_b = SMD_R(0.0);
+    }
+    in->i_a = (smd_real)x->i_meas[0];
+    in->i_b = (smd_real)x->i_meas[1];
+    in->theta_enc = (smd_real)e->plant.theta_r;
+    in->w_enc = (smd_real)(e->plant.c.n_p * e->plant.w_M);
+    in->u_dc = (smd_real)e->plant.c.u_dc;
+    in->w_ref = (smd_real)(e->plant.c.n_p * x->w_ref);
+    if (e->prof.i_d_sin_amp != 0.0) {
+        i_d_ref += e->prof.i_d_sin_amp * sin(6.283185307179586 * e->prof.i_d_sin_freq * t);
+    }
+    in->i_dq_ref.re = (smd_real)i_d_ref;
+    in->i_dq_ref.im = (smd_real)pwl_eval_seq(&e->prof.i_q_ref, t, &e->seg[4]);
+}
+
+/* Steps 2 to 3 of a sample once the controller has answered: the duties for
+ * the next period, the log row (r != 0, with the controller's view v) and
+ * the plant over [t_k, t_k+1) with the duties computed at k-1. */
+static inline void engine_apply(smd_engine *e, const engine_sample *x, const smd_drive_out *out,
+                                smd_status st, const smd_drive_view *v, double *r)
+{
+    double d_now[3];
+    int j;
+    if (st != SMD_OK) e->last_status = (int)st;
+    for (j = 0; j < 3; j++) {
+        d_now[j] = e->d_abc[j];
+        e->d_abc[j] = (double)out->d_abc[j];
+    }
+    if (r != 0) {
+        const smd_plant *pl = &e->plant;
+        double c = cos(pl->theta_r), s = sin(pl->theta_r);
+        r[SMD_LOG_T] = x->t;
+        r[SMD_LOG_W_M] = pl->w_M;
+        r[SMD_LOG_THETA_R] = pl->theta_r;
+        r[SMD_LOG_I_ALPHA] = pl->i_re;
+        r[SMD_LOG_I_BETA] = pl->i_im;
+        r[SMD_LOG_I_D] = c * pl->i_re + s * pl->i_im;
+        r[SMD_LOG_I_Q] = -s * pl->i_re + c * pl->i_im;
+        r[SMD_LOG_W_M_REF] = x->w_ref;
+        r[SMD_LOG_I_D_REF] = (double)v->i_dq_ref.re;
+        r[SMD_LOG_I_Q_REF] = (double)v->i_dq_ref.im;
+        r[SMD_LOG_THETA_HAT] = (double)v->theta;
+        r[SMD_LOG_W_HAT] = (double)v->w;
+        r[SMD_LOG_UD_ALPHA] = (double)v->u_d_hat.re;
+        r[SMD_LOG_UD_BETA] = (double)v->u_d_hat.im;
+        r[SMD_LOG_UCMD_ALPHA] = (double)v->u_ab.re;
+        r[SMD_LOG_UCMD_BETA] = (double)v->u_ab.im;
+        r[SMD_LOG_I_A_MEAS] = x->i_meas[0];
+        r[SMD_LOG_I_B_MEAS] = x->i_meas[1];
+        r[SMD_LOG_IHAT_ALPHA] = (double)v->i_s_hat.re;
+        r[SMD_LOG_IHAT_BETA] = (double)v->i_s_hat.im;
+        r[SMD_LOG_LAMBDA] = (double)v->lambda;
+        r[SMD_LOG_I_G] = (double)v->i_dq.re;
+        r[SMD_LOG_I_DL] = (double)v->i_dq.im;
+        r[SMD_LOG_THETA_ERR] = (double)v->theta_err;
+        r[SMD_LOG_E_G] = (double)v->e_hat.re;
+        r[SMD_LOG_E_DL] = (double)v->e_hat.im;
+        r[SMD_LOG_S_G] = (double)v->s.re;
+        r[SMD_LOG_S_DL] = (double)v->s.im;
+        r[SMD_LOG_DHAT_G] = (double)v->d_hat.re;
+        r[SMD_LOG_DHAT_DL] = (double)v->d_hat.im;
+        r[SMD_LOG_V_G] = (double)v->v.re;
+        r[SMD_LOG_V_DL] = (double)v->v.im;
+        r[SMD_LOG_I1_ALPHA] = pl->i1_re;
+        r[SMD_LOG_I1_BETA] = pl->i1_im;
+        r[SMD_LOG_UC_ALPHA] = pl->uc_re;
+        r[SMD_LOG_UC_BETA] = pl->uc_im;
+        r[SMD_LOG_LIN_E_ALPHA] = (double)v->e_lin.re;
+        r[SMD_LOG_LIN_E_BETA] = (double)v->e_lin.im;
+        r[SMD_LOG_PHASE] = (double)v->phase;
+        r[SMD_LOG_STATUS] = (double)st;
+    }
+    smd_plant_step(&e->plant, d_now, x->T_ext, x->T_brake);
+    if (r != 0) {
+        r[SMD_LOG_T_E] = e->plant.T_e_mean;
+        r[SMD_LOG_T_L] = e->plant.T_L_mean;
+        r[SMD_LOG_U_ALPHA] = e->plant.u_re;
+        r[SMD_LOG_U_BETA] = e->plant.u_im;
+    }
+    e->k++;
+}
+
 long smd_engine_run(smd_engine *e, long n, double *log, long stride)
 {
     long j, rows = 0;
-    const double n_p = e->plant.c.n_p;
-    const int lcl = e->plant.c.lcl;
     if (stride < 1) stride = 1;
     for (j = 0; j < n; j++) {
-        const double t = (double)e->k * e->T_sp;
-        double i_meas[3], i1_meas[3], d_now[3];
+        engine_sample x;
         smd_drive_in in;
         smd_drive_out out;
         smd_status st;
-        double w_ref = pwl_eval_seq(&e->prof.w_M_ref, t, &e->seg[0]);
-        double T_ext = pwl_eval_seq(&e->prof.T_ext, t, &e->seg[1]);
-        double T_brake = pwl_eval_seq(&e->prof.T_brake, t, &e->seg[2]);
-        double i_d_ref = pwl_eval_seq(&e->prof.i_d_ref, t, &e->seg[3]);
-        int x;
-
-        /* 1. measurements at t_k */
-        if (lcl) {
-            smd_plant_sample(&e->plant, i_meas, i1_meas);
-            in.i1_a = (smd_real)i1_meas[0];
-            in.i1_b = (smd_real)i1_meas[1];
-        } else {
-            smd_plant_sample(&e->plant, i_meas, 0);
-            in.i1_a = in.i1_b = SMD_R(0.0);
-        }
-        in.i_a = (smd_real)i_meas[0];
-        in.i_b = (smd_real)i_meas[1];
-        in.theta_enc = (smd_real)e->plant.theta_r;
-        in.w_enc = (smd_real)(n_p * e->plant.w_M);
-        in.u_dc = (smd_real)e->plant.c.u_dc;
-        in.w_ref = (smd_real)(n_p * w_ref);
-        if (e->prof.i_d_sin_amp != 0.0) {
-            i_d_ref += e->prof.i_d_sin_amp * sin(6.283185307179586 * e->prof.i_d_sin_freq * t);
-        }
-        in.i_dq_ref.re = (smd_real)i_d_ref;
-        in.i_dq_ref.im = (smd_real)pwl_eval_seq(&e->prof.i_q_ref, t, &e->seg[4]);
-
-        /* 2. controller: duties for the next period */
+        engine_inputs(e, &x, &in);
         st = smd_drive_step(&e->ctrl_p, &e->ctrl_s, &in, &out);
-        if (st != SMD_OK) e->last_status = (int)st;
-
-        /* 3. plant over [t_k, t_k+1) with the duties computed at k-1 */
-        for (x = 0; x < 3; x++) {
-            d_now[x] = e->d_abc[x];
-            e->d_abc[x] = (double)out.d_abc[x];
-        }
         if (log != 0 && (j % stride) == 0) {
-            double *r = log + rows * SMD_LOG_N;
-            const smd_plant *pl = &e->plant;
-            double c = cos(pl->theta_r), s = sin(pl->theta_r);
             smd_drive_view v = smd_drive_get_view(&e->ctrl_p, &e->ctrl_s);
-            r[SMD_LOG_T] = t;
-            r[SMD_LOG_W_M] = pl->w_M;
-            r[SMD_LOG_THETA_R] = pl->theta_r;
-            r[SMD_LOG_I_ALPHA] = pl->i_re;
-            r[SMD_LOG_I_BETA] = pl->i_im;
-            r[SMD_LOG_I_D] = c * pl->i_re + s * pl->i_im;
-            r[SMD_LOG_I_Q] = -s * pl->i_re + c * pl->i_im;
-            r[SMD_LOG_W_M_REF] = w_ref;
-            r[SMD_LOG_I_D_REF] = (double)v.i_dq_ref.re;
-            r[SMD_LOG_I_Q_REF] = (double)v.i_dq_ref.im;
-            r[SMD_LOG_THETA_HAT] = (double)v.theta;
-            r[SMD_LOG_W_HAT] = (double)v.w;
-            r[SMD_LOG_UD_ALPHA] = (double)v.u_d_hat.re;
-            r[SMD_LOG_UD_BETA] = (double)v.u_d_hat.im;
-            r[SMD_LOG_UCMD_ALPHA] = (double)v.u_ab.re;
-            r[SMD_LOG_UCMD_BETA] = (double)v.u_ab.im;
-            r[SMD_LOG_I_A_MEAS] = i_meas[0];
-            r[SMD_LOG_I_B_MEAS] = i_meas[1];
-            r[SMD_LOG_IHAT_ALPHA] = (double)v.i_s_hat.re;
-            r[SMD_LOG_IHAT_BETA] = (double)v.i_s_hat.im;
-            r[SMD_LOG_LAMBDA] = (double)v.lambda;
-            r[SMD_LOG_I_G] = (double)v.i_dq.re;
-            r[SMD_LOG_I_DL] = (double)v.i_dq.im;
-            r[SMD_LOG_THETA_ERR] = (double)v.theta_err;
-            r[SMD_LOG_E_G] = (double)v.e_hat.re;
-            r[SMD_LOG_E_DL] = (double)v.e_hat.im;
-            r[SMD_LOG_S_G] = (double)v.s.re;
-            r[SMD_LOG_S_DL] = (double)v.s.im;
-            r[SMD_LOG_DHAT_G] = (double)v.d_hat.re;
-            r[SMD_LOG_DHAT_DL] = (double)v.d_hat.im;
-            r[SMD_LOG_V_G] = (double)v.v.re;
-            r[SMD_LOG_V_DL] = (double)v.v.im;
-            r[SMD_LOG_I1_ALPHA] = pl->i1_re;
-            r[SMD_LOG_I1_BETA] = pl->i1_im;
-            r[SMD_LOG_UC_ALPHA] = pl->uc_re;
-            r[SMD_LOG_UC_BETA] = pl->uc_im;
-            r[SMD_LOG_LIN_E_ALPHA] = (double)v.e_lin.re;
-            r[SMD_LOG_LIN_E_BETA] = (double)v.e_lin.im;
-            r[SMD_LOG_PHASE] = (double)v.phase;
-            r[SMD_LOG_STATUS] = (double)st;
-        }
-        smd_plant_step(&e->plant, d_now, T_ext, T_brake);
-        if (log != 0 && (j % stride) == 0) {
-            double *r = log + rows * SMD_LOG_N;
-            r[SMD_LOG_T_E] = e->plant.T_e_mean;
-            r[SMD_LOG_T_L] = e->plant.T_L_mean;
-            r[SMD_LOG_U_ALPHA] = e->plant.u_re;
-            r[SMD_LOG_U_BETA] = e->plant.u_im;
+            engine_apply(e, &x, &out, st, &v, log + rows * SMD_LOG_N);
             rows++;
+        } else {
+            engine_apply(e, &x, &out, st, 0, 0);
         }
-        e->k++;
     }
     return rows;
+}
+
+void smd_engine_ext_inputs(smd_engine *e, smd_drive_in *in)
+{
+    engine_inputs(e, &e->ext, in);
+}
+
+void smd_engine_ext_apply(smd_engine *e, const smd_drive_out *out, int status,
+                          const smd_drive_view *v, double *row)
+{
+    engine_apply(e, &e->ext, out, (smd_status)status, v, v != 0 ? row : 0);
+}
+
+int smd_engine_host_step(smd_engine *e, const smd_drive_in *in, smd_drive_out *out,
+                         smd_drive_view *v)
+{
+    smd_status st = smd_drive_step(&e->ctrl_p, &e->ctrl_s, in, out);
+    *v = smd_drive_get_view(&e->ctrl_p, &e->ctrl_s);
+    return (int)st;
 }
 
 /* Closed-loop impulse response of the firmware PLL (eq. (48)) with unity

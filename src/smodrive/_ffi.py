@@ -205,6 +205,18 @@ class DriveView(ct.Structure):
                 ("d_hat", Cplx), ("v", Cplx), ("e_lin", Cplx), ("phase", ct.c_int)]
 
 
+@mirror("smd_drive_in")
+class DriveIn(ct.Structure):
+    _fields_ = [("i_a", real), ("i_b", real), ("i1_a", real), ("i1_b", real),
+                ("theta_enc", real), ("w_enc", real), ("u_dc", real), ("w_ref", real),
+                ("i_dq_ref", Cplx)]
+
+
+@mirror("smd_drive_out")
+class DriveOut(ct.Structure):
+    _fields_ = [("d_abc", real * 3)]
+
+
 # ------------------------------------------------------------------ plant --
 
 _D3 = ct.c_double * 3
@@ -286,6 +298,10 @@ _sig("smd_sizeof_plant", ct.c_ulong)
 _sig("smd_engine_init", ct.c_int, ct.c_void_p, P(PlantConfig), P(DriveConfig), P(Profiles),
      P(EngineStart))
 _sig("smd_engine_run", ct.c_long, ct.c_void_p, ct.c_long, P(ct.c_double), ct.c_long)
+_sig("smd_engine_ext_inputs", None, ct.c_void_p, P(DriveIn))
+_sig("smd_engine_ext_apply", None, ct.c_void_p, P(DriveOut), ct.c_int, P(DriveView),
+     P(ct.c_double))
+_sig("smd_engine_host_step", ct.c_int, ct.c_void_p, P(DriveIn), P(DriveOut), P(DriveView))
 _sig("smd_plant_init", ct.c_int, ct.c_void_p, P(PlantConfig))
 _sig("smd_plant_step", None, ct.c_void_p, P(ct.c_double), ct.c_double, ct.c_double)
 _sig("smd_plant_sample", None, ct.c_void_p, P(ct.c_double), P(ct.c_double))

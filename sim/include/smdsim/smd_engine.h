@@ -94,6 +94,12 @@ enum smd_log_channel {
     SMD_LOG_N
 };
 
+/* A sample between smd_engine_ext_inputs and smd_engine_ext_apply. */
+typedef struct smd_engine_sample {
+    double t, w_ref, T_ext, T_brake;
+    double i_meas[3];
+} smd_engine_sample;
+
 typedef struct smd_engine {
     smd_plant plant;
     smd_drive_params ctrl_p;
@@ -104,6 +110,7 @@ typedef struct smd_engine {
     int seg[5];          /* last segment of each profile (time only grows) */
     double T_sp;
     int last_status;
+    smd_engine_sample ext; /* the sample of the split step (PIL) */
 } smd_engine;
 
 /* Returns 0 on success; 1000 + plant field code (smd_plant_field),
@@ -114,6 +121,19 @@ int smd_engine_init(smd_engine *e, const smd_plant_config *plant, const smd_driv
  * into log (which must hold ceil(n / stride) rows; NULL: no logging). Returns
  * the number of rows written. */
 long smd_engine_run(smd_engine *e, long n, double *log, long stride);
+
+/* One sample split in two, for a controller outside the engine (processor
+ * in the loop: src/smodrive/target.py). ext_inputs forms the controller's
+ * inputs at t_k; ext_apply takes its answer (duties, status and view) and
+ * runs the plant over [t_k, t_k+1), writing a log row of SMD_LOG_N doubles
+ * into `row` when v and row are not NULL. host_step is the engine's own
+ * controller on the same inputs (the host-only reference). A run of
+ * ext_inputs, host_step, ext_apply is identical to smd_engine_run. */
+void smd_engine_ext_inputs(smd_engine *e, smd_drive_in *in);
+void smd_engine_ext_apply(smd_engine *e, const smd_drive_out *out, int status,
+                          const smd_drive_view *v, double *row);
+int smd_engine_host_step(smd_engine *e, const smd_drive_in *in, smd_drive_out *out,
+                         smd_drive_view *v);
 
 const char *smd_log_channel_name(int ch);
 unsigned long smd_sizeof_engine(void);

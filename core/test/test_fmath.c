@@ -1,0 +1,105 @@
+/*
+ * Accuracy of the portable float math (smd_fmath.h) against double libm, in
+ * ulp of the float result: |f(x) - F(x)| / ulp(F(x)) with F the double
+ * function rounded to float. The bounds are those the header states; each
+ * test sweeps a dense grid plus random arguments over the range the core
+ * uses (angles, ratios of currents, exponents of -w T).
+ */
+#include <stdint.h>
+#include <string.h>
+
+#include "smd_test.h"
+#include "smodrive/smd_fmath.h"
+
+/* ulp of the float nearest to r (r finite) */
+static double ulp_of(double r)
+{
+    float f = (float)r;
+    float n = nextafterf(fabsf(f), INFINITY);
+    if (f == 0.0f) return 1.401298464324817e-45; /* the smallest subnormal float */
+    return (double)n - (double)fabsf(f);
+}
+
+static double err_ulp(float got, double ref)
+{
+    return fabs((double)got - ref) / ulp_of(ref);
+}
+
+static uint32_t g_x = 2463534242u;
+static double urand(double lo, double hi)
+{
+    g_x ^= g_x << 13;
+    g_x ^= g_x >> 17;
+    g_x ^= g_x << 5;
+    return lo + (hi - lo) * (double)(g_x >> 8) / 16777216.0;
+}
+
+static void test_sin_cos(void)
+{
+    double worst_s = 0.0, worst_c = 0.0;
+    int k;
+    for (k = 0; k < 500000; k++) {
+        float x = (float)(k < 1000000 ? urand(-8.0, 8.0) : urand(-8192.0, 8192.0));
+        /* absolute error in units of 2^-24, the ulp of [0.5, 1) */
+        double es = fabs((double)smd_sinf(x) - sin((double)x)) * 16777216.0;
+        double ec = fabs((double)smd_cosf(x) - cos((double)x)) * 16777216.0;
+        if (es > worst_s) worst_s = es;
+        if (ec > worst_c) worst_c = ec;
+    }
+    printf("    sin worst %.3f, cos worst %.3f x 2^-24 absolute\n", worst_s, worst_c);
+    CHECK(worst_s <= 1.5);
+    CHECK(worst_c <= 1.5);
+    /* exact points and non-finite arguments */
+    CHECK(smd_sinf(0.0f) == 0.0f && smd_cosf(0.0f) == 1.0f);
+    CHECK(isnan(smd_sinf(NAN)) && isnan(smd_cosf(INFINITY)) && isnan(smd_sinf(-INFINITY)));
+    CHECK(isfinite(smd_sinf(1e30f)) && fabsf(smd_sinf(1e30f)) <= 1.0f);
+}
+
+static void test_atan2(void)
+{
+    double worst = 0.0;
+    int k;
+    for (k = 0; k < 500000; k++) {
+        float y = (float)urand(-300.0, 300.0), x = (float)urand(-300.0, 300.0);
+        double e;
+        if (k % 3 == 0) x *= 1e-3f;
+        e = err_ulp(smd_atan2f(y, x), atan2((double)y, (double)x));
+        if (e > worst) worst = e;
+    }
+    printf("    atan2 worst %.3f ulp\n", worst);
+    CHECK(worst <= 4.0);
+    /* C99 special values */
+    CHECK(smd_atan2f(0.0f, 1.0f) == 0.0f);
+    CHECK(fabsf(smd_atan2f(0.0f, -1.0f) - 3.14159265f) < 1e-6f);
+    CHECK(fabsf(smd_atan2f(1.0f, 0.0f) - 1.5707963f) < 1e-6f);
+    CHECK(fabsf(smd_atan2f(-1.0f, INFINITY)) == 0.0f);
+    CHECK(fabsf(smd_atan2f(INFINITY, INFINITY) - 0.78539816f) < 1e-6f);
+    CHECK(isnan(smd_atan2f(NAN, 1.0f)) && isnan(smd_atan2f(1.0f, NAN)));
+}
+
+static void test_exp(void)
+{
+    double worst = 0.0, worst_m1 = 0.0;
+    int k;
+    for (k = 0; k < 500000; k++) {
+        float x = (float)(k % 2 ? urand(-80.0, 80.0) : urand(-2.0, 0.5));
+        float z = (float)(k % 2 ? urand(-1e-3, 1e-3) : urand(-3.0, 3.0));
+        double e = err_ulp(smd_expf(x), exp((double)x));
+        double em = err_ulp(smd_expm1f(z), expm1((double)z));
+        if (e > worst) worst = e;
+        if (em > worst_m1) worst_m1 = em;
+    }
+    printf("    exp worst %.3f ulp, expm1 worst %.3f ulp\n", worst, worst_m1);
+    CHECK(worst <= 1.0);
+    CHECK(worst_m1 <= 2.0);
+    CHECK(smd_expf(0.0f) == 1.0f && smd_expm1f(0.0f) == 0.0f);
+    CHECK(isinf(smd_expf(100.0f)) && smd_expf(-200.0f) == 0.0f && isnan(smd_expf(NAN)));
+}
+
+int main(void)
+{
+    RUN_TEST(test_sin_cos);
+    RUN_TEST(test_atan2);
+    RUN_TEST(test_exp);
+    return smdt_summary("fmath");
+}

@@ -1,0 +1,523 @@
+"""The real-time core on a Cortex-M4F: the vector runner (core/target) built
+for the host and for QEMU's ``mps2-an386`` board, test vectors, a bit-for-bit
+comparison of the two builds, processor-in-the-loop runs against the host
+plant, and cycle counts from the emulator's instruction trace.
+
+The runner is the same C for both (``core/target/smd_vec.c``); the host
+build is the simulator's float core (same sources, ``-ffp-contract=off``).
+Two math variants: ``libm`` (each platform's C library: glibc on the host,
+newlib on the target) and ``fmath`` (the core's portable float math,
+``smodrive/smd_fmath.h``, on both), see :data:`FMATH_DEFINES`.
+
+Needs ``arm-none-eabi-gcc`` (Debian: gcc-arm-none-eabi, libnewlib-arm-none-eabi)
+and ``qemu-system-arm`` (Debian: qemu-system-arm); ``make toolchain``
+installs them.
+"""
+
+from __future__ import annotations
+
+import ctypes as ct
+import dataclasses
+import hashlib
+import os
+import shutil
+import struct
+import subprocess
+import tempfile
+import threading
+from pathlib import Path
+
+import numpy as np
+
+from . import _ffi
+from .params import ParameterError
+
+MAGIC = 0x56444D53
+VERSION = 1
+CASE_END, CASE_DRIVE, CASE_TABLES, CASE_BLOCK = 0, 1, 2, 3
+BLOCKS = {"transforms": 1, "svm": 2, "pi": 3, "dbpc": 4, "smdo": 5, "emf_pos": 6, "pll": 7,
+          "bandpass": 8, "lcl_smo": 9, "linobs": 10, "math": 11}
+#: the math block's outputs per step, in order
+MATH_FUNCS = ("sin", "cos", "atan2", "exp", "expm1", "floor", "sqrt", "fabs")
+#: the core's math hooks mapped to its portable float math
+FMATH_DEFINES = ['-DSMD_MATH_HEADER="smodrive/smd_fmath.h"', "-DSMD_SINF=smd_sinf",
+                 "-DSMD_COSF=smd_cosf", "-DSMD_ATAN2F=smd_atan2f", "-DSMD_EXPF=smd_expf",
+                 "-DSMD_EXPM1F=smd_expm1f"]
+M4_FLAGS = ["-mcpu=cortex-m4", "-mthumb", "-mfpu=fpv4-sp-d16", "-mfloat-abi=hard"]
+COMMON_FLAGS = ["-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Werror"]
+IN_WORDS = ct.sizeof(_ffi.DriveIn) // 4
+VIEW_BYTES = ct.sizeof(_ffi.DriveView)
+SAMPLE_BYTES = 4 + 12 + VIEW_BYTES  # status, d_abc, view
+
+
+class TargetError(RuntimeError):
+    """The target toolchain is missing, a build failed or the emulator did."""
+
+
+# ---------------------------------------------------------------- sources --
+
+def c_root() -> Path:
+    """The folder holding core/include, core/src and core/target: the source
+    tree this package was built from, or the copy installed with it."""
+    here = Path(__file__).resolve().parent
+    for cand in (here / "c_src", here.parents[1]):
+        if (cand / "core" / "target" / "smd_vec.c").is_file():
+            return cand
+    raise TargetError("the C sources of the core are not installed with this package; "
+                      "run from a source checkout")
+
+
+def _tool(name: str, debian: str) -> str:
+    path = shutil.which(name)
+    if path is None:
+        raise TargetError(f"{name} not found: install Debian's {debian} (make toolchain)")
+    return path
+
+
+def _sources(root: Path, kind: str) -> list[Path]:
+    core = sorted((root / "core" / "src").glob("*.c"))
+    tgt = root / "core" / "target"
+    if kind == "host":
+        return core + [tgt / "smd_vec.c", tgt / "host_io.c"]
+    return core + [tgt / "smd_vec.c", tgt / "m4" / "semihost_io.c", tgt / "m4" / "startup.c"]
+
+
+def _cache_dir() -> Path:
+    base = os.environ.get("SMODRIVE_CACHE") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "smodrive")
+    return Path(base) / "target"
+
+
+def build(kind: str, math: str = "fmath", out_dir: Path | None = None) -> Path:
+    """The runner for `kind` ("host" or "m4") with `math` ("libm" or
+    "fmath"), built once per content of its sources and flags."""
+    if kind not in ("host", "m4") or math not in ("libm", "fmath"):
+        raise ValueError(f"build({kind!r}, {math!r})")
+    root = c_root()
+    srcs = _sources(root, kind)
+    headers = sorted((root / "core").glob("*/**/*.h")) + [root / "core/target/m4/mps2_an386.ld"]
+    flags = list(COMMON_FLAGS) + (FMATH_DEFINES if math == "fmath" else [])
+    if kind == "host":
+        cc = shutil.which("gcc") or shutil.which("cc")
+        if cc is None:
+            raise TargetError("no host C compiler (gcc)")
+        cmd_tail = ["-lm"]
+    else:
+        cc = _tool("arm-none-eabi-gcc", "gcc-arm-none-eabi")
+        flags = M4_FLAGS + flags + ["-g", "-ffunction-sections", "-fdata-sections"]
+        cmd_tail = ["-nostartfiles", "-T", str(root / "core/target/m4/mps2_an386.ld"),
+                    "-Wl,--gc-sections", "-lm", "-lc", "-lgcc"]
+    h = hashlib.sha256(" ".join([cc, kind, math] + flags + cmd_tail).encode())
+    for f in srcs + headers:
+        h.update(f.read_bytes())
+    out_dir = Path(out_dir) if out_dir else _cache_dir()
+    exe = out_dir / f"smd_vec_{kind}_{math}_{h.hexdigest()[:12]}{'.elf' if kind == 'm4' else ''}"
+    if exe.exists():
+        return exe
+    out_dir.mkdir(parents=True, exist_ok=True)
+    tmp = exe.with_suffix(exe.suffix + f".tmp{os.getpid()}")
+    cmd = [cc, *flags, f"-I{root / 'core/include'}", f"-I{root / 'core/target'}",
+           *map(str, srcs), "-o", str(tmp), *cmd_tail]
+    res = subprocess.run(cmd, capture_output=True, text=True)
+    if res.returncode != 0:
+        raise TargetError(f"building the {kind} runner failed:\n{res.stderr[-3000:]}")
+    os.replace(tmp, exe)
+    return exe
+
+
+# ----------------------------------------------------------------- vectors --
+
+def _config_words(obj: ct.Structure) -> bytes:
+    """A config struct as the runner reads it (core/target/smd_cfg_read.h):
+    each scalar a 4-byte little-endian word in declaration order, pointers
+    skipped."""
+    out = bytearray()
+    for name, typ in obj._fields_:
+        val = getattr(obj, name)
+        if typ is ct.c_void_p or (isinstance(typ, type) and issubclass(typ, ct._Pointer)):
+            continue
+        if isinstance(typ, type) and issubclass(typ, ct.Structure):
+            out += _config_words(val)
+        elif isinstance(typ, type) and issubclass(typ, ct.Array):
+            for x in val:
+                out += _config_words(x) if isinstance(x, ct.Structure) else _scalar(typ._type_, x)
+        else:
+            out += _scalar(typ, val)
+    return bytes(out)
+
+
+def _scalar(typ, val) -> bytes:
+    if typ is ct.c_float:
+        return struct.pack("<f", val)
+    if typ in (ct.c_int, ct.c_int32):
+        return struct.pack("<i", val)
+    raise TypeError(f"no 4-byte wire form for {typ}")
+
+
+def _tables_bytes(tables) -> bytes:
+    if tables is None:
+        return struct.pack("<ii", 0, 0)
+    m, lin = np.ascontiguousarray(tables[0], "<f4"), np.ascontiguousarray(tables[1], "<f4")
+    return (struct.pack("<i", m.shape[0]) + m.tobytes()
+            + struct.pack("<i", lin.shape[0]) + lin.tobytes())
+
+
+@dataclasses.dataclass
+class DriveCase:
+    """The whole drive step on a recorded or synthetic input sequence."""
+    name: str
+    config: _ffi.DriveConfig
+    tables: tuple | None
+    start: tuple[float, float, float]  # theta0, w0 (electrical), i_q0
+    inputs: np.ndarray  # (n, 10) float32, smd_drive_in per sample
+
+    def encode(self) -> bytes:
+        x = np.ascontiguousarray(self.inputs, dtype="<f4")
+        if x.ndim != 2 or x.shape[1] != IN_WORDS:
+            raise ValueError(f"{self.name}: inputs must be (n, {IN_WORDS})")
+        return (struct.pack("<i", CASE_DRIVE) + _config_words(self.config)
+                + _tables_bytes(self.tables) + struct.pack("<fff", *self.start)
+                + struct.pack("<i", x.shape[0]) + x.tobytes())
+
+
+@dataclasses.dataclass
+class BlockCase:
+    """One block of the core on the runner's PRNG inputs (core/target/smd_vec.c)."""
+    name: str
+    block: str
+    n: int
+    seed: int
+
+    def encode(self) -> bytes:
+        return struct.pack("<iiiI", CASE_BLOCK, BLOCKS[self.block], self.n, self.seed)
+
+
+@dataclasses.dataclass
+class TablesCase:
+    """The LCL observer tables the later lcl_smo / linobs block cases use."""
+    name: str
+    tables: tuple
+
+    def encode(self) -> bytes:
+        return (struct.pack("<i", CASE_TABLES) + _tables_bytes(self.tables)
+                + struct.pack("<ff", self.tables[2], self.tables[3]))
+
+
+def write_vectors(path: Path, cases) -> None:
+    with open(path, "wb") as f:
+        f.write(struct.pack("<II", MAGIC, VERSION))
+        for c in cases:
+            f.write(c.encode())
+        f.write(struct.pack("<i", CASE_END))
+
+
+def read_outputs(path: Path) -> list[tuple[int, bytes]]:
+    """(kind, outputs) of each case of a runner's output file."""
+    data = Path(path).read_bytes()
+    if len(data) < 4 or struct.unpack_from("<I", data)[0] != MAGIC:
+        raise TargetError(f"{path}: not an output of the runner")
+    pos, out = 4, []
+    while True:
+        if pos + 4 > len(data):
+            raise TargetError(f"{path}: truncated after {len(out)} cases")
+        kind = struct.unpack_from("<i", data, pos)[0]
+        if kind == CASE_END:
+            n, err = struct.unpack_from("<ii", data, pos + 4)
+            if err or n != len(out):
+                raise TargetError(f"{path}: the runner reported an output error")
+            return out
+        size = struct.unpack_from("<i", data, pos + 4)[0]
+        out.append((kind, data[pos + 8:pos + 8 + size]))
+        pos += 8 + size
+
+
+def drive_outputs(body: bytes) -> dict[str, np.ndarray]:
+    """A drive case's outputs: init status, then per sample status, duties
+    and the controller's view (smd_drive_view) as named arrays."""
+    init = struct.unpack_from("<i", body)[0]
+    n = (len(body) - 4) // SAMPLE_BYTES
+    dt = np.dtype([("status", "<i4"), ("d_abc", "<f4", 3), ("view", "V%d" % VIEW_BYTES)])
+    rec = np.frombuffer(body, dtype=dt, count=n, offset=4)
+    view = np.frombuffer(rec["view"].tobytes(), dtype=np.dtype(
+        [(f, "<f4" if t is not ct.c_int else "<i4", 2) if t is _ffi.Cplx else
+         (f, "<f4" if t is not ct.c_int else "<i4") for f, t in _ffi.DriveView._fields_]))
+    out = {"init": np.array(init), "status": rec["status"], "d_abc": rec["d_abc"]}
+    for f in view.dtype.names:
+        out[f] = view[f]
+    return out
+
+
+# --------------------------------------------------------------- running --
+
+def run_host(exe: Path, vec: Path, out: Path) -> None:
+    res = subprocess.run([str(exe), str(vec), str(out)], capture_output=True, text=True,
+                         timeout=600)
+    if res.returncode != 0:
+        raise TargetError(f"host runner failed ({res.returncode}): {res.stderr.strip()}")
+
+
+def qemu_command(elf: Path, *args: str, trace: Path | None = None) -> list[str]:
+    qemu = _tool("qemu-system-arm", "qemu-system-arm")
+    arg = ",".join(f"arg={a}" for a in ("smd_vec", *args))
+    cmd = [qemu, "-M", "mps2-an386", "-nographic", "-monitor", "none", "-serial", "none",
+           "-semihosting-config", f"enable=on,target=native,{arg}", "-kernel", str(elf)]
+    if trace is not None:
+        # one instruction a translation block, each logged as it executes
+        cmd += ["-singlestep", "-d", "exec,nochain", "-D", str(trace)]
+    return cmd
+
+
+def run_m4(elf: Path, vec: Path, out: Path, timeout: float = 600.0) -> None:
+    for p in (elf, vec, out):
+        if "," in str(p) or " " in str(p):
+            raise TargetError(f"QEMU's semihosting command line cannot carry {p}")
+    res = subprocess.run(qemu_command(elf, str(vec), str(out)), capture_output=True,
+                         text=True, timeout=timeout)
+    if res.returncode != 0:
+        raise TargetError(f"the Cortex-M4F runner failed under QEMU ({res.returncode}): "
+                          f"{(res.stdout + res.stderr).strip()[-2000:]}")
+
+
+def ulp_distance(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """|a - b| in units in the last place of float32 (0 for two NaNs)."""
+    ia = a.view("<i4").astype(np.int64)
+    ib = b.view("<i4").astype(np.int64)
+    ia = np.where(ia < 0, -(ia & 0x7FFFFFFF), ia)
+    ib = np.where(ib < 0, -(ib & 0x7FFFFFFF), ib)
+    d = np.abs(ia - ib)
+    return np.where(np.isnan(a) & np.isnan(b), 0, d)
+
+
+@dataclasses.dataclass
+class CaseDiff:
+    name: str
+    words: int
+    differ: int      # words that are not bit-identical (NaN = NaN)
+    max_ulp: int
+
+
+def compare(cases, host_out: Path, m4_out: Path) -> list[CaseDiff]:
+    """Per case: how many 4-byte output words differ between the builds."""
+    a, b = read_outputs(host_out), read_outputs(m4_out)
+    if len(a) != len(b) or len(a) != len(cases):
+        raise TargetError(f"case count differs: {len(cases)} written, host {len(a)}, "
+                          f"target {len(b)}")
+    out = []
+    for c, (ka, xa), (kb, xb) in zip(cases, a, b):
+        if ka != kb or len(xa) != len(xb):
+            out.append(CaseDiff(c.name, max(len(xa), len(xb)) // 4, -1, -1))
+            continue
+        wa = np.frombuffer(xa, "<u4")
+        wb = np.frombuffer(xb, "<u4")
+        fa, fb = wa.view("<f4"), wb.view("<f4")
+        diff = (wa != wb) & ~(np.isnan(fa) & np.isnan(fb))
+        u = ulp_distance(fa[diff], fb[diff]) if diff.any() else np.zeros(1, np.int64)
+        out.append(CaseDiff(c.name, wa.size, int(diff.sum()), int(u.max())))
+    return out
+
+
+def run_both(cases, math: str, work: Path) -> tuple[Path, Path]:
+    """Write `cases`, run them on the host and on the emulated M4F; returns
+    the two output files."""
+    work.mkdir(parents=True, exist_ok=True)
+    vec, ho, mo = work / f"vectors_{math}.bin", work / f"host_{math}.bin", work / f"m4_{math}.bin"
+    write_vectors(vec, cases)
+    run_host(build("host", math), vec, ho)
+    run_m4(build("m4", math), vec, mo)
+    return ho, mo
+
+
+# ----------------------------------------------------- recorded scenarios --
+
+def record(s, n: int):
+    """Run scenario `s` for n samples with the host controller, through the
+    split engine step; returns (drive case inputs (n, 10) float32, outputs:
+    duties (n, 3), status (n,), views (list), log (n, channels))."""
+    from .simulate import Engine
+
+    eng = Engine(s)
+    buf = eng._buf
+    lib = _ffi.lib
+    ins = np.zeros((n, IN_WORDS), np.float32)
+    duty = np.zeros((n, 3), np.float32)
+    log = np.zeros((n, lib_channels()), float)
+    din, dout, view = _ffi.DriveIn(), _ffi.DriveOut(), _ffi.DriveView()
+    row = (ct.c_double * lib_channels())()
+    for k in range(n):
+        lib.smd_engine_ext_inputs(buf, ct.byref(din))
+        ins[k] = np.frombuffer(bytes(din), "<f4")
+        st = lib.smd_engine_host_step(buf, ct.byref(din), ct.byref(dout), ct.byref(view))
+        duty[k] = dout.d_abc[:]
+        lib.smd_engine_ext_apply(buf, ct.byref(dout), st, ct.byref(view), row)
+        log[k] = row[:]
+    return ins, duty, log, eng
+
+
+def lib_channels() -> int:
+    from .simulate import CHANNELS
+    return len(CHANNELS)
+
+
+def drive_case(name: str, s, n: int) -> DriveCase:
+    """Scenario `s`'s drive on its first n recorded samples."""
+    from .simulate import _wrap_pi
+    ins, _, _, eng = record(s, n)
+    st = eng._st
+    return DriveCase(name, eng._dc, eng._tables, (_wrap_pi(st.theta0), st.w0, st.i_q0), ins)
+
+
+# ------------------------------------------------------------------- PIL --
+
+class _Link:
+    """A controller in another process, fed sample by sample through a FIFO
+    pair: the runner on the emulated M4F (semihosting files) or on the
+    host. Speaks the streamed drive case of core/target/smd_vec.h."""
+
+    def __init__(self, kind: str, math: str, case: DriveCase, work: Path):
+        self.dir = Path(tempfile.mkdtemp(prefix="smd_pil_", dir=work))
+        fin, fout = self.dir / "in", self.dir / "out"
+        os.mkfifo(fin)
+        os.mkfifo(fout)
+        exe = build(kind, math)
+        cmd = (qemu_command(exe, str(fin), str(fout)) if kind == "m4"
+               else [str(exe), str(fin), str(fout)])
+        self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+        self.timer = threading.Timer(600.0, self.proc.kill)
+        self.timer.start()
+        # the runner opens its input first, then its output: the same order
+        self.w = open(fin, "wb", buffering=0)
+        self.r = open(fout, "rb", buffering=0)
+        head = DriveCase(case.name, case.config, case.tables, case.start,
+                         np.zeros((0, IN_WORDS), np.float32)).encode()
+        self.w.write(struct.pack("<II", MAGIC, VERSION) + head[:-4] + struct.pack("<i", -1))
+        magic, kind_, size, init = struct.unpack("<Iiii", self._read(16))
+        if magic != MAGIC or kind_ != CASE_DRIVE or size != -1:
+            raise TargetError("PIL: unexpected answer from the runner")
+        self.init = init
+
+    def _read(self, n: int) -> bytes:
+        out = b""
+        while len(out) < n:
+            chunk = self.r.read(n - len(out))
+            if not chunk:
+                self.proc.kill()
+                msg = (self.proc.stdout.read() or b"").decode(errors="replace")
+                raise TargetError(f"PIL: the runner stopped: {msg.strip()[-500:]}")
+            out += chunk
+        return out
+
+    def step(self, din: bytes) -> bytes:
+        self.w.write(din)
+        return self._read(SAMPLE_BYTES)
+
+    def close(self) -> None:
+        try:
+            self.w.close()
+            self.r.read()
+            self.r.close()
+            self.proc.wait(timeout=60)
+        finally:
+            self.timer.cancel()
+            if self.proc.poll() is None:
+                self.proc.kill()
+            shutil.rmtree(self.dir, ignore_errors=True)
+
+
+def _closed_loop(s, n: int, controller: str, math: str, work: Path, progress=None) -> dict:
+    """Scenario `s` for n samples through the split engine step with the
+    controller `controller`: "sim" (the simulator's own, libm), "host" or
+    "m4" (the runner on the FIFO link, with `math`). Returns the raw answers
+    (status, duties, view per sample), the duties and the log."""
+    from .simulate import CHANNELS, Engine, _wrap_pi
+
+    nch = len(CHANNELS)
+    lib = _ffi.lib
+    eng = Engine(s)
+    din, dout, view = _ffi.DriveIn(), _ffi.DriveOut(), _ffi.DriveView()
+    row = (ct.c_double * nch)()
+    log = np.zeros((n, nch))
+    duty = np.zeros((n, 3), np.float32)
+    raw = []
+    link = None
+    if controller != "sim":
+        st0 = eng._st
+        case = DriveCase(s.name, eng._dc, eng._tables,
+                         (_wrap_pi(st0.theta0), st0.w0, st0.i_q0),
+                         np.zeros((0, IN_WORDS), np.float32))
+        link = _Link(controller, math, case, work)
+    try:
+        if link is not None and link.init != 0:
+            raise TargetError(f"PIL: the drive's init on the {controller} runner returned "
+                              f"{link.init} ({_ffi.status_str(link.init)})")
+        for k in range(n):
+            lib.smd_engine_ext_inputs(eng._buf, ct.byref(din))
+            if link is None:
+                st = lib.smd_engine_host_step(eng._buf, ct.byref(din), ct.byref(dout),
+                                              ct.byref(view))
+                ans = struct.pack("<i", st) + bytes(dout) + bytes(view)
+            else:
+                ans = link.step(bytes(din))
+                st = struct.unpack_from("<i", ans)[0]
+                ct.memmove(ct.addressof(dout), ans[4:16], 12)
+                ct.memmove(ct.addressof(view), ans[16:], VIEW_BYTES)
+            raw.append(ans)
+            duty[k] = dout.d_abc[:]
+            lib.smd_engine_ext_apply(eng._buf, ct.byref(dout), st, ct.byref(view), row)
+            log[k] = row[:]
+            if progress is not None and k % 256 == 0:
+                progress(k / n)
+    finally:
+        if link is not None:
+            link.close()
+    if progress is not None:
+        progress(1.0)
+    return {"raw": b"".join(raw), "duty": duty.astype(float), "log": log}
+
+
+@dataclasses.dataclass
+class PilResult:
+    scenario: str
+    samples: int
+    math: str
+    reference: str              # the host-only controller compared with
+    max_duty_diff: float        # largest |d_M4F - d_host| over phases and samples
+    max_theta_diff_rad: float   # controller angle, wrapped
+    max_w_diff: float           # controller speed, electrical rad/s
+    max_view_ulp: int           # over every word of status, duties and view
+    identical: bool             # status, duties and view bit for bit
+    log_host: np.ndarray
+    log_pil: np.ndarray
+
+
+def pil(s, seconds: float, math: str = "fmath", progress=None,
+        work: Path | None = None) -> PilResult:
+    """Processor in the loop: scenario `s` for `seconds` with the controller
+    compiled for the Cortex-M4F on QEMU against the host plant, sample by
+    sample, beside the host-only run of the same controller on its own copy
+    of the plant: with math "fmath" the host build of the runner (both sides
+    the portable float math: expected identical), with "libm" the
+    simulator's own controller (glibc against newlib: bounded, not equal)."""
+    n = int(round(seconds / s.T_sp))
+    work = Path(work) if work else _cache_dir()
+    work.mkdir(parents=True, exist_ok=True)
+    ref_kind = "host" if math == "fmath" else "sim"
+    half = (lambda f: progress(0.5 * f)) if progress else None
+    rest = (lambda f: progress(0.5 + 0.5 * f)) if progress else None
+    ref = _closed_loop(s, n, ref_kind, math, work, half)
+    tgt = _closed_loop(s, n, "m4", math, work, rest)
+    from .simulate import CHANNELS
+
+    wa = np.frombuffer(tgt["raw"], "<u4")
+    wb = np.frombuffer(ref["raw"], "<u4")
+    fa, fb = wa.view("<f4"), wb.view("<f4")
+    same = (wa == wb) | (np.isnan(fa) & np.isnan(fb))
+    i_th, i_w = CHANNELS.index("theta_hat"), CHANNELS.index("w_hat")
+    dth = np.abs(np.angle(np.exp(1j * (tgt["log"][:, i_th] - ref["log"][:, i_th]))))
+    return PilResult(
+        scenario=s.name, samples=n, math=math,
+        reference="host runner (fmath)" if ref_kind == "host" else "simulator (glibc libm)",
+        max_duty_diff=float(np.max(np.abs(tgt["duty"] - ref["duty"]))),
+        max_theta_diff_rad=float(dth.max()),
+        max_w_diff=float(np.max(np.abs(tgt["log"][:, i_w] - ref["log"][:, i_w]))),
+        max_view_ulp=int(ulp_distance(fa, fb).max()),
+        identical=bool(same.all()), log_host=ref["log"], log_pil=tgt["log"])
