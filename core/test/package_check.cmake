@@ -9,10 +9,14 @@
 #   -DMODE=cross     : the core alone for a Cortex-M4F with the toolchain file
 #                      cmake/arm-none-eabi-cortex-m4f.cmake: the static library
 #                      (its ARM attributes, its size), installed, and the C
-#                      consumer cross-built against it through find_package
+#                      consumer cross-built against it through find_package;
+#                      the core compiled with the math hooks mapped
+#                      (consumer/fw_math_hooks.h) calls no float libm function
 # Every step is printed; any failure is a FATAL_ERROR (nothing is skipped: a
 # missing pkg-config is replaced by reading the .pc file here, a missing cross
 # toolchain fails).
+
+cmake_minimum_required(VERSION 3.18)
 
 foreach(v MODE SRC_DIR OUT_DIR)
   if(NOT DEFINED ${v})
@@ -257,6 +261,63 @@ if(MODE STREQUAL "cross")
   else()
     message(FATAL_ERROR "FAIL: could not parse the TOTALS line of arm-none-eabi-size:\n${RUN_OUT}")
   endif()
+
+  # The math hooks: every core source compiled with all eight mapped to the
+  # functions of fw_math_hooks.h calls those and no float libm function.
+  find_program(ARM_NM arm-none-eabi-nm PATHS /usr/bin NO_CACHE)
+  if(NOT ARM_NM)
+    message(FATAL_ERROR "FAIL: arm-none-eabi-nm not found")
+  endif()
+  set(hooks)
+  set(hook_defs "-DSMD_MATH_HEADER=\"fw_math_hooks.h\"")
+  foreach(f sin cos sqrt atan2 fabs exp expm1 floor)
+    string(TOUPPER ${f} F)
+    list(APPEND hook_defs -DSMD_${F}F=fw_${f}f)
+    list(APPEND hooks fw_${f}f)
+  endforeach()
+  set(hdir ${OUT_DIR}/hooks)
+  file(MAKE_DIRECTORY ${hdir})
+  set(called)
+  message("---- the core with the math hooks mapped: ${hook_defs}")
+  foreach(src ${CORE_SOURCES})
+    get_filename_component(name ${src} NAME_WE)
+    # a source on the hooks includes a header built on smd_types.h (every
+    # one but a math implementation's own, smd_fmath.h, which may call libm)
+    file(STRINGS ${src} incs REGEX "^#include \"smodrive/")
+    list(FILTER incs EXCLUDE REGEX "smd_fmath\\.h")
+    if(NOT incs)
+      message("     ${name}.c: not on the hooks (no header built on smd_types.h)")
+      continue()
+    endif()
+    execute_process(COMMAND ${ARM_GCC} -std=c99 -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16
+                            -mfloat-abi=hard -O2 -Wall -Wextra -Wdouble-promotion -Werror
+                            ${hook_defs} -I${SRC_DIR}/core/include -I${CONSUMER_DIR}
+                            -c ${src} -o ${hdir}/${name}.o
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "FAIL: ${name}.c with the math hooks:\n${out}${err}")
+    endif()
+    run("undefined symbols of ${name}.o" ${ARM_NM} -u ${hdir}/${name}.o)
+    string(REGEX MATCHALL "[A-Za-z_][A-Za-z0-9_]*" undef "${RUN_OUT}")
+    foreach(sym ${undef})
+      if(sym MATCHES "^(sinf|cosf|sqrtf|atan2f|fabsf|expf|expm1f|floorf)$")
+        message(FATAL_ERROR "FAIL: ${name}.o calls ${sym} although SMD_..F is mapped")
+      endif()
+      if(sym MATCHES "^fw_")
+        list(APPEND called ${sym})
+      endif()
+    endforeach()
+  endforeach()
+  list(REMOVE_DUPLICATES called)
+  list(SORT called)
+  # the hooks the core calls (fabsf and sqrtf may be inlined by the
+  # compiler only when they are the builtins: mapped, they are calls)
+  foreach(h fw_sinf fw_cosf fw_sqrtf fw_atan2f fw_fabsf fw_expm1f fw_floorf)
+    if(NOT h IN_LIST called)
+      message(FATAL_ERROR "FAIL: no core object calls the hook ${h} (called: ${called})")
+    endif()
+  endforeach()
+  message("ok   math hooks: the core calls ${called} and no float libm function")
 
   run("install into ${prefix}" ${CMAKE_COMMAND} --install ${b})
   expect_files("cross install" ${prefix}/include/smodrive/smd_drive.h)
