@@ -1,7 +1,8 @@
 # smodrive: the two Quickstart commands are `make reproduce` and `make test`.
 # Both create a local virtual environment (.venv) and build the package in it;
-# `make test` also installs the Cortex-M4F cross compiler (Debian's
-# gcc-arm-none-eabi) when it is missing, because the firmware build is tested.
+# `make test` also installs the Cortex-M4F cross compiler and emulator
+# (Debian's gcc-arm-none-eabi, qemu-system-arm) when they are missing: the
+# firmware build is tested, and run on an emulated Cortex-M4F.
 
 PY ?= python3
 VENV := .venv
@@ -28,17 +29,18 @@ reproduce: $(STAMP)
 	$(BIN)/smodrive reproduce --out $(OUT)
 
 toolchain:
-	@command -v arm-none-eabi-gcc >/dev/null 2>&1 || { \
-	  echo "installing gcc-arm-none-eabi (Cortex-M4F cross compiler) from Debian"; \
+	@command -v arm-none-eabi-gcc >/dev/null 2>&1 && command -v qemu-system-arm >/dev/null 2>&1 || { \
+	  echo "installing the Cortex-M4F cross compiler and emulator from Debian (gcc-arm-none-eabi, qemu-system-arm)"; \
 	  $(SUDO) apt-get update -qq && \
-	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq gcc-arm-none-eabi libnewlib-arm-none-eabi >/dev/null; }
+	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
+	    gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm >/dev/null; }
 
 ctest: toolchain
 	cmake -S . -B build/ctest -DSMD_BUILD_TESTS=ON -DSMD_BUILD_PYLIB=OFF -DCMAKE_BUILD_TYPE=Release >/dev/null
 	cmake --build build/ctest -j 2
 	ctest --test-dir build/ctest --output-on-failure
 
-pytest: $(STAMP)
+pytest: $(STAMP) toolchain
 	$(BIN)/python -m pytest -q
 
 test: ctest pytest

@@ -88,15 +88,18 @@ def _cache_dir() -> Path:
     return Path(base) / "target"
 
 
-def build(kind: str, math: str = "fmath", out_dir: Path | None = None) -> Path:
+def build(kind: str, math: str = "fmath", out_dir: Path | None = None,
+          extra: tuple[str, ...] = ()) -> Path:
     """The runner for `kind` ("host" or "m4") with `math` ("libm" or
-    "fmath"), built once per content of its sources and flags."""
+    "fmath"), built once per content of its sources and flags; `extra`
+    flags go last (tests build deliberately wrong variants with them)."""
     if kind not in ("host", "m4") or math not in ("libm", "fmath"):
         raise ValueError(f"build({kind!r}, {math!r})")
     root = c_root()
     srcs = _sources(root, kind)
     headers = sorted((root / "core").glob("*/**/*.h")) + [root / "core/target/m4/mps2_an386.ld"]
     flags = list(COMMON_FLAGS) + (FMATH_DEFINES if math == "fmath" else [])
+    tail_flags = list(extra)
     if kind == "host":
         cc = shutil.which("gcc") or shutil.which("cc")
         if cc is None:
@@ -107,6 +110,7 @@ def build(kind: str, math: str = "fmath", out_dir: Path | None = None) -> Path:
         flags = M4_FLAGS + flags + ["-g", "-ffunction-sections", "-fdata-sections"]
         cmd_tail = ["-nostartfiles", "-T", str(root / "core/target/m4/mps2_an386.ld"),
                     "-Wl,--gc-sections", "-lm", "-lc", "-lgcc"]
+    flags += tail_flags
     h = hashlib.sha256(" ".join([cc, kind, math] + flags + cmd_tail).encode())
     for f in srcs + headers:
         h.update(f.read_bytes())
@@ -316,14 +320,16 @@ def compare(cases, host_out: Path, m4_out: Path) -> list[CaseDiff]:
     return out
 
 
-def run_both(cases, math: str, work: Path) -> tuple[Path, Path]:
+def run_both(cases, math: str, work: Path, m4_extra: tuple[str, ...] = ()) -> tuple[Path, Path]:
     """Write `cases`, run them on the host and on the emulated M4F; returns
     the two output files."""
     work.mkdir(parents=True, exist_ok=True)
-    vec, ho, mo = work / f"vectors_{math}.bin", work / f"host_{math}.bin", work / f"m4_{math}.bin"
+    tag = math + ("_" + hashlib.sha256(" ".join(m4_extra).encode()).hexdigest()[:6]
+                  if m4_extra else "")
+    vec, ho, mo = work / f"vectors_{tag}.bin", work / f"host_{tag}.bin", work / f"m4_{tag}.bin"
     write_vectors(vec, cases)
     run_host(build("host", math), vec, ho)
-    run_m4(build("m4", math), vec, mo)
+    run_m4(build("m4", math, extra=m4_extra), vec, mo)
     return ho, mo
 
 
@@ -358,12 +364,124 @@ def lib_channels() -> int:
     return len(CHANNELS)
 
 
+def _start_of(eng) -> tuple[float, float, float]:
+    from .simulate import _wrap_pi
+    st = eng._st
+    return (_wrap_pi(st.theta0), st.w0, st.i_q0)
+
+
 def drive_case(name: str, s, n: int) -> DriveCase:
     """Scenario `s`'s drive on its first n recorded samples."""
-    from .simulate import _wrap_pi
     ins, _, _, eng = record(s, n)
-    st = eng._st
-    return DriveCase(name, eng._dc, eng._tables, (_wrap_pi(st.theta0), st.w0, st.i_q0), ins)
+    return DriveCase(name, eng._dc, eng._tables, _start_of(eng), ins)
+
+
+def mode_scenarios() -> list[tuple[str, object]]:
+    """Every composition of the one drive (smd_drive.h) on a scenario that
+    exercises it: the yang2018 motor (current pi/dbpc/robust_dbpc x
+    position encoder/smdo_emf x start running/handover/if) at 1500 r/min
+    with the rated load (from standstill for I/f), and the yao2022 LCL drive
+    (pi x encoder/lcl_smo_pll/lcl_linear x the three starts, and the two
+    reference reaching laws) at 60 kr/min."""
+    import itertools
+
+    from .scenarios import drive, yao2022
+
+    out = []
+    for cur, pos, start in itertools.product(("pi", "dbpc", "robust_dbpc"),
+                                             ("encoder", "smdo_emf"),
+                                             ("running", "handover", "if")):
+        base = drive.if_start() if start == "if" else drive._table1_steady("x")
+        out.append((f"{cur}.{pos}.{start}",
+                    base.with_controller(current=cur, position=pos, start=start)))
+    for pos, start in itertools.product(("encoder", "lcl_smo_pll", "lcl_linear"),
+                                        ("running", "handover", "if")):
+        out.append((f"lcl.pi.{pos}.{start}",
+                    yao2022.steady(60e3).with_controller(position=pos, start=start)))
+    for law in ("tde17", "tde18"):
+        out.append((f"lcl.pi.lcl_smo_pll.running.{law}",
+                    yao2022.steady(60e3).with_controller(law=law)))
+    return out
+
+
+#: the input columns of smd_drive_in
+IN_COLS = ("i_a", "i_b", "i1_a", "i1_b", "theta_enc", "w_enc", "u_dc", "w_ref", "i_d_ref",
+           "i_q_ref")
+
+
+def variants(case: DriveCase) -> list[DriveCase]:
+    """Edge cases of a recorded drive case: the same run mirrored (negative
+    speed: phases b and c swapped, angles and speeds negated), standstill
+    (zero speed, constant inputs), saturation (current and speed references
+    far beyond the limits, a quarter of the DC link) and faults (NaN, +-inf
+    and 1e30 at single samples of each input, u_dc = 0 for ten samples)."""
+    c = {k: i for i, k in enumerate(IN_COLS)}
+    x = case.inputs.astype(np.float32)
+    th0, w0, iq0 = case.start
+    m = x.copy()
+    m[:, c["i_b"]] = -x[:, c["i_a"]] - x[:, c["i_b"]]
+    m[:, c["i1_b"]] = -x[:, c["i1_a"]] - x[:, c["i1_b"]]
+    for col in ("theta_enc", "w_enc", "w_ref", "i_q_ref"):
+        m[:, c[col]] = -x[:, c[col]]
+    z = np.repeat(x[:1], x.shape[0], axis=0)
+    z[:, c["w_enc"]] = z[:, c["w_ref"]] = 0.0
+    sat = x.copy()
+    sat[:, c["i_q_ref"]] *= 50.0
+    sat[:, c["i_d_ref"]] += 30.0
+    sat[:, c["w_ref"]] *= 5.0
+    sat[:, c["u_dc"]] *= 0.25
+    f = x.copy()
+    bad = (np.nan, np.inf, 1e30, -np.inf)
+    for j, col in enumerate(IN_COLS):
+        for q, v in enumerate(bad):
+            k = 40 + 11 * (4 * j + q)
+            if k < f.shape[0]:
+                f[k, c[col]] = v
+    f[min(30, f.shape[0] - 1):min(40, f.shape[0]), c["u_dc"]] = 0.0
+    return [
+        DriveCase(case.name + ".mirrored", case.config, case.tables, (-th0, -w0, -iq0), m),
+        DriveCase(case.name + ".standstill", case.config, case.tables, (th0, 0.0, 0.0), z),
+        DriveCase(case.name + ".saturated", case.config, case.tables, case.start, sat),
+        DriveCase(case.name + ".faults", case.config, case.tables, case.start, f),
+    ]
+
+
+#: the paper scenarios whose recorded inputs the vectors replay at length
+PAPER_CASES = ("yang2018.fig7a", "yao2022.steady.100k")
+
+
+def standard_cases(samples: int = 600, paper_samples: int = 3000) -> list:
+    """The vector set of the target test: every block of the core on its
+    PRNG inputs (with non-finite values in the last tenth), every drive
+    composition recorded from its scenario with the edge-case variants,
+    the paper scenarios' recorded inputs, and a rejected composition."""
+    from .scenarios import catalogue
+    from .simulate import drive_config
+
+    cases: list = [BlockCase(f"block.{b}", b, 3000, 1000 + i)
+                   for i, b in enumerate(("transforms", "svm", "pi", "dbpc", "smdo", "emf_pos",
+                                          "pll", "bandpass", "math"))]
+    tables = None
+    for name, s in mode_scenarios():
+        rec = drive_case("drive." + name, s, samples)
+        cases += [rec, *variants(rec)]
+        tables = tables or rec.tables
+    cases += [TablesCase("tables", tables),
+              BlockCase("block.lcl_smo.a", "lcl_smo", 3000, 3000),  # seed % 3: the law
+              BlockCase("block.lcl_smo.b", "lcl_smo", 3000, 3001),
+              BlockCase("block.lcl_smo.c", "lcl_smo", 3000, 3002),
+              BlockCase("block.linobs", "linobs", 3000, 3003)]
+    cat = catalogue()
+    for name in PAPER_CASES:
+        cases.append(drive_case("paper." + name, cat[name](), paper_samples))
+    # a composition the drive rejects (DBPC through the LCL filter): both
+    # builds must answer SMD_ERR_COMBINATION
+    bad = cat["yao2022.steady.100k"]()
+    cfg = drive_config(bad, tables)
+    cfg.current = 1
+    cases.append(DriveCase("drive.rejected.dbpc_lcl", cfg, tables, (0.0, 0.0, 0.0),
+                           np.zeros((5, IN_WORDS), np.float32)))
+    return cases
 
 
 # ------------------------------------------------------------------- PIL --
