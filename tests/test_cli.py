@@ -115,3 +115,24 @@ def test_show_round_trips_an_lcl_catalogue_entry(tmp_path):
 def test_show_unknown_scenario_is_refused():
     res = CliRunner().invoke(main, ["show", "yao2022.fig99"])
     assert res.exit_code != 0 and "unknown scenario" in res.output
+
+
+def test_run_pil_by_catalogue_name(tmp_path):
+    """`smodrive run NAME --pil`: the catalogue name resolves, the M4F
+    controller on QEMU matches the host build over 0.02 s (200 samples) and
+    pil.json and the comparison figure are written."""
+    out = tmp_path / "pil"
+    res = CliRunner().invoke(main, ["run", "yang2018.fig7a", "--pil", "--seconds", "0.02",
+                                    "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    s = json.loads((out / "pil.json").read_text())
+    assert s["samples"] == 200 and s["identical"] is True and s["max_duty_diff"] == 0.0
+    assert (out / "yang2018_fig7a_pil.png").stat().st_size > 10_000
+
+
+def test_run_refuses_unknown_scenario_and_bad_pil_time(tmp_path):
+    res = CliRunner().invoke(main, ["run", "no.such.thing", "--out", str(tmp_path)])
+    assert res.exit_code == 2 and "neither a scenario file nor a catalogue name" in res.output
+    res = CliRunner().invoke(main, ["run", "yang2018.fig7a", "--pil", "--seconds", "-1",
+                                    "--out", str(tmp_path)])
+    assert res.exit_code == 2 and "--seconds" in res.output

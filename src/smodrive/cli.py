@@ -75,20 +75,46 @@ def _f(x: float | None) -> str:
     return "-" if x is None else f"{x:.4g}"
 
 
+def _load(scenario: str):
+    """A TOML file, or a name of the catalogue (`smodrive scenarios`)."""
+    path = Path(scenario)
+    if path.is_file():
+        return load_scenario(path)
+    cat = catalogue()
+    if scenario in cat:
+        return cat[scenario]()
+    raise ParameterError(f"{scenario}: neither a scenario file nor a catalogue name "
+                         "(see `smodrive scenarios`)")
+
+
 @main.command()
-@click.argument("scenario", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.argument("scenario")
 @click.option("--out", type=click.Path(path_type=Path), default=Path("results"),
               show_default=True)
-def run(scenario: Path, out: Path) -> None:
-    """Simulate one SCENARIO.toml; write signals.npz, summary.json and a figure."""
+@click.option("--pil", is_flag=True,
+              help="processor in the loop: the controller compiled for a Cortex-M4F runs on "
+                   "QEMU (mps2-an386) against the host plant, beside the host-only run")
+@click.option("--seconds", type=float, default=0.2, show_default=True,
+              help="with --pil: simulated time")
+@click.option("--math", type=click.Choice(["fmath", "libm"]), default="fmath",
+              show_default=True,
+              help="with --pil: the core's portable float math on both sides (bit-identical), "
+                   "or each platform's C library (glibc against newlib)")
+def run(scenario: str, out: Path, pil: bool, seconds: float, math: str) -> None:
+    """Simulate one SCENARIO (a TOML file or a catalogue name); write
+    signals.npz, summary.json and a figure (with --pil: pil.json and the
+    comparison figure)."""
     from . import plots
     from .simulate import CHANNELS, SimulationError, simulate
 
     try:
-        s = load_scenario(scenario)
+        s = _load(scenario)
     except ParameterError as exc:
         console.print(f"[red]error:[/red] {exc}")
         sys.exit(2)
+    if pil:
+        _run_pil(s, out, seconds, math)
+        return
     out.mkdir(parents=True, exist_ok=True)
     with _progress() as prog:
         task = prog.add_task(s.name, total=1.0)
@@ -119,6 +145,32 @@ def run(scenario: Path, out: Path) -> None:
          ("motor current (A)", [("i_d", "d"), ("i_q", "q")]),
          ("position error (rad)", [("theta_error", "true")])]),
         out, s.name.replace(".", "_"))
+    console.print(json.dumps(summary, indent=2))
+
+
+def _run_pil(s, out: Path, seconds: float, math: str) -> None:
+    from . import plots
+    from .target import TargetError, pil
+
+    if not 0.0 < seconds <= 10.0:
+        console.print(f"[red]error:[/red] --seconds {seconds}: must be in (0, 10] s")
+        sys.exit(2)
+    out.mkdir(parents=True, exist_ok=True)
+    with _progress() as prog:
+        task = prog.add_task(f"{s.name} (PIL, {math})", total=1.0)
+        try:
+            r = pil(s, seconds, math=math, progress=lambda f: prog.update(task, completed=f))
+        except (TargetError, ParameterError) as exc:
+            console.print(f"[red]error:[/red] {exc}")
+            sys.exit(1)
+    summary = {
+        "name": s.name, "samples": r.samples, "math": math, "reference": r.reference,
+        "identical": r.identical, "max_duty_diff": r.max_duty_diff,
+        "max_theta_hat_diff_rad": r.max_theta_diff_rad,
+        "max_w_hat_diff_rad_s": r.max_w_diff, "max_word_diff_ulp": r.max_view_ulp,
+    }
+    (out / "pil.json").write_text(json.dumps(summary, indent=2) + "\n")
+    plots.save(plots.pil_panels(r), out, s.name.replace(".", "_") + "_pil")
     console.print(json.dumps(summary, indent=2))
 
 

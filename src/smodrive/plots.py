@@ -379,3 +379,35 @@ def disturbance_panels(t: np.ndarray, d: np.ndarray, e17: np.ndarray, e18: np.nd
     axes[0, 0].legend(fontsize=7)
     _suptitle(axes, title)
     return axes
+
+
+# ------------------------------------------------- processor in the loop ----
+
+@_styled
+def pil_panels(r, ax=None) -> np.ndarray:
+    """A processor-in-the-loop run (:class:`smodrive.target.PilResult`):
+    angle estimate, q current and duty-relevant voltage of the host-only run
+    and of the Cortex-M4F controller, and their difference. `ax`: 3 x 2
+    Axes; returns them."""
+    from .simulate import CHANNELS
+
+    axes = _layout(ax, 3, 2, (8.0, 6.0), sharex=True)
+    t = r.log_host[:, CHANNELS.index("t")]
+    rows = [("theta_hat", "angle estimate (rad)"), ("i_q", "i_q (A)"),
+            ("u_cmd_alpha", "u_alpha command (V)")]
+    for i, (ch, label) in enumerate(rows):
+        j = CHANNELS.index(ch)
+        axes[i, 0].plot(t, r.log_host[:, j], label="host")
+        axes[i, 0].plot(t, r.log_pil[:, j], "--", label="Cortex-M4F (QEMU)")
+        axes[i, 0].set_ylabel(label)
+        d = r.log_pil[:, j] - r.log_host[:, j]
+        if ch == "theta_hat":
+            d = np.angle(np.exp(1j * d))
+        axes[i, 1].plot(t, d)
+        axes[i, 1].set_ylabel("M4F - host")
+    axes[0, 0].legend(fontsize=6)
+    axes[-1, 0].set_xlabel("t (s)")
+    axes[-1, 1].set_xlabel("t (s)")
+    _suptitle(axes, f"{r.scenario}: processor in the loop ({r.math}; "
+                    f"{'identical' if r.identical else 'max duty diff %.3g' % r.max_duty_diff})")
+    return axes
