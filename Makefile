@@ -25,7 +25,7 @@ $(STAMP): $(SOURCES)
 
 install: $(STAMP)
 
-reproduce: $(STAMP)
+reproduce: $(STAMP) toolchain
 	$(BIN)/smodrive reproduce --out $(OUT)
 
 toolchain:
@@ -53,8 +53,9 @@ dev: $(STAMP)
 	cp build/dev/libsmodrive.so src/smodrive/.libsmodrive.so.tmp
 	mv src/smodrive/.libsmodrive.so.tmp src/smodrive/libsmodrive.so  # atomic: running tests keep the old one
 
-bench: $(STAMP)
+bench: $(STAMP) toolchain
 	$(BIN)/python benchmarks/bench_engine.py
+	$(BIN)/python benchmarks/bench_m4.py
 
 # Side by side with motulator (issue 4): installs motulator into its own venv
 # (benchmarks/.motulator-venv), never into .venv; see benchmarks/README.md.

@@ -1,7 +1,7 @@
 /*
  * Portable single-precision math (smd_fmath.h): the same bits on every
- * IEEE-754 float unit, built only from +, -, *, /, floorf, fmodf and ldexpf,
- * which IEEE 754 and C99 define exactly.
+ * IEEE-754 float unit, built only from +, -, *, /, conversions to and from
+ * integers, fmodf and ldexpf, which IEEE 754 and C99 define exactly.
  */
 #include "smodrive/smd_fmath.h"
 
@@ -15,6 +15,14 @@
 #define SMD_FOPI 1.27323954473516f /* 4/pi */
 #define SMD_TWO_PI_F 6.28318530717958647692f
 #define SMD_REDUCE_MAX 8192.0f
+
+/* floor(x) for |x| < 2^23 through the integer conversion (VCVT on a
+ * Cortex-M4F: one cycle, where newlib's floorf is a bit-twiddling call) */
+static float floor_small(float x)
+{
+    float f = (float)(long)x;
+    return f > x ? f - 1.0f : f;
+}
 
 /* sin(r) and cos(r) for |r| <= pi/4 (Cephes sinf/cosf minimax fits). */
 static float sin_poly(float r)
@@ -40,7 +48,7 @@ static float reduce(float ax, int *q)
     if (ax > SMD_REDUCE_MAX) {
         ax = fmodf(ax, SMD_TWO_PI_F); /* exact remainder of a float 2 pi */
     }
-    j = floorf(ax * SMD_FOPI);
+    j = floor_small(ax * SMD_FOPI); /* ax <= 8192: the product < 2^14 */
     ji = (int)j;
     if (ji & 1) {
         ji += 1;
@@ -152,7 +160,7 @@ float smd_expf(float x)
         return 0.0f;
     }
     /* x = n ln2 + r, |r| <= ln2/2; ln2 = C1 + C2 with C1 exact in 9 bits */
-    z = floorf(1.44269504088896341f * x + 0.5f);
+    z = floor_small(1.44269504088896341f * x + 0.5f); /* |.| < 151 */
     n = (int)z;
     x = (x - z * 0.693359375f) - z * -2.12194440e-4f;
     xx = x * x;

@@ -598,6 +598,61 @@ static void blk_math(smd_writer *w, rng *g, int n)
     }
 }
 
+/* yao2022 Table VI's three parts, each between its own markers, on the
+ * tables of the last TABLES case at 100 kr/min (both band-pass channels
+ * active): prediction (model interpolation, observer (9), augmented state
+ * (16)), reaching law ((18), (33)-(35)) and PLL (position error (47), PLL
+ * (48)). Same split as benchmarks/cost/obs_cost.c. */
+static void blk_table6(smd_writer *w, rng *g, int n)
+{
+    smd_lcl_smo_config c;
+    smd_lcl_smo_params p;
+    static smd_lcl_smo_state s;
+    smd_pll_params pp;
+    smd_pll_state ps;
+    smd_lcl_model m;
+    const smd_real wr = SMD_R(10471.98); /* 100 kr/min, one pole pair */
+    smd_real th = SMD_R(0.0);
+    int k;
+    memset(&c, 0, sizeof c);
+    c.T_sp = SMD_R(5e-5);
+    c.law = SMD_LCL_SMO_PROPOSED;
+    c.table = g_models;
+    c.n = g_n_models;
+    c.w_min = g_w_min;
+    c.dw = g_dw;
+    c.Q1 = SMD_R(0.6);
+    c.Q2 = SMD_R(0.6);
+    c.bw_rel2 = SMD_R(0.2);
+    c.bw_rel3 = SMD_R(0.2);
+    c.w_bp_min = SMD_R(1000.0);
+    wr_i32(w, (int)smd_lcl_smo_init(&p, &c));
+    wr_i32(w, (int)smd_pll_init(&pp, SMD_R(5e-5), SMD_R(0.1), SMD_R(10.0), SMD_R(10.0)));
+    smd_lcl_smo_reset(&s, SMD_R(0.0));
+    smd_pll_reset(&ps, SMD_R(0.0), wr);
+    for (k = 0; k < n; k++) {
+        smd_cplx e, i1, i2, u;
+        smd_real w_hat = wr + urand(g, SMD_R(-20.0), SMD_R(20.0));
+        th = smd_wrap_pi(th + wr * SMD_R(5e-5));
+        e = smd_cexpj(th);
+        i2 = smd_cadd(smd_cscale(smd_cj(e), SMD_R(30.0)), crand(g, SMD_R(0.3)));
+        i1 = smd_cadd(i2, crand(g, SMD_R(1.0)));
+        u = smd_cscale(smd_cj(e), SMD_R(32.0));
+        smd_mark_begin(SMD_BLK_TABLE6 * 10 + 1);
+        smd_lcl_smo_model(&p, w_hat, &m);
+        smd_lcl_smo_predict(&m, &s, u);
+        smd_mark_end();
+        smd_mark_begin(SMD_BLK_TABLE6 * 10 + 2);
+        smd_lcl_smo_reach(&p, &s, &m, i1, i2, w_hat);
+        smd_mark_end();
+        smd_mark_begin(SMD_BLK_TABLE6 * 10 + 3);
+        smd_pll_step(&pp, &ps, smd_lcl_smo_theta_err(&s, w_hat));
+        smd_mark_end();
+        wr_reals(w, s.e_hat, 2);
+        wr_real(w, ps.theta);
+    }
+}
+
 static int run_block(smd_reader *r, smd_writer *w)
 {
     int ok = 1;
@@ -621,6 +676,10 @@ static int run_block(smd_reader *r, smd_writer *w)
     case SMD_BLK_PLL: blk_pll(w, &g, n); break;
     case SMD_BLK_BANDPASS: blk_bandpass(w, &g, n); break;
     case SMD_BLK_MATH: blk_math(w, &g, n); break;
+    case SMD_BLK_TABLE6:
+        if (g_n_models < 2) return 0;
+        blk_table6(w, &g, n);
+        break;
     case SMD_BLK_LCL_SMO:
         if (g_n_models < 2) return 0;
         blk_lcl_smo(w, &g, n, (int)(g.x % 3u));

@@ -45,6 +45,7 @@ enum {
     SMD_BLK_LCL_SMO = 9,
     SMD_BLK_LINOBS = 10,
     SMD_BLK_MATH = 11,
+    SMD_BLK_TABLE6 = 12,
     SMD_BLK_N
 };
 

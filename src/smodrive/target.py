@@ -36,7 +36,7 @@ MAGIC = 0x56444D53
 VERSION = 1
 CASE_END, CASE_DRIVE, CASE_TABLES, CASE_BLOCK = 0, 1, 2, 3
 BLOCKS = {"transforms": 1, "svm": 2, "pi": 3, "dbpc": 4, "smdo": 5, "emf_pos": 6, "pll": 7,
-          "bandpass": 8, "lcl_smo": 9, "linobs": 10, "math": 11}
+          "bandpass": 8, "lcl_smo": 9, "linobs": 10, "math": 11, "table6": 12}
 #: the math block's outputs per step, in order
 MATH_FUNCS = ("sin", "cos", "atan2", "exp", "expm1", "floor", "sqrt", "fabs")
 #: the core's math hooks mapped to its portable float math
@@ -470,7 +470,8 @@ def standard_cases(samples: int = 600, paper_samples: int = 3000) -> list:
               BlockCase("block.lcl_smo.a", "lcl_smo", 3000, 3000),  # seed % 3: the law
               BlockCase("block.lcl_smo.b", "lcl_smo", 3000, 3001),
               BlockCase("block.lcl_smo.c", "lcl_smo", 3000, 3002),
-              BlockCase("block.linobs", "linobs", 3000, 3003)]
+              BlockCase("block.linobs", "linobs", 3000, 3003),
+              BlockCase("block.table6", "table6", 1000, 3004)]
     cat = catalogue()
     for name in PAPER_CASES:
         cases.append(drive_case("paper." + name, cat[name](), paper_samples))
@@ -639,3 +640,355 @@ def pil(s, seconds: float, math: str = "fmath", progress=None,
         max_w_diff=float(np.max(np.abs(tgt["log"][:, i_w] - ref["log"][:, i_w]))),
         max_view_ulp=int(ulp_distance(fa, fb).max()),
         identical=bool(same.all()), log_host=ref["log"], log_pil=tgt["log"])
+
+
+# ---------------------------------------------------------------- cycles --
+
+#: Cortex-M4 cycle timings (ARM Cortex-M4 TRM r0p1, sect. 3.3.1, and the FPU
+#: TRM's VFP instruction table) as (min, nominal, max) per instruction class;
+#: P, the pipeline refill of a taken branch, is 1..3 (nominal 2); a load or
+#: store directly after another one pipelines to 1 cycle (nominal and min);
+#: SDIV/UDIV take 2..12 (nominal 7). Zero-wait-state memory assumed (code in
+#: SRAM/TCM, or flash behind an accelerator that hits).
+_P = (1, 2, 3)
+_FIXED = {
+    "vdiv": (14, 14, 14), "vsqrt": (14, 14, 14),
+    "vmla": (3, 3, 3), "vmls": (3, 3, 3), "vnmla": (3, 3, 3), "vnmls": (3, 3, 3),
+    "vfma": (3, 3, 3), "vfms": (3, 3, 3), "vfnma": (3, 3, 3), "vfnms": (3, 3, 3),
+    "mla": (2, 2, 2), "mls": (2, 2, 2), "sdiv": (2, 7, 12), "udiv": (2, 7, 12),
+    "ldrd": (3, 3, 3), "strd": (3, 3, 3), "it": (0, 1, 1), "tbb": (3, 4, 5), "tbh": (3, 4, 5),
+}
+_LOADSTORE = {"ldr", "ldrb", "ldrh", "ldrsb", "ldrsh", "str", "strb", "strh", "vldr", "vstr",
+              "ldrex", "strex"}
+_MULTI = {"ldm", "ldmia", "ldmfd", "ldmdb", "stm", "stmia", "stmea", "stmdb", "stmfd",
+          "push", "pop", "vpush", "vpop", "vldmia", "vstmia", "vldmdb", "vstmdb", "vldm",
+          "vstm"}
+_CONDS = ("eq", "ne", "cs", "cc", "hs", "lo", "mi", "pl", "vs", "vc", "hi", "ls", "ge", "lt",
+          "gt", "le", "al")
+
+
+def _reg_count(ops: str) -> int:
+    """Registers in a {list} (ranges r4-r7, s16-s23, d8-d9 = 2 words each)."""
+    inner = ops[ops.find("{") + 1:ops.find("}")]
+    n = 0
+    for part in inner.split(","):
+        part = part.strip()
+        if "-" in part:
+            a, b = part.split("-")
+            k = int(b.strip()[1:]) - int(a.strip()[1:]) + 1
+        else:
+            k = 1
+        n += 2 * k if part.startswith("d") else k
+    return max(n, 1)
+
+
+@dataclasses.dataclass(frozen=True)
+class _Insn:
+    size: int
+    cls: str          # "branch", "ls" (single load/store), "multi", "fixed"
+    cost: tuple       # (min, nominal, max) when not taken / not pipelined
+    mnem: str
+
+
+def _classify(mnem: str, ops: str, size: int) -> _Insn:
+    m = mnem.lower().split(".")[0]
+    base = m
+    for c in _CONDS:  # conditional forms: beq, bxne, ldrne, ...
+        if m.endswith(c) and m[:-len(c)] in ("b", "bx", "bl", "blx", "ldr", "str", "mov", "add",
+                                             "sub", "cmp", "ldrb", "strb", "it"):
+            base = m[:-len(c)]
+            break
+    if base in ("b", "bl", "bx", "blx", "cbz", "cbnz"):
+        return _Insn(size, "branch", (1, 1, 1), base)
+    if base in ("pop", "ldm", "ldmia", "ldmfd") and "pc" in ops:
+        n = _reg_count(ops)
+        return _Insn(size, "branch_multi", (1 + n, 1 + n, 1 + n), base)
+    if base in _MULTI:
+        n = _reg_count(ops)
+        return _Insn(size, "multi", (1 + n, 1 + n, 1 + n), base)
+    if base in _FIXED:
+        return _Insn(size, "fixed", _FIXED[base], base)
+    if base in _LOADSTORE:
+        if base == "ldr" and ops.lstrip().startswith("pc"):
+            return _Insn(size, "branch", (2, 2, 2), base)
+        return _Insn(size, "ls", (2, 2, 2), base)
+    if base == "vmov" and ops.count(",") == 2 and ops.split(",")[0].strip()[0] == "r" \
+            and ops.split(",")[1].strip()[0] == "r":
+        return _Insn(size, "fixed", (2, 2, 2), base)  # two core registers <-> a d register
+    if base == "vmov" and ops.count(",") == 3:
+        return _Insn(size, "fixed", (2, 2, 2), base)
+    return _Insn(size, "fixed", (1, 1, 1), base)
+
+
+def disassemble(elf: Path) -> tuple[dict[int, _Insn], dict[str, tuple[int, int]]]:
+    """{address: instruction} of the ELF's code and {function: (start, end)}."""
+    objdump = _tool("arm-none-eabi-objdump", "binutils-arm-none-eabi")
+    txt = subprocess.run([objdump, "-d", str(elf)], capture_output=True, text=True,
+                         check=True).stdout
+    insns: dict[int, _Insn] = {}
+    funcs: dict[str, tuple[int, int]] = {}
+    cur, start = None, 0
+    import re
+    head = re.compile(r"^([0-9a-f]+) <([^>]+)>:$")
+    line_re = re.compile(r"^\s*([0-9a-f]+):\t([0-9a-f ]+?)\s*\t(\S+)\s*(.*)$")
+    last = 0
+    for line in txt.splitlines():
+        h = head.match(line)
+        if h:
+            if cur is not None:
+                funcs[cur] = (start, last)
+            cur, start = h.group(2), int(h.group(1), 16)
+            continue
+        m = line_re.match(line)
+        if not m:
+            continue
+        addr = int(m.group(1), 16)
+        raw = m.group(2).split()
+        size = sum(len(x) // 2 for x in raw)
+        if m.group(3).startswith(".") or size not in (2, 4):
+            continue
+        insns[addr] = _classify(m.group(3), m.group(4), size)
+        last = addr + size
+    if cur is not None:
+        funcs[cur] = (start, last)
+    return insns, funcs
+
+
+@dataclasses.dataclass
+class Window:
+    cycles: tuple[int, int, int]   # min, nominal, max
+    instructions: int
+
+
+def trace_windows(elf: Path, vec: Path, work: Path, timeout: float = 900.0,
+                  profile: dict | None = None) -> list[Window]:
+    """Run the vectors on QEMU with every executed instruction logged (one
+    instruction a translation block, streamed through a FIFO) and cost each
+    window between smd_mark_begin and smd_mark_end with the Cortex-M4
+    timings above. The markers' own instructions are left out. With
+    `profile` (a dict), the nominal cycles inside windows are also summed by
+    function there."""
+    insns, funcs = disassemble(elf)
+    owner = {}
+    if profile is not None:
+        for name, (a0, a1) in funcs.items():
+            for a in range(a0, a1, 2):
+                owner[a] = name
+    b0, b1 = funcs["smd_mark_begin"]
+    e0, e1 = funcs["smd_mark_end"]
+    s0, s1 = funcs["mark_sink"]
+    work.mkdir(parents=True, exist_ok=True)
+    d = Path(tempfile.mkdtemp(prefix="smd_trace_", dir=work))
+    fifo = d / "trace"
+    os.mkfifo(fifo)
+    out = d / "out.bin"
+    # leave the start-up code (zeroing .bss) out of the trace
+    r0, r1 = funcs["Reset_Handler"]
+    cmd = qemu_command(elf, str(vec), str(out), trace=fifo) + [
+        "-dfilter", f"0x0..0x{r0:x},0x{r1:x}..0x400000"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    timer = threading.Timer(timeout, proc.kill)
+    timer.start()
+    windows: list[Window] = []
+    try:
+        inside = False
+        prev: _Insn | None = None
+        prev_pc = 0
+        prev_ls = False
+        c = [0, 0, 0]
+        n = 0
+        with open(fifo, "r", buffering=1 << 20) as f:
+            for line in f:
+                lb = line.find("[")
+                if lb < 0:
+                    continue
+                pc = int(line[lb + 10:lb + 18], 16)
+                if b0 <= pc < b1:
+                    inside, prev, c, n, prev_ls = True, None, [0, 0, 0], 0, False
+                    continue
+                if e0 <= pc < e1:
+                    if inside and prev is not None:
+                        # the call of smd_mark_end (1 cycle counted; its
+                        # refill was not) is not the window's
+                        c = [c[0] - 1, c[1] - 1, c[2] - 1]
+                        n -= 1
+                        windows.append(Window((c[0], c[1], c[2]), n))
+                    inside = False
+                    continue
+                if not inside or s0 <= pc < s1:
+                    continue
+                ins = insns.get(pc)
+                if ins is None:
+                    continue
+                # the previous instruction's branch outcome is known now
+                if prev is not None and prev.cls.startswith("branch") and \
+                        pc != prev_pc + prev.size:
+                    c = [c[0] + _P[0], c[1] + _P[1], c[2] + _P[2]]
+                lo, nom, hi = ins.cost
+                if ins.cls == "ls" and prev_ls:
+                    lo, nom = 1, 1
+                c = [c[0] + lo, c[1] + nom, c[2] + hi]
+                if profile is not None:
+                    fn = owner.get(pc, "?")
+                    profile[fn] = profile.get(fn, 0) + nom
+                n += 1
+                prev_ls = ins.cls == "ls"
+                prev, prev_pc = ins, pc
+        proc.wait(timeout=60)
+    finally:
+        timer.cancel()
+        if proc.poll() is None:
+            proc.kill()
+        shutil.rmtree(d, ignore_errors=True)
+    if proc.returncode != 0:
+        raise TargetError(f"QEMU trace run failed ({proc.returncode})")
+    return windows
+
+
+#: budgets of the control period at the papers' rates on a 168 MHz
+#: Cortex-M4F (STM32F4 class)
+F_CPU = 168e6
+BUDGET = {"yang2018": 100e-6 * F_CPU, "yao2022": 50e-6 * F_CPU}
+#: yao2022 Table VI, cycles on the 150 MHz TMS320F28335
+TABLE6_PAPER = {"prediction": 489, "reaching_law": 268, "pll": 28}
+
+
+@dataclasses.dataclass
+class CycleRow:
+    name: str
+    paper: str            # whose period budget applies
+    calls: int
+    nominal: float        # mean cycles per call
+    low: float            # mean of the lower bound (P = 1, IT folded, DIV 2)
+    high: float           # mean of the upper bound (P = 3, DIV 12)
+    worst: int            # largest nominal cycles of one call
+    instructions: float   # mean instructions per call
+
+    @property
+    def budget_share(self) -> float:
+        return self.nominal / BUDGET[self.paper]
+
+
+def cycle_cases(samples: int = 150):
+    """What the cycle table measures: each block on its PRNG inputs (the
+    first 100 calls, before the edge values), yao2022 Table VI's three
+    parts, and the drive step of each composition in its steady phase."""
+    from .scenarios import drive, yao2022
+
+    blocks = [("transforms", "yang2018"), ("svm", "yang2018"), ("pi", "yang2018"),
+              ("dbpc", "yang2018"), ("smdo", "yang2018"), ("emf_pos", "yang2018"),
+              ("pll", "yao2022"), ("bandpass", "yao2022")]
+    cases: list = [BlockCase(f"block.{b}", b, 120, 11 + i) for i, (b, _) in enumerate(blocks)]
+    paper = {f"block.{b}": p for b, p in blocks}
+    modes = []
+    for cur in ("pi", "dbpc", "robust_dbpc"):
+        for pos in ("encoder", "smdo_emf"):
+            modes.append((f"drive {cur} + {pos}", "yang2018",
+                          drive._table1_steady("x").with_controller(current=cur, position=pos)))
+    modes.append(("drive robust_dbpc + smdo_emf, I/f forced phase", "yang2018",
+                  drive.if_start()))
+    for pos, law in (("encoder", "proposed"), ("lcl_smo_pll", "proposed"),
+                     ("lcl_smo_pll", "tde17"), ("lcl_linear", "proposed")):
+        name = f"drive pi + LCL + {pos}" + (f" ({law})" if pos == "lcl_smo_pll" else "")
+        modes.append((name, "yao2022",
+                      yao2022.steady(100e3).with_controller(position=pos, law=law)))
+    tables = None
+    for name, p, s in modes:
+        c = drive_case(name, s, samples)
+        tables = tables or c.tables
+        cases.append(c)
+        paper[name] = p
+    cases += [TablesCase("tables", tables),
+              BlockCase("block.lcl_smo", "lcl_smo", 120, 3000),
+              BlockCase("block.linobs", "linobs", 120, 3003),
+              BlockCase("table6", "table6", 120, 7)]
+    paper.update({"block.lcl_smo": "yao2022", "block.linobs": "yao2022",
+                  "table6": "yao2022"})
+    return cases, paper
+
+
+def cycle_table(math: str = "fmath", work: Path | None = None,
+                samples: int = 150) -> list[CycleRow]:
+    """Cycles per call on the Cortex-M4F (QEMU instruction trace weighted by
+    the Cortex-M4 timings) for every row of :func:`cycle_cases`."""
+    cases, paper = cycle_cases(samples)
+    work = Path(work) if work else _cache_dir()
+    work.mkdir(parents=True, exist_ok=True)
+    vec = work / f"cycles_{math}.bin"
+    write_vectors(vec, cases)
+    wins = trace_windows(build("m4", math), vec, work)
+    rows: list[CycleRow] = []
+    pos = 0
+
+    def row(name, ws, p):
+        nom = np.array([w.cycles[1] for w in ws], float)
+        rows.append(CycleRow(name, p, len(ws), float(nom.mean()),
+                             float(np.mean([w.cycles[0] for w in ws])),
+                             float(np.mean([w.cycles[2] for w in ws])), int(nom.max()),
+                             float(np.mean([w.instructions for w in ws]))))
+
+    for c in cases:
+        if isinstance(c, TablesCase):
+            continue
+        if isinstance(c, DriveCase):
+            ws = wins[pos:pos + c.inputs.shape[0]]
+            pos += c.inputs.shape[0]
+            row(c.name, ws[samples // 3:], paper[c.name])  # after the first third
+            continue
+        per = {"smdo": 2}.get(c.block, 1) * (3 if c.block == "table6" else 1)
+        ws = wins[pos:pos + per * c.n]
+        pos += per * c.n
+        if c.block == "table6":
+            for j, part in enumerate(TABLE6_PAPER):
+                row(f"table6.{part}", ws[j::3][:100], "yao2022")
+            continue
+        row(c.name, ws[:100], paper[c.name])
+    if pos != len(wins):
+        raise TargetError(f"cycle windows: {len(wins)} traced, {pos} expected")
+    return rows
+
+
+#: the structs whose RAM the size table reports (params: derived once at
+#: init, constant; state: changes every sample)
+SIZE_STRUCTS = ("smd_drive_config", "smd_drive_params", "smd_drive_state", "smd_dbpc_params",
+                "smd_smdo_params", "smd_smdo_state", "smd_pi_params", "smd_pi_state",
+                "smd_emf_pos_params", "smd_emf_pos_state", "smd_pll_params", "smd_pll_state",
+                "smd_bandpass", "smd_lcl_smo_params", "smd_lcl_smo_state", "smd_lcl_model",
+                "smd_linobs_params", "smd_linobs_state", "smd_linobs_model", "smd_svm_params")
+
+
+def sizes(math: str = "libm") -> tuple[dict[str, int], dict[str, int]]:
+    """Code size (.text + .rodata, bytes) of each core source compiled for
+    the Cortex-M4F (-O2, as the firmware check) and the size of each struct
+    of :data:`SIZE_STRUCTS` in the M4F build (from the symbol sizes of
+    objects sized like them)."""
+    cc = _tool("arm-none-eabi-gcc", "gcc-arm-none-eabi")
+    size_tool = _tool("arm-none-eabi-size", "binutils-arm-none-eabi")
+    nm = _tool("arm-none-eabi-nm", "binutils-arm-none-eabi")
+    root = c_root()
+    flags = M4_FLAGS + COMMON_FLAGS + (FMATH_DEFINES if math == "fmath" else []) + [
+        f"-I{root / 'core/include'}"]
+    code: dict[str, int] = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for src in sorted((root / "core/src").glob("*.c")):
+            obj = Path(tmp) / (src.stem + ".o")
+            subprocess.run([cc, *flags, "-c", str(src), "-o", str(obj)], check=True,
+                           capture_output=True)
+            out = subprocess.run([size_tool, "-A", str(obj)], check=True, capture_output=True,
+                                 text=True).stdout
+            code[src.stem] = sum(int(ln.split()[1]) for ln in out.splitlines()
+                                 if ln.startswith((".text", ".rodata")))
+        probe = Path(tmp) / "sizes.c"
+        probe.write_text('#include "smodrive/smd_drive.h"\n' + "".join(
+            f"char sz_{s}[sizeof({s})];\n" for s in SIZE_STRUCTS))
+        obj = Path(tmp) / "sizes.o"
+        subprocess.run([cc, *flags, "-fno-common", "-c", str(probe), "-o", str(obj)],
+                       check=True, capture_output=True)
+        out = subprocess.run([nm, "-S", str(obj)], check=True, capture_output=True,
+                             text=True).stdout
+    ram = {}
+    for ln in out.splitlines():
+        parts = ln.split()
+        if len(parts) == 4 and parts[3].startswith("sz_"):
+            ram[parts[3][3:]] = int(parts[1], 16)
+    return code, ram

@@ -1,6 +1,6 @@
 /*
  * smodrive portable float math: sin, cos, atan2, exp and expm1 in single
- * precision from +, -, *, / and floorf alone, so that every IEEE-754 target
+ * precision from +, -, *, / and integer conversions alone, so that every IEEE-754 target
  * computes the same bits (no libm, no double, no FMA: the core is built with
  * -ffp-contract=off).
  *

@@ -1,0 +1,67 @@
+"""Cortex-M4F cost benchmark (not a test): cycles per call of each block of
+the core and of the whole drive step in each composition, code size per
+source and RAM per struct, for the M4F build.
+
+Method: the vector runner (core/target) runs on QEMU's mps2-an386 board
+(Cortex-M4F) with every executed instruction logged (-singlestep -d exec);
+each call between the runner's markers is costed with the Cortex-M4 TRM's
+cycle table (src/smodrive/target.py): a taken branch 1 + P with P = 1..3
+(nominal 2), loads and stores 2 (1 when pipelined behind another), VDIV and
+VSQRT 14, fused multiply-adds 3, SDIV 2..12, zero-wait-state memory. The
+range [low, high] takes every P, IT folding and divide at its extreme;
+flash wait states beyond an accelerator's hits, bus contention and
+interrupts are not in it. Usage:
+
+    python benchmarks/bench_m4.py [--math fmath|libm|both] [--json out.json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+
+from smodrive import target as T
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--math", choices=("fmath", "libm", "both"), default="both")
+    ap.add_argument("--json", help="write the tables to this file")
+    args = ap.parse_args()
+    maths = ("fmath", "libm") if args.math == "both" else (args.math,)
+    tables = {m: T.cycle_table(m) for m in maths}
+    budget = {p: int(b) for p, b in T.BUDGET.items()}
+    print(f"Cortex-M4F cycles per call (QEMU mps2-an386 instruction trace x Cortex-M4 timings); "
+          f"budget at {T.F_CPU / 1e6:.0f} MHz: yang2018 100 us = {budget['yang2018']} cycles, "
+          f"yao2022 50 us = {budget['yao2022']}")
+    head = f"{'':50s}" + "".join(f"{m + ' cycles':>14s} {'[low, high]':>14s} {'worst':>7s} "
+                                 f"{'budget':>7s}" for m in maths)
+    print(head)
+    rows = tables[maths[0]]
+    for i, r in enumerate(rows):
+        line = f"{r.name:50s}"
+        for m in maths:
+            x = tables[m][i]
+            line += (f"{x.nominal:14.0f} {f'[{x.low:.0f}, {x.high:.0f}]':>14s} {x.worst:7d} "
+                     f"{100 * x.budget_share:6.1f}%")
+        print(line)
+    t6 = {m: {r.name.split(".")[1]: r.nominal for r in tables[m] if r.name.startswith("table6.")}
+          for m in maths}
+    for m in maths:
+        total = sum(t6[m].values())
+        print(f"yao2022 Table VI on the M4F ({m}): prediction {t6[m]['prediction']:.0f}, "
+              f"reaching law {t6[m]['reaching_law']:.0f}, PLL {t6[m]['pll']:.0f}: "
+              f"{total:.0f} cycles against the paper's 785 on the TMS320F28335")
+    code, ram = T.sizes()
+    print("\ncode size for the Cortex-M4F (-O2, .text + .rodata, bytes): " + ", ".join(
+        f"{k} {v}" for k, v in code.items()) + f"; total {sum(code.values())}")
+    print("RAM (bytes): " + ", ".join(f"{k} {v}" for k, v in ram.items()))
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump({"cycles": {m: [dataclasses.asdict(r) for r in tables[m]] for m in maths},
+                       "code": code, "ram": ram}, f, indent=2)
+
+
+if __name__ == "__main__":
+    main()
