@@ -143,3 +143,38 @@ def test_processor_in_the_loop_with_libm_is_the_same_drive(name, tmp_path):
     j = CHANNELS.index("w_M")
     w_h, w_p = (np.mean(x[x.shape[0] // 2:, j]) for x in (r.log_host, r.log_pil))
     assert abs(w_p - w_h) <= 1e-3 * abs(w_h)
+
+
+def test_cortex_m4_timings_of_instruction_classes():
+    """The cycle table (ARM Cortex-M4 TRM 3.3.1 and the FPU's VFP table)
+    wired to the disassembly: divide and square root 14, a register list
+    1 + N (a d register counts twice), POP with PC a branch, loads 2 before
+    pipelining, a conditional branch a branch."""
+    c = T._classify
+    assert c("vdiv.f32", "s0, s1, s2", 4).cost == (14, 14, 14)
+    assert c("vsqrt.f32", "s0, s1", 4).cost == (14, 14, 14)
+    assert c("vpush", "{s16-s23}", 4).cost == (9, 9, 9)
+    assert c("vpush", "{d8-d9}", 4).cost == (5, 5, 5)
+    pop = c("pop", "{r4, r5, pc}", 2)
+    assert pop.cls == "branch_multi" and pop.cost == (4, 4, 4)
+    assert c("ldr", "r3, [r0, #4]", 2).cls == "ls"
+    assert c("bne.n", "1234 <x>", 2).cls == "branch"
+    assert c("vmul.f32", "s0, s1, s2", 4).cost == (1, 1, 1)
+    assert c("sdiv", "r0, r1, r2", 4).cost == (2, 7, 12)
+
+
+def test_cycle_windows_are_consistent(tmp_path):
+    """The traced windows of the PI block (100 calls): the same code path
+    each call gives the same count; every instruction costs at least its
+    cycle (IT aside), the bounds bracket the nominal value, and the window
+    holds the block's own instructions (smd_pi_step is 20-40 Thumb-2
+    instructions)."""
+    cases = [T.BlockCase("pi", "pi", 50, 3)]
+    vec = tmp_path / "v.bin"
+    T.write_vectors(vec, cases)
+    wins = T.trace_windows(T.build("m4", "fmath"), vec, tmp_path)
+    assert len(wins) == 50
+    for w in wins[:45]:  # before the edge values of the last tenth
+        assert w.cycles[0] <= w.cycles[1] <= w.cycles[2]
+        assert w.cycles[1] >= w.instructions
+        assert 20 <= w.instructions <= 60

@@ -33,8 +33,8 @@ REQUIRED = (
     + ["yao2022.table5.ripple_reduction_100k", "yao2022.fig14.pos_error_peak_rad",
        "yao2022.fig19.pos_error_peak_rad", "yao2022.fig21.speed_error_peak_rpm",
        "yao2022.fig22.reversal_pos_error_peak_rad", "yao2022.fig23.linear_observer_stable",
-       "yao2022.fig23.smo_stable", "yao2022.table6.instructions_observer",
-       "yao2022.table6.instructions_reaching_law", "yao2022.table6.instructions_pll"]
+       "yao2022.fig23.smo_stable", "yao2022.table6.cycles_observer",
+       "yao2022.table6.cycles_reaching_law", "yao2022.table6.cycles_pll"]
 )
 
 KNOWN_FAILING = {
@@ -44,6 +44,9 @@ KNOWN_FAILING = {
     "yao2022.fig14.pos_error_peak_rad": "ADC noise at 5-10 kr/min after the handover",
     "yao2022.fig22.reversal_pos_error_peak_rad": "ADC noise at 3-4 kr/min",
     "yao2022.fig23.linear_observer_stable": "the linear observer keeps its designed poles",
+    **{f"yao2022.table6.cycles_{row}": "full model interpolation, band-pass coefficient "
+       "updates, sin/cos and atan2 every sample on the M4F"
+       for row in ("observer", "reaching_law", "pll")},
 }
 
 IDEAL = dataclasses.replace(y.ADC, gain=(1.0, 1.0, 1.0), gain_i1=(1.0, 1.0, 1.0), noise=0.0,

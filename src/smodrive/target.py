@@ -761,13 +761,13 @@ class Window:
 
 
 def trace_windows(elf: Path, vec: Path, work: Path, timeout: float = 900.0,
-                  profile: dict | None = None) -> list[Window]:
+                  profile: list | None = None) -> list[Window]:
     """Run the vectors on QEMU with every executed instruction logged (one
     instruction a translation block, streamed through a FIFO) and cost each
     window between smd_mark_begin and smd_mark_end with the Cortex-M4
     timings above. The markers' own instructions are left out. With
-    `profile` (a dict), the nominal cycles inside windows are also summed by
-    function there."""
+    `profile` (a list), a dict per window of the nominal cycles by function
+    is appended to it."""
     insns, funcs = disassemble(elf)
     owner = {}
     if profile is not None:
@@ -804,6 +804,8 @@ def trace_windows(elf: Path, vec: Path, work: Path, timeout: float = 900.0,
                     continue
                 pc = int(line[lb + 10:lb + 18], 16)
                 if b0 <= pc < b1:
+                    if not inside and profile is not None:
+                        profile.append({})
                     inside, prev, c, n, prev_ls = True, None, [0, 0, 0], 0, False
                     continue
                 if e0 <= pc < e1:
@@ -830,7 +832,7 @@ def trace_windows(elf: Path, vec: Path, work: Path, timeout: float = 900.0,
                 c = [c[0] + lo, c[1] + nom, c[2] + hi]
                 if profile is not None:
                     fn = owner.get(pc, "?")
-                    profile[fn] = profile.get(fn, 0) + nom
+                    profile[-1][fn] = profile[-1].get(fn, 0) + nom
                 n += 1
                 prev_ls = ins.cls == "ls"
                 prev, prev_pc = ins, pc
@@ -992,3 +994,37 @@ def sizes(math: str = "libm") -> tuple[dict[str, int], dict[str, int]]:
         if len(parts) == 4 and parts[3].startswith("sz_"):
             ram[parts[3][3:]] = int(parts[1], 16)
     return code, ram
+
+
+def table6_cycles(math: str = "fmath", work: Path | None = None, calls: int = 120):
+    """yao2022 Table VI's parts on the M4F: {part: CycleRow} and {part:
+    {function: mean nominal cycles per call}}, over the last 100 of `calls`
+    calls at 100 kr/min with the observer tables of the yao2022 design."""
+    from .scenarios import yao2022
+    from .simulate import lcl_observer_tables
+
+    tables = lcl_observer_tables(yao2022.steady(100e3))
+    cases = [TablesCase("tables", tables), BlockCase("table6", "table6", calls, 7)]
+    work = Path(work) if work else _cache_dir()
+    work.mkdir(parents=True, exist_ok=True)
+    vec = work / f"table6_{math}.bin"
+    write_vectors(vec, cases)
+    prof: list[dict] = []
+    wins = trace_windows(build("m4", math), vec, work, profile=prof)
+    if len(wins) != 3 * calls or len(prof) != 3 * calls:
+        raise TargetError(f"Table VI trace: {len(wins)} windows for {3 * calls} calls")
+    rows, by_fn = {}, {}
+    for j, part in enumerate(TABLE6_PAPER):
+        ws = wins[j::3][calls - 100:]
+        ps = prof[j::3][calls - 100:]
+        nom = np.array([w.cycles[1] for w in ws], float)
+        rows[part] = CycleRow(f"table6.{part}", "yao2022", len(ws), float(nom.mean()),
+                              float(np.mean([w.cycles[0] for w in ws])),
+                              float(np.mean([w.cycles[2] for w in ws])), int(nom.max()),
+                              float(np.mean([w.instructions for w in ws])))
+        fns: dict[str, float] = {}
+        for d in ps:
+            for k, v in d.items():
+                fns[k] = fns.get(k, 0.0) + v / len(ps)
+        by_fn[part] = dict(sorted(fns.items(), key=lambda kv: -kv[1]))
+    return rows, by_fn
