@@ -344,7 +344,8 @@ def speed(a, py: Path | None, tmp: Path) -> dict:
 
 def instructions(tmp: Path) -> dict:
     """Instructions per smd_drive_step in each mode (callgrind, host -O2,
-    float), and per call of yao2022's observer parts."""
+    float). Cortex-M4F cycles, yao2022's observer parts included:
+    benchmarks/bench_m4.py."""
     for tool in ("cc", "valgrind", "callgrind_annotate"):
         if shutil.which(tool) is None:
             return {"error": f"{tool} is not installed"}
@@ -362,15 +363,6 @@ def instructions(tmp: Path) -> dict:
     for mode in ("conventional", "robust", "sensorless"):
         m = re.search(r"^\s*([\d,]+)\s+\([^)]*\)\s+\S*:cost_" + mode + r"\b", ann, re.M)
         res[f"drive_{mode}"] = int(m.group(1).replace(",", "")) / 1000 if m else None
-    try:
-        from smodrive.analysis import cost
-
-        parts = cost.instructions_per_call()
-        res["yao2022_observer_parts"] = parts
-        res["yao2022_observer"] = sum(parts.values())
-    except Exception as exc:  # noqa: BLE001 - reported, not fatal
-        res["yao2022_observer"] = None
-        res["yao2022_error"] = str(exc)
     sizes = subprocess.run([str(exe), "sizes"], check=True, capture_output=True,
                            text=True).stdout.split("\n")
     res["host_sizeof"] = {ln.split()[0]: int(ln.split()[1]) for ln in sizes if ln.strip()}
@@ -539,17 +531,14 @@ def markdown(R: dict) -> str:
             L.append(f"Instruction counts: not measured ({ins['error']}).")
         else:
             L += ["Instructions per control step (valgrind callgrind, x86-64 host build, -O2, "
-                  "float; benchmarks/cost/drive_cost.c, analysis/cost.py):", "",
+                  "float; benchmarks/cost/drive_cost.c):", "",
                   "| controller | instructions/step |", "|---|---|"]
             for mode in ("conventional", "robust", "sensorless"):
                 v = ins.get(f"drive_{mode}")
                 L.append(f"| yang2018 {mode} DBPC (smd_drive_step) | "
                          f"{'-' if v is None else f'{v:,.0f}'} |")
-            v = ins.get("yao2022_observer")
-            parts = ins.get("yao2022_observer_parts", {})
-            ptxt = ", ".join(f"{k} {x:,.0f}" for k, x in parts.items())
-            L.append(f"| yao2022 observer (prediction + reaching law + PLL) | "
-                     f"{'-' if v is None else f'{v:,.0f} ({ptxt})'} |")
+            L.append("\nCortex-M4F cycles of every block and composition, yao2022 Table VI's "
+                     "parts included: `benchmarks/bench_m4.py`.")
         m4 = c.get("m4", {})
         if "error" in m4:
             L.append(f"\nCortex-M4F sizes: not measured ({m4['error']}).")

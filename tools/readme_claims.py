@@ -32,6 +32,9 @@ SHORT = {
     "yao2022.fig14.pos_error_peak_rad": "ADC noise at 5-10 kr/min",
     "yao2022.fig22.reversal_pos_error_peak_rad": "ADC noise at 3-4 kr/min",
     "yao2022.fig23.linear_observer_stable": "linear observer keeps its poles",
+    "yao2022.table6.cycles_observer": "full model interpolation every sample (1,292 cycles)",
+    "yao2022.table6.cycles_reaching_law": "sin/cos and band-pass coefficient updates",
+    "yao2022.table6.cycles_pll": "atan2 of the position error (102 cycles)",
 }
 
 
