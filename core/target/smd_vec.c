@@ -533,6 +533,11 @@ static void blk_lcl_smo(smd_writer *w, rng *g, int n, int law)
         wr_reals(w, s.d_hat, 2);
         wr_reals(w, s.x_hat, 6);
         wr_real(w, smd_lcl_smo_theta_err(&s, w_hat));
+        if (k % 500 == 499) {
+            /* a frame jump, as a start-up handover makes one */
+            smd_lcl_smo_reframe(&s, urand(g, SMD_R(-1.0), SMD_R(1.0)));
+            wr_reals(w, s.x_hat, 6);
+        }
         if (k % 200 == 0) {
             smd_lcl_smo_model(&p, w_hat, &m);
             wr_reals(w, (const smd_real *)&m, (int)(sizeof m / sizeof(smd_real)));
