@@ -5,6 +5,7 @@
  */
 #include "smodrive/smd_fmath.h"
 
+#include <float.h>
 #include <math.h>
 
 /* pi/4 in three parts (Cody-Waite): DP1 + DP2 + DP3 = pi/4 to ~2^-60, DP1
@@ -63,7 +64,7 @@ float smd_sinf(float x)
     float ax = x < 0.0f ? -x : x;
     float r, y;
     int q, neg = x < 0.0f;
-    if (!(ax <= 3.4e38f)) {
+    if (!(ax <= FLT_MAX)) {
         return x - x; /* NaN for NaN and +-inf */
     }
     r = reduce(ax, &q);
@@ -81,7 +82,7 @@ float smd_cosf(float x)
     float ax = x < 0.0f ? -x : x;
     float r;
     int q;
-    if (!(ax <= 3.4e38f)) {
+    if (!(ax <= FLT_MAX)) {
         return x - x;
     }
     r = reduce(ax, &q);
@@ -125,10 +126,10 @@ float smd_atan2f(float y, float x)
         if (signbit(x)) a = pi;
         return signbit(y) ? -a : a;
     }
-    if (ax > 3.4e38f || ay > 3.4e38f) { /* an infinity */
-        if (ax > 3.4e38f && ay > 3.4e38f) {
+    if (ax > FLT_MAX || ay > FLT_MAX) { /* an infinity */
+        if (ax > FLT_MAX && ay > FLT_MAX) {
             a = x > 0.0f ? 0.7853981633974483f : 2.356194490192345f;
-        } else if (ax > 3.4e38f) {
+        } else if (ax > FLT_MAX) {
             a = x > 0.0f ? 0.0f : pi;
         } else {
             a = pi_2;

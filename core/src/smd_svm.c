@@ -36,7 +36,7 @@ void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
     smd_real span;
     smd_real u_avail = (SMD_R(1.0) - SMD_R(2.0) * p->d_min) * u_dc;
     smd_real u_0;
-    int k;
+    int k, overflow;
 
     if (!(u_dc > SMD_R(0.0)) || !smd_cfinite(u_s_ab_ref)) {
         /* No DC link or a non-finite reference: apply the zero vector. */
@@ -53,7 +53,17 @@ void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
     }
     smd_ab_to_abc(u_s_ab_ref, u_abc);
     span = max3(u_abc) - min3(u_abc);
-    if (span > u_avail) {
+    overflow = !isfinite(span);
+    if (overflow) {
+        /* Phase values beyond the real type (a finite reference near its
+         * largest value): beyond the hexagon of any finite u_dc. The same
+         * direction 2^-64 times as long (exact) is limited below without
+         * an infinite span (whose limit factor 0 would give NaN duties). */
+        u_s_ab_ref = smd_cscale(u_s_ab_ref, SMD_R(5.42101086242752217e-20));
+        smd_ab_to_abc(u_s_ab_ref, u_abc);
+        span = max3(u_abc) - min3(u_abc);
+    }
+    if (span > u_avail || overflow) {
         /* Hexagon limit: shrink along the reference direction. */
         smd_real k_lim = u_avail / span;
         u_s_ab_ref = smd_cscale(u_s_ab_ref, k_lim);

@@ -96,10 +96,38 @@ static void test_exp(void)
     CHECK(isinf(smd_expf(100.0f)) && smd_expf(-200.0f) == 0.0f && isnan(smd_expf(NAN)));
 }
 
+/* The largest finite floats are not infinities (found by fuzz/fuzz_math:
+ * the tests for an infinite argument were "above 3.4e38f", which takes
+ * 3.4e38 < |x| <= FLT_MAX for infinite: atan2f(-99.3, FLT_MAX) gave -0 for
+ * -2.9e-37, atan2f(FLT_MAX, 1e38) pi/2 for 1.28, and sinf, cosf both 0). */
+static void test_huge_finite(void)
+{
+    const float big = FLT_MAX;
+    const float ys[4] = {-99.3041916f, big, 1e38f, -big};
+    const float xs[4] = {big, 1e38f, big, -3.39e38f};
+    float r = fmodf(big, 6.28318530717958647692f); /* the documented reduction */
+    int k;
+    for (k = 0; k < 4; k++) {
+        double want = atan2((double)ys[k], (double)xs[k]);
+        double e = err_ulp(smd_atan2f(ys[k], xs[k]), want);
+        if (!(e <= 4.0)) {
+            printf("    atan2f(%.9g, %.9g) = %.9g, want %.9g\n", (double)ys[k], (double)xs[k],
+                   (double)smd_atan2f(ys[k], xs[k]), want);
+        }
+        CHECK(e <= 4.0);
+    }
+    CHECK(fabs((double)smd_sinf(big) - sin((double)r)) <= 1.5 / 16777216.0);
+    CHECK(fabs((double)smd_cosf(big) - cos((double)r)) <= 1.5 / 16777216.0);
+    CHECK(fabs((double)smd_sinf(-big) + sin((double)r)) <= 1.5 / 16777216.0);
+    CHECK(fabs((double)smd_cosf(3.4e38f) - cos((double)fmodf(3.4e38f, 6.28318530717958647692f))) <=
+          1.5 / 16777216.0);
+}
+
 int main(void)
 {
     RUN_TEST(test_sin_cos);
     RUN_TEST(test_atan2);
     RUN_TEST(test_exp);
+    RUN_TEST(test_huge_finite);
     return smdt_summary("fmath");
 }

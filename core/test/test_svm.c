@@ -158,6 +158,34 @@ static void test_hexagon_limit(void)
     }
 }
 
+/* A finite reference whose phase values overflow the real type (found by
+ * fuzz/fuzz_blocks: -FLT_MAX - j FLT_MAX gave NaN duties, the limit factor
+ * u_dc / inf = 0 times the infinite phase values): beyond the hexagon of any
+ * finite u_dc, so it lands on the hexagon along its own direction, with
+ * finite duties. The largest value of the real type, whichever it is. */
+static void test_hexagon_huge_reference(void)
+{
+#ifdef SMD_REAL_DOUBLE
+    const double big = DBL_MAX;
+#else
+    const double big = (double)FLT_MAX;
+#endif
+    const double dirs[4][2] = {{-1.0, -1.0}, {1.0, 0.0}, {0.25, -1.0}, {-1.0, 0.5}};
+    smd_svm_params p;
+    int n;
+    CHECK_INT(smd_svm_init(&p, SMD_SVM_LIMIT_HEXAGON, R(0.0)), SMD_OK);
+    for (n = 0; n < 4; n++) {
+        double phi = atan2(dirs[n][1], dirs[n][0]);
+        double complex expect = hexagon_radius(phi, UDC) * cexp(JD * phi);
+        smd_real d[3];
+        smd_cplx ua;
+        smd_svm_step(&p, smd_c(R(dirs[n][0] * big), R(dirs[n][1] * big)), R(UDC), d, &ua);
+        CHECK(duties_in(d, 0.0, 1.0));
+        CHECK_CPLX(ua, expect, 16 * SMDT_EPS * UDC);
+        CHECK_CPLX(smdt_c(realised(d, UDC)), expect, 16 * SMDT_EPS * UDC);
+    }
+}
+
 /* No DC link or a non-finite reference: zero vector (all duties 1/2). */
 static void test_zero_vector_fallback(void)
 {
@@ -216,6 +244,7 @@ int main(void)
     RUN_TEST(test_linear_range);
     RUN_TEST(test_circle_limit);
     RUN_TEST(test_hexagon_limit);
+    RUN_TEST(test_hexagon_huge_reference);
     RUN_TEST(test_zero_vector_fallback);
     RUN_TEST(test_deadtime_comp);
     return smdt_summary("test_svm");
