@@ -134,7 +134,7 @@ float smd_atan2f(float y, float x)
         } else {
             a = pi_2;
         }
-        return y < 0.0f ? -a : a;
+        return signbit(y) ? -a : a; /* atan2(-0, -inf) = -pi, as C99 */
     }
     if (ay <= ax) {
         a = atan_pos(ay / ax);

@@ -75,6 +75,11 @@ static void test_atan2(void)
     CHECK(fabsf(smd_atan2f(-1.0f, INFINITY)) == 0.0f);
     CHECK(fabsf(smd_atan2f(INFINITY, INFINITY) - 0.78539816f) < 1e-6f);
     CHECK(isnan(smd_atan2f(NAN, 1.0f)) && isnan(smd_atan2f(1.0f, NAN)));
+    /* the sign of a zero y against an infinite x (found by fuzz/fuzz_math:
+     * atan2f(-0, -inf) gave +pi) */
+    CHECK(smd_atan2f(-0.0f, -INFINITY) == -3.14159265f);
+    CHECK(smd_atan2f(0.0f, -INFINITY) == 3.14159265f);
+    CHECK(smd_atan2f(-0.0f, INFINITY) == 0.0f && signbit(smd_atan2f(-0.0f, INFINITY)));
 }
 
 static void test_exp(void)
