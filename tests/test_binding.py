@@ -244,15 +244,15 @@ def test_gen_layout_mirrors_what_the_binding_mirrors():
 # ------------------------------------------------------- log channels -----
 
 def test_log_channel_table():
-    assert F.N_LOG == 44
-    assert len(CHANNELS) == len(set(CHANNELS)) == 44
-    assert CHANNELS[0] == "t" and CHANNELS[-1] == "status"
+    assert F.N_LOG == 45
+    assert len(CHANNELS) == len(set(CHANNELS)) == 45
+    assert CHANNELS[0] == "t" and CHANNELS[-1] == "fault"
     # outside the table the name is "" (what check_layout relies on)
-    assert F.lib.smd_log_channel_name(44) == F.lib.smd_log_channel_name(-1) == b""
-    assert all(F.lib.smd_log_channel_name(k) for k in range(44))
+    assert F.lib.smd_log_channel_name(45) == F.lib.smd_log_channel_name(-1) == b""
+    assert all(F.lib.smd_log_channel_name(k) for k in range(45))
 
 
-DIMENSIONLESS = {"phase", "status"}
+DIMENSIONLESS = {"phase", "status", "fault"}
 
 
 def test_every_channel_has_a_unit_and_a_description():

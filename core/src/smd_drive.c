@@ -33,6 +33,53 @@ static smd_status check_parts(const smd_drive_config *c)
     return SMD_OK;
 }
 
+/* The largest |w| a sensorless source can estimate: w_max of smdo_emf, the
+ * end of the LCL observers' speed table (0 for the encoder). */
+static smd_real source_speed_limit(const smd_drive_config *c)
+{
+    smd_real a, b;
+    switch (c->position) {
+    case SMD_POS_SMDO_EMF: return c->w_max;
+    case SMD_POS_LCL_SMO_PLL:
+        a = c->smo.w_min;
+        b = c->smo.w_min + c->smo.dw * (smd_real)(c->smo.n - 1);
+        break;
+    case SMD_POS_LCL_LINEAR:
+        a = c->lin.w_min;
+        b = c->lin.w_min + c->lin.dw * (smd_real)(c->lin.n - 1);
+        break;
+    default: return SMD_R(0.0);
+    }
+    a = SMD_FABS(a);
+    b = SMD_FABS(b);
+    return a > b ? a : b;
+}
+
+static smd_status check_protection(const smd_drive_config *c)
+{
+    if (!smd_in_range(c->i_trip, SMD_R(0.0), SMD_R(1e5)) ||
+        !smd_in_range(c->u_dc_min, SMD_R(0.0), SMD_R(1e5)) ||
+        !smd_in_range(c->u_dc_max, SMD_R(0.0), SMD_R(1e5)) ||
+        (c->u_dc_max > SMD_R(0.0) && !(c->u_dc_max > c->u_dc_min)) ||
+        (c->safe_state != SMD_SAFE_ZERO_VECTOR && c->safe_state != SMD_SAFE_PWM_OFF) ||
+        c->lock_samples < 0 || c->lock_samples > 1000000 ||
+        !smd_in_range(c->w_if_enter, SMD_R(0.0), SMD_R(1e7))) {
+        return SMD_ERR_PROTECTION;
+    }
+    if (c->lock_samples > 0 &&
+        (!smd_in_range(c->lock_ratio, SMD_R(1.0), SMD_R(1e3)) || !(c->lock_ratio > SMD_R(1.0)) ||
+         !smd_in_range(c->w_lock_min, SMD_R(0.0), SMD_R(1e7)))) {
+        return SMD_ERR_PROTECTION;
+    }
+    if (c->w_if_enter > SMD_R(0.0) && !(c->w_if_enter < c->w_handover)) {
+        return SMD_ERR_PROTECTION;
+    }
+    if (c->w_if_enter > SMD_R(0.0) && c->position == SMD_POS_ENCODER) {
+        return SMD_ERR_COMBINATION; /* the return to I/f is for sensorless sources */
+    }
+    return SMD_OK;
+}
+
 smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
 {
     smd_status st;
@@ -139,13 +186,26 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
             return st;
         }
     }
-    if (c->start == SMD_START_IF) {
+    if (c->start == SMD_START_IF || c->w_if_enter > SMD_R(0.0)) {
         if (!smd_in_range(c->i_start, SMD_R(0.0), SMD_R(1e5)) ||
             !smd_in_range(c->a_start, SMD_R(0.0), SMD_R(1e9)) ||
             !smd_in_range(c->w_handover, SMD_R(0.0), SMD_PI / c->T_sp)) {
             return SMD_ERR_START;
         }
     }
+    st = check_protection(c);
+    if (st != SMD_OK) {
+        return st;
+    }
+    p->i_trip = c->i_trip;
+    p->u_dc_min = c->u_dc_min;
+    p->u_dc_max = c->u_dc_max;
+    p->safe_state = c->safe_state;
+    p->lock_samples = c->lock_samples;
+    p->lock_ratio = c->lock_ratio;
+    p->w_lock_min = c->w_lock_min;
+    p->w_if_enter = c->w_if_enter;
+    p->w_src_max = source_speed_limit(c);
     p->i_start = c->i_start;
     p->a_start = c->a_start;
     p->w_handover = c->w_handover;
@@ -178,6 +238,10 @@ void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real the
     s->w_k = w0;
     s->theta_f = s->theta;
     s->w_f = w0;
+    s->fault = 0u;
+    s->lock_count = 0;
+    s->dir_f = 0; /* the start ramps up; a return to I/f follows the reference */
+    s->have_last = 0;
     s->i_s_ab = zero;
     s->i_dq = zero;
     s->i_dq_ref = smd_c(SMD_R(0.0), i_q0);
@@ -252,7 +316,9 @@ static smd_cplx emf_estimate(const smd_drive_params *p, const smd_drive_state *s
     }
 }
 
-smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
+/* One sample of the composed drive on good inputs (smd_drive_step checks
+ * them before and the state after). */
+static smd_status control(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
                           smd_drive_out *out)
 {
     const smd_real T = p->T_sp;
@@ -297,12 +363,30 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
     }
 
     /* 3. the frame of sample k+1 (forced angle, PLL), start-up transitions */
+    if (s->phase == SMD_PHASE_SOURCE && p->w_if_enter > SMD_R(0.0) &&
+        SMD_FABS(w_k) < p->w_if_enter &&
+        (SMD_FABS(in->w_ref) < p->w_handover || in->w_ref * w_k < SMD_R(0.0))) {
+        /* sensorless below w_if_enter on the way through zero: back to the
+         * forced frame, from where the source is now */
+        s->phase = SMD_PHASE_FORCED;
+        s->theta_f = theta_k;
+        s->w_f = w_k;
+        s->dir_f = (in->w_ref - w_k) < SMD_R(0.0) ? -1 : 1;
+    }
     if (s->phase == SMD_PHASE_FORCED) {
-        s->w_f += p->a_start * T;
+        if (p->start == SMD_START_IF && s->dir_f == 0) {
+            s->w_f += p->a_start * T; /* the start from standstill (eq. of the I/f ramp) */
+        } else {
+            /* follow the reference at a_start, through zero */
+            smd_real dw = in->w_ref - s->w_f;
+            smd_real step = p->a_start * T;
+            s->w_f += dw > step ? step : (dw < -step ? -step : dw);
+        }
         s->theta_f = smd_wrap_pi(s->theta_f + s->w_f * T);
         theta_next = s->theta_f;
         w_next = s->w_f;
-        if (s->w_f >= p->w_handover) {
+        if ((s->dir_f == 0 && s->w_f >= p->w_handover) ||
+            (s->dir_f != 0 && SMD_FABS(s->w_f) >= p->w_handover && s->w_f * in->w_ref > SMD_R(0.0))) {
             /* handover: the PLL starts on the observer's angle (forced angle
              * plus the measured angle error) at the forced speed, the speed
              * loop on the current that was flowing */
@@ -340,7 +424,9 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
 
     /* 4. current reference: forced, speed loop or input */
     if (s->phase == SMD_PHASE_FORCED) {
-        s->i_dq_ref = smd_c(SMD_R(0.0), p->i_start);
+        /* on the q axis of the forced frame, in the direction the forced
+         * speed is driven (the start: positive) */
+        s->i_dq_ref = smd_c(SMD_R(0.0), s->dir_f < 0 ? -p->i_start : p->i_start);
     } else {
         s->i_dq_ref.re = in->i_dq_ref.re;
         if (p->speed_loop) {
@@ -423,13 +509,249 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
     s->w_k = w_k;
     s->theta = theta_next;
     s->w = w_next;
-    if (!smd_cfinite(s->u_ab_next) || !isfinite(theta_next) || !isfinite(w_next)) {
-        s->u_ab_next = smd_c(SMD_R(0.0), SMD_R(0.0));
-        s->x_i = s->u_ab_next;
-        out->d_abc[0] = out->d_abc[1] = out->d_abc[2] = SMD_R(0.5);
-        st = SMD_ERR_NONFINITE;
+    return st;
+}
+
+/* ------------------------------------------------------------ protection */
+
+static int in_lim(smd_real x, smd_real lim) { return isfinite(x) && SMD_FABS(x) <= lim; }
+
+/* SMD_FAULT_INPUT if an input the configuration uses is not finite or
+ * beyond any physical range (smd_drive.h). */
+static uint32_t check_inputs(const smd_drive_params *p, const smd_drive_state *s,
+                             const smd_drive_in *in)
+{
+    const smd_real I_LIM = SMD_R(1e5), TH_LIM = SMD_R(1e4), W_LIM = SMD_R(1e7);
+    int ok = in_lim(in->i_a, I_LIM) && in_lim(in->i_b, I_LIM) &&
+             in->u_dc > SMD_R(0.0) && in->u_dc <= SMD_R(1e5);
+    if (p->lcl) {
+        ok = ok && in_lim(in->i1_a, I_LIM) && in_lim(in->i1_b, I_LIM);
+    }
+    if (p->position == SMD_POS_ENCODER || s->phase == SMD_PHASE_ENCODER) {
+        ok = ok && in_lim(in->theta_enc, TH_LIM) && in_lim(in->w_enc, W_LIM);
+    }
+    if (p->speed_loop || p->w_if_enter > SMD_R(0.0) || s->phase == SMD_PHASE_FORCED) {
+        ok = ok && in_lim(in->w_ref, W_LIM);
+    }
+    if (s->phase != SMD_PHASE_FORCED) {
+        ok = ok && isfinite(in->i_dq_ref.re) && (p->speed_loop || isfinite(in->i_dq_ref.im));
+    }
+    return ok ? 0u : (uint32_t)SMD_FAULT_INPUT;
+}
+
+/* The inputs of a bad sample: the last good ones one sample on, the
+ * encoder angle advanced at its speed and the phase currents rotated at the
+ * frame's speed (a steady state's currents turn with the rotor). */
+static smd_drive_in hold_inputs(const smd_drive_state *s, smd_real T)
+{
+    smd_drive_in u = s->last_in;
+    smd_real abc[3];
+    smd_cplx r = smd_cexpj(s->w_k * T);
+    u.theta_enc = smd_wrap_pi(u.theta_enc + u.w_enc * T);
+    smd_ab_to_abc(smd_cmul(smd_ab2_to_ab(u.i_a, u.i_b), r), abc);
+    u.i_a = abc[0];
+    u.i_b = abc[1];
+    smd_ab_to_abc(smd_cmul(smd_ab2_to_ab(u.i1_a, u.i1_b), r), abc);
+    u.i1_a = abc[0];
+    u.i1_b = abc[1];
+    return u;
+}
+
+/* Overcurrent and DC-link trips (latched into s->fault). */
+static void protect(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in)
+{
+    if (p->i_trip > SMD_R(0.0)) {
+        smd_real i_c = -in->i_a - in->i_b;
+        smd_real pk = SMD_FABS(in->i_a);
+        if (SMD_FABS(in->i_b) > pk) pk = SMD_FABS(in->i_b);
+        if (SMD_FABS(i_c) > pk) pk = SMD_FABS(i_c);
+        if (pk > p->i_trip) s->fault |= (uint32_t)SMD_FAULT_OVERCURRENT;
+    }
+    if (p->u_dc_min > SMD_R(0.0) && in->u_dc < p->u_dc_min) {
+        s->fault |= (uint32_t)SMD_FAULT_UNDERVOLTAGE;
+    }
+    if (p->u_dc_max > SMD_R(0.0) && in->u_dc > p->u_dc_max) {
+        s->fault |= (uint32_t)SMD_FAULT_OVERVOLTAGE;
+    }
+}
+
+/* The safe state on the outputs: duties 0.5 (and pwm_off); the zero vector
+ * is what the observers will see applied next. */
+static smd_status apply_safe(const smd_drive_params *p, smd_drive_state *s, smd_drive_out *out,
+                             uint32_t now)
+{
+    smd_cplx zero = smd_c(SMD_R(0.0), SMD_R(0.0));
+    out->d_abc[0] = out->d_abc[1] = out->d_abc[2] = SMD_R(0.5);
+    out->pwm_off = p->safe_state == SMD_SAFE_PWM_OFF;
+    out->fault = s->fault | now;
+    s->u_ab_next = zero;
+    s->u_ab_ref = zero;
+    return (now & (uint32_t)SMD_FAULT_INTERNAL) ? SMD_ERR_NONFINITE : SMD_ERR_FAULT;
+}
+
+/* A sample without control (a latched fault, or no good input yet): the
+ * safe state, and the frame moves on at its speed. */
+static smd_status hold_safe(const smd_drive_params *p, smd_drive_state *s, smd_drive_out *out,
+                            uint32_t now)
+{
+    const smd_real T = p->T_sp;
+    s->u_ab = s->u_ab_next;
+    if (s->phase == SMD_PHASE_FORCED) {
+        s->theta_f = smd_wrap_pi(s->theta_f + s->w_f * T);
+        s->theta = s->theta_f;
+        s->w = s->w_f;
+    } else if (isfinite(s->theta) && isfinite(s->w)) {
+        s->theta = smd_wrap_pi(s->theta + s->w * T);
+    }
+    return apply_safe(p, s, out, now);
+}
+
+static int state_finite(const smd_drive_params *p, const smd_drive_state *s)
+{
+    int ok = isfinite(s->theta) && isfinite(s->w) && isfinite(s->theta_k) && isfinite(s->w_k) &&
+             isfinite(s->theta_f) && isfinite(s->w_f) && smd_cfinite(s->x_i) &&
+             smd_cfinite(s->u_ab_next) && smd_cfinite(s->i_dq_ref) &&
+             isfinite(s->speed_pi.x_i) && isfinite(s->speed_pi.y);
+    int k;
+    if (p->use_smdo) {
+        const smd_smdo_state *o = &s->smdo;
+        ok = ok && smd_cfinite(o->i_s_hat) && smd_cfinite(o->u_d_hat) && smd_cfinite(o->e_i_prev) &&
+             smd_cfinite(o->u_smo_prev) && isfinite(o->lambda);
+    }
+    switch (p->position) {
+    case SMD_POS_SMDO_EMF: {
+        const smd_emf_pos_state *e = &s->pos.u.emf;
+        ok = ok && isfinite(e->theta_r_hat) && isfinite(e->w_r_hat) && isfinite(e->w_r_dir) &&
+             isfinite(e->phi_prev) && isfinite(e->w_r_raw);
+        break;
+    }
+    case SMD_POS_LCL_SMO_PLL:
+        for (k = 0; k < 6; k++) ok = ok && isfinite(s->pos.u.smo.x_hat[k]);
+        for (k = 0; k < 2; k++) {
+            ok = ok && isfinite(s->pos.u.smo.e_hat[k]) && isfinite(s->pos.u.smo.x_c[k]) &&
+                 isfinite(s->pos.u.smo.d_hat[k]) && isfinite(s->pos.u.smo.v_prev[k]);
+        }
+        break;
+    case SMD_POS_LCL_LINEAR:
+        for (k = 0; k < 4; k++) ok = ok && isfinite(s->pos.u.lin.z[k]) && isfinite(s->pos.u.lin.x2[k]);
+        break;
+    default: break;
+    }
+    if (p->position == SMD_POS_LCL_SMO_PLL || p->position == SMD_POS_LCL_LINEAR) {
+        ok = ok && isfinite(s->pos.pll.theta) && isfinite(s->pos.pll.w) &&
+             isfinite(s->pos.pll.a) && isfinite(s->pos.theta_err);
+    }
+    return ok;
+}
+
+/* After a non-finite value: every block restarts from the last good frame
+ * (a flying start), keeping the supervisor's phase and the latched faults. */
+static void recover(const smd_drive_params *p, smd_drive_state *s, smd_real theta0, smd_real w0,
+                    smd_real i_q0)
+{
+    int phase = s->phase, samples = s->samples, count = s->count, dir_f = s->dir_f;
+    int have_last = s->have_last;
+    smd_drive_in last_in = s->last_in;
+    uint32_t fault = s->fault;
+    smd_real theta_f = s->theta_f, w_f = s->w_f;
+    smd_drive_reset(p, s, theta0, w0, i_q0);
+    s->phase = phase;
+    s->samples = samples;
+    s->count = count;
+    s->dir_f = dir_f;
+    s->fault = fault;
+    s->have_last = have_last;
+    s->last_in = last_in;
+    if (isfinite(theta_f) && isfinite(w_f)) {
+        s->theta_f = theta_f;
+        s->w_f = w_f;
+    }
+}
+
+/* Loss of lock of a sensorless source (smd_drive.h): its EMF estimate
+ * against |w| psi_r_hat, and its speed at the limit it can estimate. */
+static void check_lock(const smd_drive_params *p, smd_drive_state *s)
+{
+    smd_real e, w = SMD_FABS(s->w_k), e_exp;
+    int bad;
+    if (p->lock_samples == 0 || p->position == SMD_POS_ENCODER ||
+        s->phase != SMD_PHASE_SOURCE) {
+        s->lock_count = 0;
+        return;
+    }
+    switch (p->position) {
+    case SMD_POS_SMDO_EMF: e = smd_cabs(s->smdo.u_d_hat); break;
+    case SMD_POS_LCL_SMO_PLL:
+        e = smd_cabs(smd_c(s->pos.u.smo.e_hat[0], s->pos.u.smo.e_hat[1]));
+        break;
+    default: e = smd_cabs(smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3])); break;
+    }
+    e_exp = w * p->psi_r_hat;
+    bad = w >= SMD_R(0.999) * p->w_src_max;
+    if (w >= p->w_lock_min && e_exp > SMD_R(0.0)) {
+        bad = bad || e > p->lock_ratio * e_exp || e * p->lock_ratio < e_exp;
+    }
+    s->lock_count = bad ? s->lock_count + 1 : 0;
+    if (s->lock_count >= p->lock_samples) {
+        s->fault |= (uint32_t)SMD_FAULT_LOST_LOCK;
+    }
+}
+
+smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
+                          smd_drive_out *out)
+{
+    const smd_real T = p->T_sp;
+    smd_real theta0 = s->theta_k, w0 = s->w_k, i_q0 = s->i_dq_ref.im;
+    uint32_t now = check_inputs(p, s, in);
+    smd_drive_in use = *in;
+    smd_status st;
+    int k;
+    out->fault = 0u;
+    out->pwm_off = 0;
+    if (now == 0u) {
+        protect(p, s, in);
+    } else if (s->have_last) {
+        /* a bad sample: run on the last good inputs (the encoder moved on at
+         * its speed), so that every block keeps its timeline, and apply the
+         * safe state */
+        use = hold_inputs(s, T);
+    }
+    if (s->fault != 0u || (now != 0u && !s->have_last)) {
+        return hold_safe(p, s, out, now);
+    }
+    st = control(p, s, &use, out);
+    for (k = 0; k < 3; k++) {
+        if (!(out->d_abc[k] >= SMD_R(0.0) && out->d_abc[k] <= SMD_R(1.0))) {
+            st = SMD_ERR_NONFINITE; /* NaN duties (the dead-time compensation's clamp) */
+        }
+    }
+    if (st == SMD_ERR_NONFINITE || !state_finite(p, s)) {
+        /* a computed value was not finite: restart every block from the last
+         * good frame, one step on */
+        if (!(isfinite(theta0) && isfinite(w0))) {
+            theta0 = SMD_R(0.0);
+            w0 = SMD_R(0.0);
+        }
+        recover(p, s, smd_wrap_pi(theta0 + w0 * T), w0,
+                isfinite(i_q0) ? clampr(i_q0, p->i_max) : SMD_R(0.0));
+        return apply_safe(p, s, out, now | (uint32_t)SMD_FAULT_INTERNAL);
+    }
+    s->last_in = use;
+    s->have_last = 1;
+    if (now != 0u) {
+        return apply_safe(p, s, out, now);
+    }
+    check_lock(p, s);
+    if (s->fault != 0u) {
+        return apply_safe(p, s, out, 0u);
     }
     return st;
+}
+
+void smd_drive_clear_faults(smd_drive_state *s)
+{
+    s->fault &= ~(uint32_t)SMD_FAULT_LATCHED;
+    s->lock_count = 0;
 }
 
 smd_drive_view smd_drive_get_view(const smd_drive_params *p, const smd_drive_state *s)
@@ -461,5 +783,6 @@ smd_drive_view smd_drive_get_view(const smd_drive_params *p, const smd_drive_sta
         v.e_lin = smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3]);
     }
     v.phase = s->phase;
+    v.fault = s->fault;
     return v;
 }

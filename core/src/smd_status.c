@@ -38,6 +38,11 @@ const char *smd_status_str(smd_status s)
     case SMD_ERR_START:
         return "start-up: i_start in [0, 1e5] A, a_start in [0, 1e9] rad/s^2, "
                "w_handover in [0, pi/T_sp] rad/s";
+    case SMD_ERR_PROTECTION:
+        return "protection: i_trip >= 0 A, 0 <= u_dc_min < u_dc_max (or 0) V, safe_state 0 or 1, "
+               "lock_samples in [0, 1e6], lock_ratio > 1, w_lock_min >= 0 rad/s, "
+               "0 <= w_if_enter < w_handover rad/s";
+    case SMD_ERR_FAULT: return "a fault is active: the outputs are the safe state (see the fault word)";
     default: return "unknown status";
     }
 }

@@ -68,6 +68,14 @@ static void smd_rd_smd_drive_config(smd_reader *r, smd_drive_config *x)
     smd_rd_ints(r, (int *)&x->svm_limit, sizeof x->svm_limit / sizeof(int));
     smd_rd_reals(r, (smd_real *)&x->t_dead_comp, sizeof x->t_dead_comp / sizeof(smd_real));
     smd_rd_reals(r, (smd_real *)&x->i_dtc, sizeof x->i_dtc / sizeof(smd_real));
+    smd_rd_reals(r, (smd_real *)&x->i_trip, sizeof x->i_trip / sizeof(smd_real));
+    smd_rd_reals(r, (smd_real *)&x->u_dc_min, sizeof x->u_dc_min / sizeof(smd_real));
+    smd_rd_reals(r, (smd_real *)&x->u_dc_max, sizeof x->u_dc_max / sizeof(smd_real));
+    smd_rd_ints(r, (int *)&x->safe_state, sizeof x->safe_state / sizeof(int));
+    smd_rd_ints(r, (int *)&x->lock_samples, sizeof x->lock_samples / sizeof(int));
+    smd_rd_reals(r, (smd_real *)&x->lock_ratio, sizeof x->lock_ratio / sizeof(smd_real));
+    smd_rd_reals(r, (smd_real *)&x->w_lock_min, sizeof x->w_lock_min / sizeof(smd_real));
+    smd_rd_reals(r, (smd_real *)&x->w_if_enter, sizeof x->w_if_enter / sizeof(smd_real));
 }
 
 #endif

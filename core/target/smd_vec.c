@@ -245,6 +245,8 @@ static int run_drive(smd_reader *r, smd_writer *w)
         v = smd_drive_get_view(&g_dp, &g_ds);
         wr_i32(w, (int)st);
         wr_reals(w, out.d_abc, 3);
+        wr_i32(w, (int)out.fault);
+        wr_i32(w, out.pwm_off);
         wr_bytes(w, &v, (int)sizeof v);
         if (n < 0) wr_flush(w);
     }

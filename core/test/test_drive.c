@@ -15,13 +15,13 @@
 static void test_status_strings(void)
 {
     int a, b;
-    for (a = 0; a <= SMD_ERR_START; a++) {
+    for (a = 0; a <= SMD_ERR_FAULT; a++) {
         CHECK(strcmp(smd_status_str((smd_status)a), "unknown status") != 0);
         for (b = 0; b < a; b++) {
             CHECK(strcmp(smd_status_str((smd_status)a), smd_status_str((smd_status)b)) != 0);
         }
     }
-    CHECK(strcmp(smd_status_str((smd_status)(SMD_ERR_START + 1)), "unknown status") == 0);
+    CHECK(strcmp(smd_status_str((smd_status)(SMD_ERR_FAULT + 1)), "unknown status") == 0);
 }
 
 static void test_init_rejects(void)
@@ -273,11 +273,10 @@ static void test_nonfinite_inputs(void)
     }
 }
 
-/* A single non-finite current sample costs one sample: the status of that
- * sample is SMD_ERR_NONFINITE (the zero vector is applied), and the next
- * finite sample is processed normally (SMD_OK, finite observer state), in the
- * observer modes too (the SMDO header: non-finite data reset the state),
- * and with the PI (whose integrators are zeroed, then finite again). */
+/* A single non-finite current sample costs one sample: that sample reports
+ * SMD_ERR_FAULT with SMD_FAULT_INPUT and applies the zero vector (duties
+ * 0.5), and the next finite sample is processed normally (SMD_OK, no fault,
+ * finite observer state), in every mode. */
 static void test_nonfinite_sample_costs_one_sample(void)
 {
     int mode;
@@ -303,10 +302,13 @@ static void test_nonfinite_sample_costs_one_sample(void)
             }
             st = smd_drive_step(&p, &s, &in, &out);
             if (k == 500) {
-                CHECK_INT(st, SMD_ERR_NONFINITE);
+                CHECK_INT(st, SMD_ERR_FAULT);
+                CHECK_INT(out.fault, SMD_FAULT_INPUT);
+                CHECK(out.d_abc[0] == R(0.5) && out.d_abc[1] == R(0.5) && out.d_abc[2] == R(0.5));
             }
             if (k == 501) {
                 CHECK_INT(st, SMD_OK);
+                CHECK_INT(out.fault, 0);
                 CHECK(smd_cfinite(s.smdo.i_s_hat) && smd_cfinite(s.u_ab_ref));
                 CHECK(smd_cfinite(s.x_i) && smd_cfinite(s.u_ab_next));
             }

@@ -8,7 +8,7 @@ static const char *CHANNELS[SMD_LOG_N] = {
     "u_beta", "u_cmd_alpha", "u_cmd_beta", "i_a_meas", "i_b_meas", "i_hat_alpha",
     "i_hat_beta", "lambda", "i_g", "i_dl", "theta_err_est", "e_hat_g", "e_hat_dl", "s_g",
     "s_dl", "d_hat_g", "d_hat_dl", "v_g", "v_dl", "i1_alpha", "i1_beta", "uc_alpha",
-    "uc_beta", "lin_e_alpha", "lin_e_beta", "phase", "status"};
+    "uc_beta", "lin_e_alpha", "lin_e_beta", "phase", "status", "fault"};
 
 const char *smd_log_channel_name(int ch)
 {
@@ -83,7 +83,17 @@ int smd_engine_init(smd_engine *e, const smd_plant_config *plant, const smd_driv
     e->seg[0] = e->seg[1] = e->seg[2] = e->seg[3] = e->seg[4] = 0;
     e->T_sp = plant->T_sw;
     e->last_status = 0;
+    e->first_fault_k = -1;
+    e->first_fault = 0u;
+    e->fault = 0u;
     return 0;
+}
+
+long smd_engine_fault(const smd_engine *e, unsigned *first, unsigned *now)
+{
+    *first = e->first_fault;
+    *now = e->fault;
+    return e->first_fault_k;
 }
 
 /* The sample's inputs at t_k (step 1): measurements, references and the
@@ -130,6 +140,11 @@ static inline void engine_apply(smd_engine *e, const engine_sample *x, const smd
     double d_now[3];
     int j;
     if (st != SMD_OK) e->last_status = (int)st;
+    if (out->fault != 0u && e->first_fault_k < 0) {
+        e->first_fault_k = e->k;
+        e->first_fault = out->fault;
+    }
+    e->fault = out->fault;
     for (j = 0; j < 3; j++) {
         d_now[j] = e->d_abc[j];
         e->d_abc[j] = (double)out->d_abc[j];
@@ -177,6 +192,7 @@ static inline void engine_apply(smd_engine *e, const engine_sample *x, const smd
         r[SMD_LOG_LIN_E_BETA] = (double)v->e_lin.im;
         r[SMD_LOG_PHASE] = (double)v->phase;
         r[SMD_LOG_STATUS] = (double)st;
+        r[SMD_LOG_FAULT] = (double)out->fault;
     }
     smd_plant_step(&e->plant, d_now, x->T_ext, x->T_brake);
     if (r != 0) {

@@ -194,6 +194,9 @@ class DriveConfig(ct.Structure):
         ("smo", SmoConfig), ("lin", LinConfig),
         ("handover", ct.c_int), ("i_start", real), ("a_start", real), ("w_handover", real),
         ("svm_limit", ct.c_int), ("t_dead_comp", real), ("i_dtc", real),
+        ("i_trip", real), ("u_dc_min", real), ("u_dc_max", real), ("safe_state", ct.c_int),
+        ("lock_samples", ct.c_int), ("lock_ratio", real), ("w_lock_min", real),
+        ("w_if_enter", real),
     ]
 
 
@@ -202,7 +205,8 @@ class DriveView(ct.Structure):
     _fields_ = [("i_dq_ref", Cplx), ("i_dq", Cplx), ("u_ab", Cplx), ("u_ab_ref", Cplx),
                 ("i_s_hat", Cplx), ("u_d_hat", Cplx), ("theta", real), ("w", real),
                 ("lambda_", real), ("theta_err", real), ("e_hat", Cplx), ("s", Cplx),
-                ("d_hat", Cplx), ("v", Cplx), ("e_lin", Cplx), ("phase", ct.c_int)]
+                ("d_hat", Cplx), ("v", Cplx), ("e_lin", Cplx), ("phase", ct.c_int),
+                ("fault", ct.c_uint32)]
 
 
 @mirror("smd_drive_in")
@@ -214,7 +218,7 @@ class DriveIn(ct.Structure):
 
 @mirror("smd_drive_out")
 class DriveOut(ct.Structure):
-    _fields_ = [("d_abc", real * 3)]
+    _fields_ = [("d_abc", real * 3), ("fault", ct.c_uint32), ("pwm_off", ct.c_int)]
 
 
 # ------------------------------------------------------------------ plant --
@@ -302,6 +306,7 @@ _sig("smd_engine_ext_inputs", None, ct.c_void_p, P(DriveIn))
 _sig("smd_engine_ext_apply", None, ct.c_void_p, P(DriveOut), ct.c_int, P(DriveView),
      P(ct.c_double))
 _sig("smd_engine_host_step", ct.c_int, ct.c_void_p, P(DriveIn), P(DriveOut), P(DriveView))
+_sig("smd_engine_fault", ct.c_long, ct.c_void_p, P(ct.c_uint), P(ct.c_uint))
 _sig("smd_plant_init", ct.c_int, ct.c_void_p, P(PlantConfig))
 _sig("smd_plant_step", None, ct.c_void_p, P(ct.c_double), ct.c_double, ct.c_double)
 _sig("smd_plant_sample", None, ct.c_void_p, P(ct.c_double), P(ct.c_double))
@@ -364,7 +369,7 @@ def layout_table() -> dict[str, list[tuple]]:
 
 # C type names a ctypes scalar mirrors (smd_real is float in the default build)
 _C_TYPES = {ct.c_float: {"smd_real", "float"}, ct.c_double: {"double"}, ct.c_int: {"int"},
-            ct.c_uint64: {"uint64_t"}, ct.c_void_p: {"*"}}
+            ct.c_uint64: {"uint64_t"}, ct.c_uint32: {"uint32_t"}, ct.c_void_p: {"*"}}
 
 
 def _c_type_ok(t, c_type: str) -> bool:
@@ -409,15 +414,15 @@ def layout_errors(table: dict[str, list[tuple[str, int, int]]] | None = None,
     return errors
 
 
-N_LOG = 44
+N_LOG = 45
 LOG_CHANNELS: tuple[str, ...] = tuple(lib.smd_log_channel_name(i).decode() for i in range(N_LOG))
 
 
 def check_layout() -> None:
     """Raise ImportError if a mirror disagrees with the compiled library."""
     errors = layout_errors()
-    if LOG_CHANNELS[-1] != "status" or "" in LOG_CHANNELS or lib.smd_log_channel_name(N_LOG):
-        errors.append("log channel table: expected 44 channels ending in 'status'")
+    if LOG_CHANNELS[-1] != "fault" or "" in LOG_CHANNELS or lib.smd_log_channel_name(N_LOG):
+        errors.append(f"log channel table: expected {N_LOG} channels ending in 'fault'")
     if errors:
         raise ImportError("smodrive binding out of date with its C library:\n  "
                           + "\n  ".join(errors))

@@ -47,7 +47,8 @@ M4_FLAGS = ["-mcpu=cortex-m4", "-mthumb", "-mfpu=fpv4-sp-d16", "-mfloat-abi=hard
 COMMON_FLAGS = ["-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Werror"]
 IN_WORDS = ct.sizeof(_ffi.DriveIn) // 4
 VIEW_BYTES = ct.sizeof(_ffi.DriveView)
-SAMPLE_BYTES = 4 + 12 + VIEW_BYTES  # status, d_abc, view
+OUT_BYTES = ct.sizeof(_ffi.DriveOut)  # d_abc, fault, pwm_off
+SAMPLE_BYTES = 4 + OUT_BYTES + VIEW_BYTES  # status, smd_drive_out, view
 
 
 class TargetError(RuntimeError):
@@ -240,12 +241,15 @@ def drive_outputs(body: bytes) -> dict[str, np.ndarray]:
     and the controller's view (smd_drive_view) as named arrays."""
     init = struct.unpack_from("<i", body)[0]
     n = (len(body) - 4) // SAMPLE_BYTES
-    dt = np.dtype([("status", "<i4"), ("d_abc", "<f4", 3), ("view", "V%d" % VIEW_BYTES)])
+    dt = np.dtype([("status", "<i4"), ("d_abc", "<f4", 3), ("fault", "<u4"), ("pwm_off", "<i4"),
+                   ("view", "V%d" % VIEW_BYTES)])
     rec = np.frombuffer(body, dtype=dt, count=n, offset=4)
     view = np.frombuffer(rec["view"].tobytes(), dtype=np.dtype(
-        [(f, "<f4" if t is not ct.c_int else "<i4", 2) if t is _ffi.Cplx else
-         (f, "<f4" if t is not ct.c_int else "<i4") for f, t in _ffi.DriveView._fields_]))
-    out = {"init": np.array(init), "status": rec["status"], "d_abc": rec["d_abc"]}
+        [(f, "<f4", 2) if t is _ffi.Cplx else
+         (f, {ct.c_int: "<i4", ct.c_uint32: "<u4"}.get(t, "<f4"))
+         for f, t in _ffi.DriveView._fields_]))
+    out = {"init": np.array(init), "status": rec["status"], "d_abc": rec["d_abc"],
+           "fault": rec["fault"], "pwm_off": rec["pwm_off"]}
     for f in view.dtype.names:
         out[f] = view[f]
     return out
@@ -577,8 +581,8 @@ def _closed_loop(s, n: int, controller: str, math: str, work: Path, progress=Non
             else:
                 ans = link.step(bytes(din))
                 st = struct.unpack_from("<i", ans)[0]
-                ct.memmove(ct.addressof(dout), ans[4:16], 12)
-                ct.memmove(ct.addressof(view), ans[16:], VIEW_BYTES)
+                ct.memmove(ct.addressof(dout), ans[4:4 + OUT_BYTES], OUT_BYTES)
+                ct.memmove(ct.addressof(view), ans[4 + OUT_BYTES:], VIEW_BYTES)
             raw.append(ans)
             duty[k] = dout.d_abc[:]
             lib.smd_engine_ext_apply(eng._buf, ct.byref(dout), st, ct.byref(view), row)

@@ -35,6 +35,44 @@
  * computed at k is applied during [t_{k+1}, t_{k+2}); the one applied during
  * [t_k, t_{k+1}) was computed at k-1 and is what the observers are fed.
  *
+ * Faults. Every step returns finite duties in [0, 1]. The fault word of
+ * smd_drive_out says why a step applied the safe state (SMD_SAFE_ZERO_VECTOR:
+ * duties 0.5, 0.5, 0.5, all phases at the same potential; SMD_SAFE_PWM_OFF:
+ * the same duties and pwm_off = 1, for a gate driver that can switch every
+ * device off):
+ *   not latched (this sample only; the next good sample runs normally)
+ *     SMD_FAULT_INPUT      an input the configuration uses is NaN, infinite
+ *                          or beyond any physical range (|i| > 1e5 A,
+ *                          |theta| > 1e4 rad, |w| > 1e7 rad/s, u_dc not in
+ *                          (0, 1e5] V); the sample runs on the last good
+ *                          inputs (the encoder angle moved on at its speed),
+ *                          so every block keeps its timeline, and the
+ *                          observers are told the zero vector is applied
+ *     SMD_FAULT_INTERNAL   a computed value was not finite; the blocks that
+ *                          held it (current PI, SMDO, speed PI, observers,
+ *                          PLL) were reset from the last good frame
+ *   latched (the safe state until smd_drive_clear_faults; then restart with
+ *   smd_drive_reset, e.g. a flying start from the last speed)
+ *     SMD_FAULT_OVERCURRENT  a measured phase current (c = -a - b) above i_trip
+ *     SMD_FAULT_UNDERVOLTAGE u_dc below u_dc_min
+ *     SMD_FAULT_OVERVOLTAGE  u_dc above u_dc_max
+ *     SMD_FAULT_LOST_LOCK    a sensorless source is implausible for
+ *                            lock_samples samples in a row: its EMF estimate
+ *                            against |w_hat| psi_r_hat outside [1/lock_ratio,
+ *                            lock_ratio] above w_lock_min, or its speed at
+ *                            the limit it can estimate (w_max of smdo_emf,
+ *                            the end of the LCL observers' table)
+ * The step returns SMD_ERR_FAULT while any bit is set (SMD_ERR_NONFINITE for
+ * an INTERNAL one).
+ *
+ * Through zero speed (sensorless): with w_if_enter > 0, a drive running on
+ * a sensorless source whose speed falls below w_if_enter while the speed
+ * reference is below w_handover in magnitude (or of the other sign) goes
+ * back to the I/f forced mode at the speed it had: the forced speed follows
+ * the reference at a_start, through zero, and the source takes over again
+ * once |w| reaches w_handover in the reference's direction (hysteresis
+ * w_if_enter < w_handover).
+ *
  * Config (user-filled, SI units, electrical angles and speeds) is read once
  * by smd_drive_init into params (derived values); state changes every
  * sample. Nothing allocates; the tables of the LCL observers are owned by the
@@ -131,7 +169,33 @@ typedef struct smd_drive_config {
     int svm_limit;        /* smd_svm_limit */
     smd_real t_dead_comp; /* dead time to compensate, s (0: off), [0, T_sp/4] */
     smd_real i_dtc;       /* current below which the compensation is linear, A (> 0) */
+    /* protection (each 0: off) */
+    smd_real i_trip;      /* overcurrent: peak phase current, A */
+    smd_real u_dc_min;    /* DC-link undervoltage, V */
+    smd_real u_dc_max;    /* DC-link overvoltage, V */
+    int safe_state;       /* smd_safe_state */
+    int lock_samples;     /* loss of lock after this many implausible samples, [0, 1e6] */
+    smd_real lock_ratio;  /* EMF plausibility band [1/r, r], r > 1 */
+    smd_real w_lock_min;  /* no EMF check below this |w_hat|, rad/s */
+    smd_real w_if_enter;  /* sensorless below this |w| returns to I/f, rad/s (0: never) */
 } smd_drive_config;
+
+typedef enum smd_safe_state {
+    SMD_SAFE_ZERO_VECTOR = 0,
+    SMD_SAFE_PWM_OFF = 1
+} smd_safe_state;
+
+/* Bits of smd_drive_out.fault (see the header comment). */
+enum {
+    SMD_FAULT_INPUT = 1u << 0,
+    SMD_FAULT_INTERNAL = 1u << 1,
+    SMD_FAULT_OVERCURRENT = 1u << 2,
+    SMD_FAULT_UNDERVOLTAGE = 1u << 3,
+    SMD_FAULT_OVERVOLTAGE = 1u << 4,
+    SMD_FAULT_LOST_LOCK = 1u << 5
+};
+#define SMD_FAULT_LATCHED (SMD_FAULT_OVERCURRENT | SMD_FAULT_UNDERVOLTAGE | \
+                           SMD_FAULT_OVERVOLTAGE | SMD_FAULT_LOST_LOCK)
 
 typedef struct smd_drive_params {
     int current, position, start, lcl;
@@ -142,6 +206,9 @@ typedef struct smd_drive_params {
     smd_real i_start, a_start, w_handover;
     smd_real dtc_ratio;   /* t_dead_comp / T_sp */
     smd_real i_dtc;
+    smd_real i_trip, u_dc_min, u_dc_max, lock_ratio, w_lock_min, w_if_enter;
+    int safe_state, lock_samples;
+    smd_real w_src_max;   /* largest |w| the sensorless source can estimate */
     smd_dbpc_params dbpc;
     smd_smdo_params smdo;
     smd_emf_pos_params emf;
@@ -163,7 +230,9 @@ typedef struct smd_drive_in {
 } smd_drive_in;
 
 typedef struct smd_drive_out {
-    smd_real d_abc[3];    /* duty ratios to apply during the next period */
+    smd_real d_abc[3];    /* duty ratios to apply during the next period, in [0, 1] */
+    uint32_t fault;       /* SMD_FAULT_* bits: the latched ones and this sample's */
+    int pwm_off;          /* 1: switch every device off (a fault with SMD_SAFE_PWM_OFF) */
 } smd_drive_out;
 
 /* Position-source state: a tagged union on params.position (the PLL is
@@ -189,6 +258,12 @@ typedef struct smd_drive_state {
     smd_real theta_k;     /* angle used at the last step, rad */
     smd_real w_k;         /* speed used at the last step, rad/s */
     smd_real theta_f, w_f; /* forced angle and speed (I/f) */
+    uint32_t fault;       /* latched fault bits */
+    int lock_count;       /* consecutive implausible samples of the source */
+    int dir_f;            /* forced mode: 0 the start's ramp; +-1 following the reference
+                             (a return to I/f), the sign of its current */
+    int have_last;        /* 1 once a sample had good inputs */
+    smd_drive_in last_in; /* the last good inputs (a bad sample runs on them) */
     smd_cplx i_s_ab;      /* last measured motor current */
     smd_cplx i_dq;        /* last measured motor current in the frame used (PI only) */
     smd_cplx i_dq_ref;    /* last current reference */
@@ -219,6 +294,7 @@ typedef struct smd_drive_view {
     smd_cplx v;           /* its disturbance part v(k-1) */
     smd_cplx e_lin;       /* linear observer: EMF, stationary frame */
     int phase;            /* smd_drive_phase */
+    uint32_t fault;       /* latched fault bits */
 } smd_drive_view;
 
 smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *cfg);
@@ -231,6 +307,9 @@ void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real the
 smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
                           smd_drive_out *out);
 smd_drive_view smd_drive_get_view(const smd_drive_params *p, const smd_drive_state *s);
+/* Clear the latched faults (SMD_FAULT_LATCHED); the drive stays in the safe
+ * state only while a cause persists. Restart with smd_drive_reset. */
+void smd_drive_clear_faults(smd_drive_state *s);
 
 #ifdef __cplusplus
 }

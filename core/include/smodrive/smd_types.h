@@ -119,7 +119,10 @@ typedef enum smd_status {
     SMD_ERR_TABLE = 23,        /* observer table: fewer than 2 entries, or bad grid */
     SMD_ERR_COMBINATION = 24,  /* the drive's parts do not fit together (smd_drive.h) */
     SMD_ERR_CURRENT_PI = 25,   /* current PI: k_p_i, k_i_i, L_dec or R_v out of range */
-    SMD_ERR_START = 26         /* start-up: i_start, a_start or w_handover out of range */
+    SMD_ERR_START = 26,        /* start-up: i_start, a_start or w_handover out of range */
+    SMD_ERR_PROTECTION = 27,   /* protection or loss-of-lock setting out of range */
+    SMD_ERR_FAULT = 28         /* a step: a fault is active, the outputs are the safe state
+                                  (smd_drive_out.fault says which) */
 } smd_status;
 
 /* Human-readable text for a status, e.g. for a debugger or a binding. */

@@ -91,6 +91,7 @@ enum smd_log_channel {
     SMD_LOG_LIN_E_BETA,
     SMD_LOG_PHASE,       /* start-up phase: 0 forced, 1 encoder, 2 position source */
     SMD_LOG_STATUS,      /* controller status code */
+    SMD_LOG_FAULT,       /* controller fault word (smd_drive_out.fault) */
     SMD_LOG_N
 };
 
@@ -111,6 +112,9 @@ typedef struct smd_engine {
     double T_sp;
     int last_status;
     smd_engine_sample ext; /* the sample of the split step (PIL) */
+    long first_fault_k;    /* sample of the first non-zero fault word, -1: none */
+    unsigned first_fault;  /* that fault word */
+    unsigned fault;        /* the last sample's fault word */
 } smd_engine;
 
 /* Returns 0 on success; 1000 + plant field code (smd_plant_field),
@@ -134,6 +138,10 @@ void smd_engine_ext_apply(smd_engine *e, const smd_drive_out *out, int status,
                           const smd_drive_view *v, double *row);
 int smd_engine_host_step(smd_engine *e, const smd_drive_in *in, smd_drive_out *out,
                          smd_drive_view *v);
+
+/* The first sample with a fault (-1: none) and its fault word, and the
+ * last sample's fault word. */
+long smd_engine_fault(const smd_engine *e, unsigned *first, unsigned *now);
 
 const char *smd_log_channel_name(int ch);
 unsigned long smd_sizeof_engine(void);
