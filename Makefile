@@ -29,11 +29,13 @@ reproduce: $(STAMP) toolchain
 	$(BIN)/smodrive reproduce --out $(OUT)
 
 toolchain:
-	@command -v arm-none-eabi-gcc >/dev/null 2>&1 && command -v qemu-system-arm >/dev/null 2>&1 || { \
-	  echo "installing the Cortex-M4F cross compiler and emulator from Debian (gcc-arm-none-eabi, qemu-system-arm)"; \
+	@command -v arm-none-eabi-gcc >/dev/null 2>&1 && command -v qemu-system-arm >/dev/null 2>&1 && \
+	 command -v clang >/dev/null 2>&1 && command -v cppcheck >/dev/null 2>&1 && \
+	 ls "$$(clang -print-resource-dir)"/lib/linux/libclang_rt.fuzzer-*.a >/dev/null 2>&1 || { \
+	  echo "installing from Debian: the Cortex-M4F cross compiler and emulator (gcc-arm-none-eabi, qemu-system-arm), clang with libFuzzer and the sanitizers (clang, libclang-rt-dev), cppcheck"; \
 	  $(SUDO) apt-get update -qq && \
 	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
-	    gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm >/dev/null; }
+	    gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm clang libclang-rt-dev cppcheck >/dev/null; }
 
 ctest: toolchain
 	cmake -S . -B build/ctest -DSMD_BUILD_TESTS=ON -DSMD_BUILD_PYLIB=OFF -DCMAKE_BUILD_TYPE=Release >/dev/null
@@ -44,6 +46,15 @@ pytest: $(STAMP) toolchain
 	$(BIN)/python -m pytest -q
 
 test: ctest pytest
+
+# Longer fuzzing (docs/testing.md): every libFuzzer target for FUZZ_SECONDS
+# each, its working corpus kept in build/fuzz/ from run to run.
+FUZZ_SECONDS ?= 600
+.PHONY: fuzz
+fuzz: toolchain
+	cmake -S . -B build/ctest -DSMD_BUILD_TESTS=ON -DSMD_BUILD_PYLIB=OFF -DCMAKE_BUILD_TYPE=Release >/dev/null
+	cmake --build build/ctest -j 2
+	sh fuzz/run_long.sh $(FUZZ_SECONDS)
 
 # Development: the C library built into src/smodrive, so that
 # `PYTHONPATH=src .venv/bin/python -m pytest` runs the working tree.

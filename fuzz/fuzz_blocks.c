@@ -1,0 +1,333 @@
+/*
+ * libFuzzer target: the blocks of the core one at a time, each through its
+ * init (or setter), reset and step functions on parameters and input
+ * sequences decoded from the input (fuzz.h):
+ *   block 0  smd_svm_init, smd_svm_step, smd_svm_deadtime_comp
+ *   block 1  smd_pi_init, smd_pi_reset, smd_pi_step
+ *   block 2  smd_dbpc_init, smd_dbpc_ref_k2, smd_dbpc_predict,
+ *            smd_dbpc_conventional, smd_dbpc_robust
+ *   block 3  smd_smdo_init, smd_smdo_set_euler, smd_smdo_reset, smd_smdo_step
+ *   block 4  smd_emf_pos_init, smd_emf_pos_reset, smd_emf_pos_step
+ *   block 5  smd_pll_init, smd_pll_reset, smd_pll_step
+ *   block 6  smd_bandpass_set, smd_bandpass_reset, smd_bandpass_step
+ * Input: the block (u8 % 7), its parameters, then steps until the input
+ * ends (op byte: even a step on new values, odd a run of 1 + u8 steps on a
+ * rotating vector or, for the PI and the PLL, a constant error).
+ *
+ * Checked besides the sanitizers: the modulator's duties are in
+ * [d_min, 1 - d_min] (finite) for a finite reference and DC link, the
+ * applied vector is finite and no longer than the reference; the dead-time
+ * compensation keeps finite duties in [0, 1]; the PI's output is finite and
+ * within +-y_max; the SMDO and the PLL keep a finite state (they reset on
+ * non-finite values); the emf_pos speed stays within +-w_max.
+ */
+#include "fuzz.h"
+
+#include "smodrive/smd_bandpass.h"
+#include "smodrive/smd_dbpc.h"
+#include "smodrive/smd_emf_pos.h"
+#include "smodrive/smd_pi.h"
+#include "smodrive/smd_pll.h"
+#include "smodrive/smd_smdo.h"
+#include "smodrive/smd_svm.h"
+
+#define FZ_MAX_STEPS 4000
+
+/* A rotating vector for the runs: amplitude, angle, increment per step. */
+typedef struct rot {
+    double amp, th, dth;
+} rot;
+
+static smd_cplx rot_next(rot *r)
+{
+    smd_cplx z = smd_c((smd_real)(r->amp * cos(r->th)), (smd_real)(r->amp * sin(r->th)));
+    r->th += r->dth;
+    if (isfinite(r->th)) {
+        r->th = remainder(r->th, 6.283185307179586);
+    }
+    return z;
+}
+
+static void rot_read(fz *f, rot *r, double amp)
+{
+    r->amp = fz_real(f, -amp, amp);
+    r->th = fz_real(f, -4.0, 4.0);
+    r->dth = fz_real(f, -3.2, 3.2);
+}
+
+static int is_finite_duty(smd_real d, smd_real lo, smd_real hi)
+{
+    return isfinite(d) && d >= lo && d <= hi;
+}
+
+static void fuzz_svm(fz *f)
+{
+    smd_svm_params p;
+    int limit = fz_int(f, 0, 1);
+    smd_real d_min = fz_r(f, 0.0, 0.5);
+    int steps = 0;
+    if (smd_svm_init(&p, limit, d_min) != SMD_OK) {
+        return;
+    }
+    FZ_CHECK(smd_svm_init(0, limit, d_min) == SMD_ERR_NULL);
+    while (fz_more(f) && steps < FZ_MAX_STEPS) {
+        uint8_t op = fz_u8(f);
+        smd_real u_dc = fz_r(f, -100.0, 1000.0);
+        int n = (op & 1) ? 1 + fz_u8(f) : 1, k;
+        rot r;
+        smd_cplx one = smd_c(SMD_R(0.0), SMD_R(0.0));
+        if (op & 1) {
+            rot_read(f, &r, 1e3);
+        } else {
+            one = fz_c(f, 1e3);
+        }
+        for (k = 0; k < n && steps < FZ_MAX_STEPS; k++, steps++) {
+            smd_cplx u = (op & 1) ? rot_next(&r) : one, ua;
+            smd_real d[3];
+            int j;
+            smd_svm_step(&p, u, u_dc, d, &ua);
+            fz_use_c(ua);
+            if (smd_cfinite(u) && isfinite(u_dc)) {
+                if (!(is_finite_duty(d[0], p.d_min, SMD_R(1.0) - p.d_min) &&
+                      is_finite_duty(d[1], p.d_min, SMD_R(1.0) - p.d_min) &&
+                      is_finite_duty(d[2], p.d_min, SMD_R(1.0) - p.d_min))) {
+                    fprintf(stderr, "svm(limit %d, d_min %.9g): u = %.9g%+.9gj, u_dc = %.9g -> "
+                            "d = %.9g %.9g %.9g\n", p.limit, (double)p.d_min, (double)u.re,
+                            (double)u.im, (double)u_dc, (double)d[0], (double)d[1], (double)d[2]);
+                }
+                for (j = 0; j < 3; j++) {
+                    FZ_CHECK(is_finite_duty(d[j], p.d_min, SMD_R(1.0) - p.d_min));
+                }
+                FZ_CHECK(smd_cfinite(ua));
+                FZ_CHECK(smd_cabs(ua) <= smd_cabs(u) * SMD_R(1.00001) || !isfinite(smd_cabs(u)));
+            }
+            if (op & 2) {
+                smd_real i_abc[3];
+                smd_real t_ratio = fz_r(f, 0.0, 0.25), i_lin = fz_r(f, 0.0, 10.0);
+                int finite = 1;
+                for (j = 0; j < 3; j++) {
+                    i_abc[j] = fz_r(f, -100.0, 100.0);
+                    finite = finite && isfinite(i_abc[j]) && isfinite(d[j]);
+                }
+                smd_svm_deadtime_comp(d, i_abc, t_ratio, i_lin);
+                if (finite && isfinite(t_ratio) && isfinite(i_lin) && i_lin > SMD_R(0.0)) {
+                    for (j = 0; j < 3; j++) {
+                        FZ_CHECK(is_finite_duty(d[j], SMD_R(0.0), SMD_R(1.0)));
+                    }
+                }
+                for (j = 0; j < 3; j++) {
+                    fz_use((double)d[j]);
+                }
+            }
+        }
+    }
+}
+
+static void fuzz_pi(fz *f)
+{
+    smd_pi_params p;
+    smd_pi_state s;
+    smd_real k_p = fz_r(f, 0.0, 10.0), k_i = fz_r(f, 0.0, 1e4);
+    smd_real T_s = fz_r(f, 0.0, 1e-2), y_max = fz_r(f, 0.0, 100.0);
+    int steps = 0;
+    if (smd_pi_init(&p, k_p, k_i, T_s, y_max) != SMD_OK) {
+        return;
+    }
+    smd_pi_reset(&s, fz_r(f, -100.0, 100.0));
+    while (fz_more(f) && steps < FZ_MAX_STEPS) {
+        uint8_t op = fz_u8(f);
+        smd_real e = fz_r(f, -1e3, 1e3);
+        int n = (op & 1) ? 1 + fz_u8(f) : 1, k;
+        if (op & 2) {
+            smd_pi_reset(&s, fz_r(f, -100.0, 100.0));
+        }
+        for (k = 0; k < n && steps < FZ_MAX_STEPS; k++, steps++) {
+            smd_real y = smd_pi_step(&p, &s, e);
+            FZ_CHECK(isfinite(y) && y <= p.y_max && y >= -p.y_max);
+            FZ_CHECK(isfinite(s.x_i));
+        }
+    }
+}
+
+static void fuzz_dbpc(fz *f)
+{
+    smd_dbpc_params p;
+    smd_real T = fz_r(f, 0.0, 1e-3), L = fz_r(f, 0.0, 0.1), R = fz_r(f, 0.0, 10.0);
+    smd_real psi = fz_r(f, 0.0, 1.0);
+    int steps = 0;
+    if (smd_dbpc_init(&p, T, L, R, psi) != SMD_OK) {
+        return;
+    }
+    while (fz_more(f) && steps < FZ_MAX_STEPS) {
+        smd_cplx i = fz_c(f, 100.0), u = fz_c(f, 1e3), iref = fz_c(f, 100.0);
+        smd_real th = fz_r(f, -4.0, 4.0), w = fz_r(f, -3e4, 3e4);
+        smd_cplx k2 = smd_dbpc_ref_k2(&p, iref, th, w);
+        fz_use_c(k2);
+        fz_use_c(smd_dbpc_predict(&p, i, u, th, w));
+        fz_use_c(smd_dbpc_conventional(&p, i, u, iref, th, w));
+        fz_use_c(smd_dbpc_robust(&p, i, u, k2));
+        steps++;
+    }
+}
+
+static void fuzz_smdo(fz *f)
+{
+    smd_smdo_params p;
+    smd_smdo_state s;
+    smd_real T = fz_r(f, 0.0, 1e-3), L = fz_r(f, 0.0, 0.1), R = fz_r(f, 0.0, 10.0);
+    smd_real lam = fz_r(f, 0.0, 1e4), l = fz_r(f, 0.0, 1e4), w_c = fz_r(f, 0.0, 1e4);
+    smd_real rho = fz_r(f, 0.0, 10.0);
+    int euler = fz_int(f, 0, 1), steps = 0;
+    if (smd_smdo_init(&p, T, L, R, lam, l, w_c, rho) != SMD_OK) {
+        return;
+    }
+    if (smd_smdo_set_euler(&p, euler) != SMD_OK) {
+        return;
+    }
+    {
+        smd_cplx i0 = fz_c(f, 100.0);
+        smd_smdo_reset(&s, i0, fz_c(f, 1e3));
+    }
+    while (fz_more(f) && steps < FZ_MAX_STEPS) {
+        uint8_t op = fz_u8(f);
+        smd_real w = fz_r(f, -3e4, 3e4);
+        int n = (op & 1) ? 1 + fz_u8(f) : 1, k;
+        rot ri, ru;
+        smd_cplx i1 = smd_c(SMD_R(0.0), SMD_R(0.0)), u1 = i1;
+        if (op & 1) {
+            rot_read(f, &ri, 100.0);
+            rot_read(f, &ru, 1e3);
+        } else {
+            i1 = fz_c(f, 100.0);
+            u1 = fz_c(f, 1e3);
+        }
+        if (op & 2) {
+            smd_cplx i0 = fz_c(f, 100.0);
+            smd_smdo_reset(&s, i0, fz_c(f, 1e3));
+        }
+        for (k = 0; k < n && steps < FZ_MAX_STEPS; k++, steps++) {
+            smd_cplx i = (op & 1) ? rot_next(&ri) : i1, u = (op & 1) ? rot_next(&ru) : u1;
+            smd_status st = smd_smdo_step(&p, &s, i, u, w);
+            FZ_CHECK(st == SMD_OK || st == SMD_ERR_NONFINITE);
+            if (st == SMD_OK) {
+                FZ_CHECK(smd_cfinite(s.i_s_hat) && smd_cfinite(s.u_d_hat) && isfinite(s.lambda));
+            }
+            fz_use_c(s.u_smo);
+        }
+    }
+}
+
+static void fuzz_emf_pos(fz *f)
+{
+    smd_emf_pos_params p;
+    smd_emf_pos_state s;
+    smd_real T = fz_r(f, 0.0, 1e-3), w_lpf = fz_r(f, 0.0, 2000.0);
+    smd_real w_hys = fz_r(f, 0.0, 100.0), w_max = fz_r(f, 0.0, 3e4);
+    int steps = 0, since_reset = 0;
+    if (smd_emf_pos_init(&p, T, w_lpf, w_hys, w_max) != SMD_OK) {
+        return;
+    }
+    smd_emf_pos_reset(&s, fz_r(f, -3e4, 3e4));
+    while (fz_more(f) && steps < FZ_MAX_STEPS) {
+        uint8_t op = fz_u8(f);
+        int n = (op & 1) ? 1 + fz_u8(f) : 1, k;
+        rot r;
+        smd_cplx one = smd_c(SMD_R(0.0), SMD_R(0.0));
+        if (op & 1) {
+            rot_read(f, &r, 1e3);
+        } else {
+            one = fz_c(f, 1e3);
+        }
+        if (op & 2) {
+            smd_emf_pos_reset(&s, fz_r(f, -3e4, 3e4));
+            since_reset = 0;
+        }
+        for (k = 0; k < n && steps < FZ_MAX_STEPS; k++, steps++) {
+            smd_cplx u = (op & 1) ? rot_next(&r) : one;
+            /* the speed is updated (and limited) once primed, on a finite angle */
+            since_reset += s.primed && isfinite(SMD_ATAN2(u.im, u.re));
+            smd_emf_pos_step(&p, &s, u);
+            /* limited from the first speed update on (the reset's w_r0 is
+             * the caller's) */
+            if (since_reset > 0 && isfinite(s.w_r_hat)) {
+                FZ_CHECK(s.w_r_hat <= p.w_max && s.w_r_hat >= -p.w_max);
+            }
+            fz_use((double)s.theta_r_hat + (double)s.w_r_raw + (double)s.dir);
+        }
+    }
+}
+
+static void fuzz_pll(fz *f)
+{
+    smd_pll_params p;
+    smd_pll_state s;
+    smd_real T = fz_r(f, 0.0, 1e-3), kt = fz_r(f, 0.0, 2.0), kw = fz_r(f, 0.0, 1e3);
+    smd_real ka = fz_r(f, 0.0, 1e4);
+    int steps = 0;
+    if (smd_pll_init(&p, T, kt, kw, ka) != SMD_OK) {
+        return;
+    }
+    {
+        smd_real th0 = fz_r(f, -4.0, 4.0);
+        smd_pll_reset(&s, th0, fz_r(f, -3e4, 3e4));
+    }
+    while (fz_more(f) && steps < FZ_MAX_STEPS) {
+        uint8_t op = fz_u8(f);
+        smd_real e = fz_r(f, -3.2, 3.2);
+        int n = (op & 1) ? 1 + fz_u8(f) : 1, k;
+        if (op & 2) {
+            smd_real th0 = fz_r(f, -4.0, 4.0);
+            smd_pll_reset(&s, th0, fz_r(f, -3e4, 3e4));
+        }
+        for (k = 0; k < n && steps < FZ_MAX_STEPS; k++, steps++) {
+            smd_pll_step(&p, &s, e);
+            fz_use((double)s.theta + (double)s.w + (double)s.a);
+        }
+    }
+}
+
+static void fuzz_bandpass(fz *f)
+{
+    smd_bandpass bp;
+    int steps = 0;
+    memset(&bp, 0, sizeof bp);
+    smd_bandpass_reset(&bp);
+    FZ_CHECK(smd_bandpass_set(0, SMD_R(1.0), SMD_R(1.0), SMD_R(1e-4)) == SMD_ERR_NULL);
+    while (fz_more(f) && steps < FZ_MAX_STEPS) {
+        uint8_t op = fz_u8(f);
+        int n = (op & 1) ? 1 + fz_u8(f) : 1, k;
+        rot r;
+        smd_cplx one = smd_c(SMD_R(0.0), SMD_R(0.0));
+        if (op & 2) {
+            smd_real T = fz_r(f, 0.0, 1e-3), w_n = fz_r(f, 0.0, 3e4), Om = fz_r(f, 0.0, 3e4);
+            smd_status st = smd_bandpass_set(&bp, w_n, Om, T);
+            fz_use((double)st);
+        }
+        if (op & 4) {
+            smd_bandpass_reset(&bp);
+        }
+        if (op & 1) {
+            rot_read(f, &r, 1e3);
+        } else {
+            one = fz_c(f, 1e3);
+        }
+        for (k = 0; k < n && steps < FZ_MAX_STEPS; k++, steps++) {
+            fz_use_c(smd_bandpass_step(&bp, (op & 1) ? rot_next(&r) : one));
+        }
+    }
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    fz f = {data, size};
+    switch (fz_u8(&f) % 7) {
+    case 0: fuzz_svm(&f); break;
+    case 1: fuzz_pi(&f); break;
+    case 2: fuzz_dbpc(&f); break;
+    case 3: fuzz_smdo(&f); break;
+    case 4: fuzz_emf_pos(&f); break;
+    case 5: fuzz_pll(&f); break;
+    default: fuzz_bandpass(&f); break;
+    }
+    return 0;
+}
