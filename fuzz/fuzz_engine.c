@@ -2,7 +2,8 @@
  * libFuzzer target: the engine (smd_engine_init, smd_engine_run with a
  * small n and a log buffer of exactly the rows it needs, the split step
  * smd_engine_ext_inputs / smd_engine_host_step / smd_engine_ext_apply,
- * smd_pwl_eval, smd_pll_impulse, smd_log_channel_name, smd_sizeof_engine):
+ * smd_pwl_eval, smd_pll_impulse, smd_log_channel_name, smd_sizeof_engine,
+ * the layout table):
  * the plant and the drive in closed loop, on configurations, profiles and a
  * start decoded from the input (fuzz.h, fuzz_sim.h):
  *   plant config, drive config (with its observer tables), five profiles
@@ -12,7 +13,8 @@
  *   op % 4 == 0  run 1 + u8 samples, a log row every 1 + op / 4 % 4 samples
  *   op % 4 == 1  one split sample (a log row when op & 4)
  *   op % 4 == 2  smd_pwl_eval of a profile at a time
- *   op % 4 == 3  smd_pll_impulse (n <= 64) and a channel name
+ *   op % 4 == 3  smd_pll_impulse (n <= 64), a channel name, a row of the
+ *                binding's layout table (smd_layout_row_at, smd_layout_type_at)
  *
  * Checked besides the sanitizers: smd_engine_run returns the number of rows
  * it was asked for; the split sample and smd_engine_run agree on status
@@ -21,6 +23,13 @@
 #include "fuzz_sim.h"
 
 #define FZ_MAX_SAMPLES 1500
+
+/* The struct layout table of the binding (sim/src/smd_layout.c; declared
+ * by its only user, the Python package). */
+int smd_layout_rows(void);
+int smd_layout_row_at(int k, const char **strct, const char **field, unsigned long *offset,
+                      unsigned long *size);
+const char *smd_layout_type_at(int k);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
@@ -129,6 +138,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 }
             }
             fz_use((double)smd_log_channel_name(fz_int(&f, -1, SMD_LOG_N))[0]);
+            {
+                int row = fz_int(&f, -1, 400);
+                const char *st = 0, *fd = 0;
+                unsigned long off = 0, sz = 0;
+                if (smd_layout_row_at(row, &st, &fd, &off, &sz)) {
+                    FZ_CHECK(row >= 0 && row < smd_layout_rows() && st != 0 && fd != 0);
+                    fz_use((double)(st[0] + fd[0]) + (double)(off + sz));
+                }
+                fz_use((double)smd_layout_type_at(row)[0]);
+            }
             break;
         }
         }

@@ -370,6 +370,7 @@ def engine_seeds(cat, sim) -> None:
         w.u8(4).u8(255)                # 256 samples, a row every second one
         w.u8(2).u8(0).f64(0.01)        # a profile value
         w.u8(3).u8(16).f64(s.T_sp).f64(0.1).f64(10.0).f64(10.0).f64(0.1).int(3, -1, SMD_LOG_N)
+        w.int(5, -1, 400)              # a row of the layout table
         write("fuzz_engine", name.replace(".", "-"), w.bytes())
 
 
