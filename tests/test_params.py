@@ -380,10 +380,11 @@ def _field_value(draw, f: dataclasses.Field):
 
 
 @st.composite
-def profiles(draw):
+def profiles(draw, nonnegative: bool = False):
+    """nonnegative: for a magnitude (T_brake, its range [0, inf))."""
     n = draw(st.integers(1, 64))
     t = sorted(draw(st.lists(st.floats(-1e3, 1e3), min_size=n, max_size=n)))
-    y = draw(st.lists(st.floats(-1e6, 1e6), min_size=n, max_size=n))
+    y = draw(st.lists(st.floats(0.0 if nonnegative else -1e6, 1e6), min_size=n, max_size=n))
     return Profile(tuple(t), tuple(y))
 
 
@@ -404,7 +405,7 @@ def instances(draw, cls):
         elif f.type in ("bool", bool):
             kw[f.name] = draw(st.booleans())
         elif f.type in ("Profile", Profile):
-            kw[f.name] = draw(profiles())
+            kw[f.name] = draw(profiles(nonnegative=f.name in cls._profile_ranges))
         elif f.name == "name":
             kw[f.name] = draw(st.text(string.ascii_letters + string.digits + "_- .",
                                       max_size=30))
@@ -413,6 +414,11 @@ def instances(draw, cls):
     if cls is Scenario and kw["inverter"].t_dead > 0.25 * kw["T_sp"]:
         # cross-field rule (tested on its own): keep the dead time within T_sp/4
         kw["inverter"] = dataclasses.replace(kw["inverter"], t_dead=0.25 * kw["T_sp"])
+    if cls is Scenario:
+        # the run limits (tested in test_edges.py): two samples or more, a
+        # log stride below their number
+        kw["duration"] = max(kw["duration"], 2.0 * kw["T_sp"])
+        kw["log_stride"] = min(kw["log_stride"], max(1, round(kw["duration"] / kw["T_sp"]) - 1))
     if cls is Scenario:
         # the composition rules (tested on their own below): parts that fit the plant
         c = kw["controller"]

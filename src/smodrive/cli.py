@@ -1,23 +1,69 @@
 """Command line: `smodrive run SCENARIO.toml --out DIR`,
-`smodrive reproduce [PAPER ...] --out DIR`, `smodrive scenarios`."""
+`smodrive reproduce [PAPER ...] --out DIR`, `smodrive scenarios`.
+
+Whatever the input, the user sees one ``error: ...`` line (exit 2 for bad
+input, 1 for a failed run), never a Python traceback (set SMODRIVE_DEBUG=1
+to get one). User text (names, values) is printed as it is: rich markup in
+it is not interpreted.
+"""
 
 from __future__ import annotations
 
+import dataclasses
 import json
+import math
+import os
+import re
 import sys
+import tempfile
+import warnings
+import zipfile
 from pathlib import Path
+from typing import Any, Callable, NoReturn
 
 import click
 import numpy as np
 from rich.console import Console
+from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
+from rich.text import Text
 
 from .params import ParameterError
 from .scenario_io import load_scenario, scenario_to_toml
 from .scenarios import PAPERS, catalogue
 
 console = Console(stderr=True)
+
+
+def _say(text: str, style: str | None = None) -> None:
+    """Print `text` as it is (no markup, no wrapping inside words or values)."""
+    console.print(Text(text, style=style or ""), soft_wrap=True)
+
+
+def _fail(message: str, code: int) -> NoReturn:
+    """`error: message` and exit `code` (2: bad input, 1: the run failed)."""
+    console.print(Text.assemble(("error:", "bold red"), " ", str(message)), soft_wrap=True)
+    sys.exit(code)
+
+
+class _Cli(click.Group):
+    """The command group: what escapes a command ends as one error line."""
+
+    def invoke(self, ctx: click.Context) -> Any:
+        try:
+            return super().invoke(ctx)
+        except (click.exceptions.ClickException, click.exceptions.Exit,
+                click.exceptions.Abort):
+            raise
+        except ParameterError as exc:
+            _fail(str(exc), 2)
+        except Exception as exc:  # a bug, or the system (disk full, ...)
+            if os.environ.get("SMODRIVE_DEBUG"):
+                raise
+            what = (f"{exc.strerror}: {exc.filename}" if isinstance(exc, OSError)
+                    and exc.strerror and exc.filename else f"{type(exc).__name__}: {exc}")
+            _fail(f"{what} (SMODRIVE_DEBUG=1 shows where)", 1)
 
 
 def _progress() -> Progress:
@@ -31,7 +77,79 @@ def _progress() -> Progress:
     )
 
 
-@click.group()
+def _task(prog: Progress, description: str, total: float = 1.0) -> int:
+    """A progress task whose description is printed as it is."""
+    return prog.add_task(escape(description), total=total)
+
+
+class ByteSize(click.ParamType):
+    """A memory size: bytes, or a number with B, kB, MB, GB, TB (powers of
+    1000) or KiB, MiB, GiB, TiB (powers of 1024)."""
+
+    name = "size"
+    UNITS = {"": 1, "b": 1, "kb": 10**3, "mb": 10**6, "gb": 10**9, "tb": 10**12,
+             "kib": 2**10, "mib": 2**20, "gib": 2**30, "tib": 2**40}
+
+    def convert(self, value: Any, param, ctx) -> int:
+        if isinstance(value, int):
+            return value
+        m = re.fullmatch(r"\s*(\d+(?:\.\d*)?(?:[eE][+-]?\d+)?)\s*([A-Za-z]*)\s*", str(value))
+        unit = m and m.group(2).lower()
+        if not m or unit not in self.UNITS or not float(m.group(1)) > 0:
+            self.fail(f"{value!r} is not a size above 0 (bytes, or e.g. 500MB, 2GiB)", param,
+                      ctx)
+        return int(float(m.group(1)) * self.UNITS[unit])
+
+
+def _size(n: float) -> str:
+    for unit, k in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
+        if n >= k:
+            return f"{n / k:.3g} {unit}"
+    return f"{n:.0f} B"
+
+
+def _prepare_out(out: Path) -> None:
+    """Create OUT and check that files can be written in it, before anything
+    runs (exit 2 if not)."""
+    for p in (out, *out.parents):
+        try:
+            is_file = p.exists() and not p.is_dir()
+        except OSError:
+            continue  # not searchable: mkdir below says why
+        if is_file:
+            _fail(f"--out {out}: " + ("a file of that name exists; it is not a directory"
+                                      if p == out else f"{p} is a file, not a directory"), 2)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=out):
+            pass
+    except OSError as exc:
+        _fail(f"--out {out}: cannot write there ({exc.strerror or exc})", 2)
+
+
+def _file_stem(name: str) -> str:
+    """A file name for a scenario name: every character but a letter, a
+    digit, - and _ becomes _ (the file stays in OUT whatever the name)."""
+    return re.sub(r"[^A-Za-z0-9_-]", "_", name)[:120] or "scenario"
+
+
+def _json(obj: Any) -> str:
+    """Strict JSON (no NaN or Infinity, which many readers refuse): a
+    non-finite number is written as null."""
+
+    def finite(x: Any) -> Any:
+        if isinstance(x, float) and not math.isfinite(x):
+            return None
+        if isinstance(x, dict):
+            return {k: finite(v) for k, v in x.items()}
+        if isinstance(x, (list, tuple)):
+            return [finite(v) for v in x]
+        return x
+
+    return json.dumps(finite(obj), indent=2, allow_nan=False, ensure_ascii=False) + "\n"
+
+
+@click.group(cls=_Cli)
 @click.version_option(package_name="smodrive")
 def main() -> None:
     """smodrive: sliding-mode observer based PMSM drive control."""
@@ -49,26 +167,27 @@ def reproduce(papers: tuple[str, ...], out: Path) -> None:
     chosen = list(papers) or list(PAPERS)
     unknown = [p for p in chosen if p not in PAPERS]
     if unknown:
-        raise click.BadParameter(f"unknown paper {unknown}; known: {', '.join(PAPERS)}")
+        _fail(f"unknown paper {', '.join(map(repr, unknown))}; known: {', '.join(PAPERS)}", 2)
+    _prepare_out(out)
     with _progress() as prog:
         tasks: dict[str, int] = {}
 
         def on_progress(name: str, frac: float) -> None:
             if name not in tasks:
-                tasks[name] = prog.add_task(name, total=1.0)
+                tasks[name] = _task(prog, name)
             prog.update(tasks[name], completed=frac)
 
         rep = run(chosen, out, on_progress=on_progress)
-    table = Table(title=f"claims ({out / 'claims.json'})")
+    table = Table(title=escape(f"claims ({out / 'claims.json'})"))
     for col in ("claim", "paper", "expected", "reproduced", "unit", "result"):
         table.add_column(col)
     for c in rep.claims:
-        table.add_row(c.id, _f(c.paper), _f(c.expected), _f(c.reproduced), c.unit,
-                      "[green]pass" if c.passed else "[red]FAIL")
+        table.add_row(escape(c.id), _f(c.paper), _f(c.expected), _f(c.reproduced),
+                      escape(c.unit), "[green]pass" if c.passed else "[red]FAIL")
     Console().print(table)
     n_pass = sum(c.passed for c in rep.claims)
-    console.print(f"{n_pass} claims passed, {len(rep.claims) - n_pass} failed; report: "
-                  f"{out / 'report.md'}; {rep.samples:,} samples in {rep.seconds:.1f} s")
+    _say(f"{n_pass} claims passed, {len(rep.claims) - n_pass} failed; report: "
+         f"{out / 'report.md'}; {rep.samples:,} samples in {rep.seconds:.1f} s")
 
 
 def _f(x: float | None) -> str:
@@ -76,21 +195,30 @@ def _f(x: float | None) -> str:
 
 
 def _load(scenario: str):
-    """A TOML file, or a name of the catalogue (`smodrive scenarios`)."""
+    """A TOML file, or a name of the catalogue (`smodrive scenarios`); its
+    warnings (older key names) are printed as one line each."""
     path = Path(scenario)
-    if path.is_file():
-        return load_scenario(path)
-    cat = catalogue()
-    if scenario in cat:
-        return cat[scenario]()
-    raise ParameterError(f"{scenario}: neither a scenario file nor a catalogue name "
-                         "(see `smodrive scenarios`)")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        if path.is_file():
+            s = load_scenario(path)
+        elif scenario in catalogue():
+            s = catalogue()[scenario]()
+        else:
+            raise ParameterError(f"{scenario}: neither a scenario file nor a catalogue name "
+                                 "(see `smodrive scenarios`)")
+    for w in caught:
+        _say(f"warning: {w.message}", "yellow")
+    return s
 
 
 @main.command()
 @click.argument("scenario")
 @click.option("--out", type=click.Path(path_type=Path), default=Path("results"),
               show_default=True)
+@click.option("--log-budget", type=ByteSize(), default="2GiB", show_default=True,
+              help="memory the signal log may take; a longer log keeps every k-th sample "
+                   "(the stride is stated in summary.json)")
 @click.option("--pil", is_flag=True,
               help="processor in the loop: the controller compiled for a Cortex-M4F runs on "
                    "QEMU (mps2-an386) against the host plant, beside the host-only run")
@@ -100,78 +228,109 @@ def _load(scenario: str):
               show_default=True,
               help="with --pil: the core's portable float math on both sides (bit-identical), "
                    "or each platform's C library (glibc against newlib)")
-def run(scenario: str, out: Path, pil: bool, seconds: float, math: str) -> None:
+def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
+        math: str) -> None:
     """Simulate one SCENARIO (a TOML file or a catalogue name); write
     signals.npz, summary.json and a figure (with --pil: pil.json and the
     comparison figure)."""
     from . import plots
-    from .simulate import CHANNELS, SimulationError, simulate
+    from .simulate import SimulationError, log_plan, simulate
 
-    try:
-        s = _load(scenario)
-    except ParameterError as exc:
-        console.print(f"[red]error:[/red] {exc}")
-        sys.exit(2)
+    s = _load(scenario)
     if pil:
+        if not 0.0 < seconds <= 10.0:
+            _fail(f"--seconds {seconds}: must be in (0, 10] s", 2)
+        _prepare_out(out)
         _run_pil(s, out, seconds, math)
         return
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        plan = log_plan(s, log_budget)
+    except ParameterError as exc:
+        _fail(f"--log-budget: {exc}", 2)
+    _prepare_out(out)
+    if plan.decimated:
+        full = s.n_steps / s.log_stride * plan.bytes / plan.rows
+        _say(f"log: {s.n_steps:,} samples would take {_size(full)}, above the budget of "
+             f"{_size(plan.budget_bytes)} (--log-budget): logging every {plan.stride}th "
+             f"sample (stride {plan.stride}, {plan.rows:,} rows, {_size(plan.bytes)}); "
+             "summary and figure use those rows")
     with _progress() as prog:
-        task = prog.add_task(s.name, total=1.0)
+        t_sim = _task(prog, f"simulating {s.name}")
+        t_npz = _task(prog, "writing signals.npz")
+        t_fig = _task(prog, "plotting", 2)
         try:
-            r = simulate(s, progress=lambda f: prog.update(task, completed=f))
-        except (SimulationError, ParameterError) as exc:
-            console.print(f"[red]error:[/red] {exc}")
-            sys.exit(1)
-    np.savez_compressed(out / "signals.npz", **{c: r[c] for c in CHANNELS})
-    (out / "scenario.toml").write_text(scenario_to_toml(s))
-    last = r.window(0.8 * s.duration, s.duration)
-    summary = {
+            r = simulate(s, progress=lambda f: prog.update(t_sim, completed=f),
+                         log_budget=log_budget)
+        except SimulationError as exc:
+            _fail(str(exc), 1)
+        write_signals(out / "signals.npz", r, lambda f: prog.update(t_npz, completed=f))
+        summary = run_summary(s, r, plan)
+        (out / "scenario.toml").write_text(scenario_to_toml(s), encoding="utf-8")
+        (out / "summary.json").write_text(_json(summary), encoding="utf-8")
+        axes = plots.time_panels(
+            [r], [s.name], s.name,
+            [("speed (r/min)", [("n_ref_rpm", "reference"), ("n_rpm", "true"),
+                                ("n_hat_rpm", "estimated")]),
+             ("motor current (A)", [("i_d", "d"), ("i_q", "q")]),
+             ("position error (rad)", [("theta_error", "true")])])
+        prog.update(t_fig, completed=1)
+        plots.save(axes, out, _file_stem(s.name))
+        prog.update(t_fig, completed=2)
+    _say(_json(summary).rstrip())
+
+
+def write_signals(path: Path, r, progress: Callable[[float], None] | None = None) -> None:
+    """signals.npz (one array per channel, compressed, as np.savez_compressed
+    writes it), a channel at a time: no copy of the log is made."""
+    from .simulate import CHANNELS
+
+    with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED, allowZip64=True) as zf:
+        for k, c in enumerate(CHANNELS):
+            with zf.open(f"{c}.npy", "w", force_zip64=True) as f:
+                np.lib.format.write_array(f, r[c], allow_pickle=False)
+            if progress is not None:
+                progress((k + 1) / len(CHANNELS))
+
+
+def run_summary(s, r, plan) -> dict[str, Any]:
+    """summary.json of a run: means over the last 20 % of the run (at least
+    the last logged row), the control samples simulated and how the log was
+    kept."""
+    i0 = min(int(np.searchsorted(r.t, 0.8 * s.duration)), r.data.shape[0] - 1)
+    last = dataclasses.replace(r, data=r.data[i0:])  # a view of those rows
+    return {
         "name": s.name,
-        "samples": int(r.data.shape[0] * s.log_stride),
-        "status": r.status,
-        "speed_rpm_mean_last_20pct": float(np.mean(r.n_rpm[last])),
-        "speed_estimate_rpm_mean_last_20pct": float(np.mean(r.n_hat_rpm[last])),
-        "i_d_mean_last_20pct": float(np.mean(r["i_d"][last])),
-        "i_q_mean_last_20pct": float(np.mean(r["i_q"][last])),
+        "samples": int(r.samples),
+        "status": int(r.status),
+        "speed_rpm_mean_last_20pct": float(np.mean(last.n_rpm)),
+        "speed_estimate_rpm_mean_last_20pct": float(np.mean(last.n_hat_rpm)),
+        "i_d_mean_last_20pct": float(np.mean(last["i_d"])),
+        "i_q_mean_last_20pct": float(np.mean(last["i_q"])),
         "theta_error_rms_deg_last_20pct": float(np.degrees(np.sqrt(np.mean(
-            r.theta_error[last] ** 2)))),
+            last.theta_error ** 2)))),
+        "log": plan.as_dict(),
     }
-    (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
-    plots.save(plots.time_panels(
-        [r], [s.name], s.name,
-        [("speed (r/min)", [("n_ref_rpm", "reference"), ("n_rpm", "true"),
-                            ("n_hat_rpm", "estimated")]),
-         ("motor current (A)", [("i_d", "d"), ("i_q", "q")]),
-         ("position error (rad)", [("theta_error", "true")])]),
-        out, s.name.replace(".", "_"))
-    console.print(json.dumps(summary, indent=2))
 
 
 def _run_pil(s, out: Path, seconds: float, math: str) -> None:
     from . import plots
     from .target import TargetError, pil
 
-    if not 0.0 < seconds <= 10.0:
-        console.print(f"[red]error:[/red] --seconds {seconds}: must be in (0, 10] s")
-        sys.exit(2)
-    out.mkdir(parents=True, exist_ok=True)
     with _progress() as prog:
-        task = prog.add_task(f"{s.name} (PIL, {math})", total=1.0)
+        task = _task(prog, f"{s.name} (PIL, {math})")
         try:
             r = pil(s, seconds, math=math, progress=lambda f: prog.update(task, completed=f))
-        except (TargetError, ParameterError) as exc:
-            console.print(f"[red]error:[/red] {exc}")
-            sys.exit(1)
+        except TargetError as exc:
+            _fail(str(exc), 1)
     summary = {
         "name": s.name, "samples": r.samples, "math": math, "reference": r.reference,
         "identical": r.identical, "max_duty_diff": r.max_duty_diff,
         "max_theta_hat_diff_rad": r.max_theta_diff_rad,
         "max_w_hat_diff_rad_s": r.max_w_diff, "max_word_diff_ulp": r.max_view_ulp,
     }
-    (out / "pil.json").write_text(json.dumps(summary, indent=2) + "\n")
-    plots.save(plots.pil_panels(r), out, s.name.replace(".", "_") + "_pil")
-    console.print(json.dumps(summary, indent=2))
+    (out / "pil.json").write_text(_json(summary), encoding="utf-8")
+    plots.save(plots.pil_panels(r), out, _file_stem(s.name) + "_pil")
+    _say(_json(summary).rstrip())
 
 
 @main.command()
@@ -186,10 +345,9 @@ def scenarios() -> None:
 def show(name: str) -> None:
     """Print a catalogue scenario as TOML (a starting point for your own)."""
     cat = catalogue()
-    if name in cat:
-        click.echo(scenario_to_toml(cat[name]()))
-        return
-    raise click.BadParameter(f"unknown scenario {name}; see `smodrive scenarios`")
+    if name not in cat:
+        _fail(f"unknown scenario {name!r}; see `smodrive scenarios`", 2)
+    click.echo(scenario_to_toml(cat[name]()))
 
 
 if __name__ == "__main__":

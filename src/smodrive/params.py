@@ -24,10 +24,16 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import numbers
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
+
 RPM = 2.0 * math.pi / 60.0  # rad/s per r/min
+#: The LCL observers' lookup tables cover this mechanical speed either way,
+#: r/min (smodrive.simulate.TABLE_RPM): a run of those observers stays inside.
+LCL_TABLE_RPM = 110e3
 
 
 class ParameterError(ValueError):
@@ -57,15 +63,71 @@ def _fmt(x: float) -> str:
     return f"{x:g}"
 
 
+def _is_real(v: Any) -> bool:
+    """A real number (Python or NumPy), not a bool."""
+    return isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_))
+
+
+def _plain(v: Any) -> Any:
+    """A NumPy scalar as the Python int, float or bool it holds (so that
+    np.int64(4) or np.float32(1e-3) work wherever a Python number does);
+    anything else unchanged."""
+    if v is None or type(v) in (bool, int, float, str):
+        return v
+    if isinstance(v, (bool, np.bool_)):
+        return bool(v)
+    if isinstance(v, numbers.Integral):
+        return int(v)
+    if isinstance(v, numbers.Real):
+        return float(v)
+    return v
+
+
+def _profile_text(p: "Profile") -> str:
+    """A profile as a user wrote it: the number of a constant one, else the
+    TOML table."""
+    if len(p.t) == 1:
+        return repr(p.y[0])
+    return "{t = [" + ", ".join(map(repr, p.t)) + "], y = [" + ", ".join(map(repr, p.y)) + "]}"
+
+
 class _Validated:
-    """Mixin: range-check every field in __post_init__."""
+    """Mixin: range-check every field in __post_init__ (NumPy scalars are
+    taken as the Python numbers they hold; a number given for a Profile
+    field is a constant profile)."""
 
     _section = ""
+    #: profile field -> (lo, hi, unit, why): the range of every value of it
+    _profile_ranges: dict[str, tuple[float, float, str, str]] = {}
+
+    def _normalise(self, f: dataclasses.Field, name: str, value: Any) -> Any:
+        """value in the form the checks and the C structs take."""
+        if f.type in ("Profile", "Profile | None"):
+            if _is_real(value):
+                return Profile.const(float(value))
+            if not isinstance(value, Profile):
+                raise ParameterError(f"{name} = {value!r} is not a Profile or a number")
+            return value
+        if "range" in f.metadata and f.metadata["n"]:
+            if isinstance(value, (list, tuple)) or (isinstance(value, np.ndarray)
+                                                    and value.ndim == 1):
+                return tuple(_plain(v) for v in value)
+            return value
+        return _plain(value)
 
     def __post_init__(self) -> None:
         for f in dataclasses.fields(self):  # type: ignore[arg-type]
-            value = getattr(self, f.name)
             name = f"{self._section}.{f.name}" if self._section else f.name
+            value = self._normalise(f, name, getattr(self, f.name))
+            if value is not getattr(self, f.name):
+                object.__setattr__(self, f.name, value)
+            if f.name in self._profile_ranges:
+                lo, hi, unit, why = self._profile_ranges[f.name]
+                if not all(lo <= y <= hi for y in value.y):
+                    raise ParameterError(
+                        f"{name} = {_profile_text(value)} is outside its valid range "
+                        f"[{_fmt(lo)}, {_fmt(hi)}{']' if math.isfinite(hi) else ')'} {unit}: "
+                        f"{why}")
             if f.metadata.get("bool") and not isinstance(value, bool):
                 raise ParameterError(f"{name} = {value!r} is not true or false")
             if "range" in f.metadata and value is None and f.default is None:
@@ -280,6 +342,13 @@ class Profile:
     y: tuple[float, ...] = (0.0,)
 
     def __post_init__(self) -> None:
+        for axis in ("t", "y"):
+            v = getattr(self, axis)
+            if isinstance(v, (str, bytes)) or not isinstance(v, (tuple, list, np.ndarray)):
+                raise ParameterError(f"profile: {axis} = {v!r} must be a sequence of numbers")
+            if not all(map(_is_real, v)):
+                raise ParameterError(f"profile: every point must be a number ({axis} = {v!r})")
+            object.__setattr__(self, axis, tuple(float(x) for x in v))
         if len(self.t) != len(self.y) or not self.t:
             raise ParameterError("profile: t and y must be non-empty and of equal length")
         if len(self.t) > 64:
@@ -307,14 +376,14 @@ class Profile:
         return Profile(self.t, tuple(y * k for y in self.y))
 
     def __call__(self, tq: float) -> float:
-        import numpy as np
-
         return float(np.interp(tq, self.t, self.y))
 
 
 @dataclass(frozen=True)
 class LoadCfg(_Validated):
     _section = "load"
+    _profile_ranges = {"T_brake": (0.0, math.inf, "N m", "a brake torque is a magnitude (the "
+                                   "brake opposes the rotation, whichever its sense)")}
     T_brake: Profile = field(default_factory=lambda: Profile.const(0.0))
     T_ext: Profile = field(default_factory=lambda: Profile.const(0.0))
     w_brake_eps: float = num(1.0, 1e-9, 1e3, "rad/s", "brake taper speed (assumed)")
@@ -347,6 +416,14 @@ class Scenario(_Validated):
     load: LoadCfg = field(default_factory=LoadCfg)
 
     def __post_init__(self) -> None:
+        if not isinstance(self.name, str):
+            raise ParameterError(f"scenario.name = {self.name!r} is not a string (the label of "
+                                 "the run, also used in its file names)")
+        for sec in ("motor", "controller", "inverter", "adc", "load"):
+            cls = type(self).__dataclass_fields__[sec].default_factory  # type: ignore[misc]
+            if not isinstance(getattr(self, sec), cls):
+                raise ParameterError(
+                    f"scenario.{sec} = {getattr(self, sec)!r} is not a {cls.__name__}")
         super().__post_init__()
         if self.lcl is not None and not isinstance(self.lcl, LclFilterPars):
             raise ParameterError(f"scenario.lcl = {self.lcl!r} is not an LclFilterPars or None")
@@ -406,7 +483,12 @@ class Scenario(_Validated):
                     f"k_p_i = {k_p:g} V/A, k_i_i = {k_i:g} V/(A s), beyond the core's limits "
                     "1e4 and 1e9")
             if self.L_dec > 10.0:
-                raise ParameterError(f"the decoupling inductance {self.L_dec:g} H exceeds 10 H")
+                # L_dec unset is derived: name what it is derived from
+                src = ("controller.L_dec" if c.L_dec is not None else "controller.L_s_hat"
+                       if self.lcl is None else "controller.L_s_hat + lcl.L1 + lcl.L2o")
+                raise ParameterError(
+                    f"{src} = {self.L_dec:g} H is outside the valid range [0, 10] H of the "
+                    "decoupling inductance (controller.L_dec)")
         if c.t_dead_comp > 0.25 * T:
             raise ParameterError(
                 f"controller.t_dead_comp = {c.t_dead_comp!r} is outside its valid range "
@@ -440,6 +522,52 @@ class Scenario(_Validated):
             raise ParameterError(
                 f"controller.w_c = {c.w_c!r} is outside its valid range (0, 1/T_sp = {1 / T:g})"
                 " rad/s")
+        self.check_run()
+
+    def check_run(self) -> None:
+        """Limits of a run as a whole (part of :meth:`check_controller`):
+        samples to simulate and log, a back-EMF for the sensorless position
+        sources, and for the LCL observers a sampling period and speeds
+        their offline design covers."""
+        T, c = self.T_sp, self.controller
+        if self.duration < 2.0 * T:
+            raise ParameterError(
+                f"duration = {self.duration!r} is outside its valid range [2 T_sp = {2 * T:g}, "
+                f"1e4] s: the run would have {self.n_steps} control samples")
+        n = self.n_steps
+        if self.log_stride >= n:
+            raise ParameterError(
+                f"log_stride = {self.log_stride!r} is outside its valid range [1, {n - 1}] for "
+                f"the {n} control samples of the run (duration / T_sp): the log would hold the "
+                "initial state only")
+        if c.position != "encoder" and self.motor.psi_r == 0.0:
+            raise ParameterError(
+                f"motor.psi_r = 0.0 with controller.position = {c.position!r}: a machine "
+                "without magnet flux has no back-EMF to estimate the angle from; motor.psi_r "
+                "must be above 0 (or choose position = 'encoder')")
+        if c.position not in ("lcl_smo_pll", "lcl_linear") or self.lcl is None:
+            return
+        # the observers' model: lcl.L1, lcl.L2o + L_s_hat, C1_hat_ratio lcl.C1 (eq. (1)-(3))
+        L1, L2, C1 = self.lcl.L1, self.lcl.L2o + c.L_s_hat, self.lcl.C1 * c.C1_hat_ratio
+        try:
+            f_res = math.sqrt((L1 + L2) / (L1 * L2 * C1)) / (2.0 * math.pi)
+        except (ZeroDivisionError, OverflowError):  # values at the ends of their ranges
+            f_res = math.inf
+        if T > 0.5 / f_res:
+            raise ParameterError(
+                f"T_sp = {T!r} is outside its valid range (0, 1/(2 f_res) = {0.5 / f_res:g}] s "
+                f"for the LCL observers: their filter model (lcl.L1, lcl.L2o + "
+                f"controller.L_s_hat, lcl.C1 x controller.C1_hat_ratio) resonates at f_res = "
+                f"{f_res:g} Hz, which the sampling must resolve (Nyquist)")
+        lim = LCL_TABLE_RPM * RPM
+        for name, verb, values in (("w_M0", "=", (self.w_M0,)),
+                                   ("w_M_ref", "reaches", self.w_M_ref.y)):
+            w = max(values, key=abs)
+            if abs(w) > lim:
+                raise ParameterError(
+                    f"{name} {verb} {w / RPM:g} r/min ({w:g} rad/s), beyond the LCL observers' "
+                    f"tables, which cover [{-LCL_TABLE_RPM:g}, {LCL_TABLE_RPM:g}] r/min: keep "
+                    f"{name} (or {name}_rpm) within them")
 
     @property
     def n_steps(self) -> int:

@@ -21,7 +21,7 @@ import numpy as np
 
 from . import _ffi
 from .params import ParameterError, Scenario
-from .simulate import plant_config
+from .simulate import plant_config, plant_fields
 
 _D3 = ct.c_double * 3
 
@@ -43,8 +43,12 @@ class Plant:
         self._buf = (ct.c_double * math.ceil(_ffi.lib.smd_sizeof_plant() / 8 + 1))()
         rc = _ffi.lib.smd_plant_init(self._buf, ct.byref(self.config))
         if rc != 0:
-            raise ParameterError(f"plant parameter {_ffi.lib.smd_plant_field(rc).decode()} "
-                                 "rejected")
+            # the C name when a config field of it was passed here, else the
+            # scenario's fields behind it
+            c_name = _ffi.lib.smd_plant_field(rc).decode()
+            given = set(config_fields) & set(c_name.split("/"))
+            names = c_name if given else ", ".join(plant_fields(rc))
+            raise ParameterError(f"plant parameter {names} rejected")
         self._head = _ffi.PlantHead.from_buffer(self._buf)
 
     def step(self, d_abc: Sequence[float], T_ext: float = 0.0, T_brake: float = 0.0) -> None:

@@ -23,6 +23,7 @@ grid and layout are the caller's).
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import functools
 from pathlib import Path
 from typing import Callable, Iterator, Sequence
@@ -35,6 +36,9 @@ from matplotlib.figure import Figure
 from .analysis import tf
 from .params import RPM, MotorPars
 from .simulate import Result
+
+#: At most this many points a curve (a longer log is drawn from every k-th row).
+MAX_POINTS = 200_000
 
 #: The house style, applied in a context by every drawing function.
 STYLE: dict[str, object] = {"figure.dpi": 110, "font.size": 8, "axes.grid": True,
@@ -248,23 +252,35 @@ def channel(r: Result, name: str) -> np.ndarray:
                        f"nor derived ({', '.join(DERIVED)})") from None
 
 
+def thinned(r: Result, t_window: tuple[float, float] | None = None,
+            max_points: int = MAX_POINTS) -> Result:
+    """The rows of `r` with t0 <= t < t1 (default all), every k-th of them
+    for at most `max_points`: a view of the log (no copy), for drawing."""
+    i0, i1 = (0, r.data.shape[0]) if t_window is None else \
+        np.searchsorted(r.t, t_window, side="left")
+    k = max(1, -(-(int(i1) - int(i0)) // max(1, int(max_points))))
+    return dataclasses.replace(r, data=r.data[i0:i1:k])
+
+
 @_styled
 def time_panels(results: Sequence[Result], labels: Sequence[str], title: str | None,
                 rows: Sequence[tuple[str, Sequence[tuple[str, str]]]],
-                t_window: tuple[float, float] | None = None, ax=None) -> np.ndarray:
+                t_window: tuple[float, float] | None = None, ax=None,
+                max_points: int = MAX_POINTS) -> np.ndarray:
     """Columns per run, rows of ``(ylabel, [(channel, legend), ...])``, one
     curve per channel (logged or :data:`DERIVED`), over `t_window` (default
-    the whole run); either plant. `ax`: len(rows) x len(results) Axes;
+    the whole run), each of at most `max_points` points (every k-th row,
+    :func:`thinned`); either plant. `ax`: len(rows) x len(results) Axes;
     returns them as a (len(rows), len(results)) array."""
     n = len(results)
     axes = _layout(ax, len(rows), n, (4.0 * n, 1.9 * len(rows) + 0.6), sharex="col")
     for j, (r, lab) in enumerate(zip(results, labels)):
-        m = r.window(*t_window) if t_window else np.ones(r.t.size, bool)
-        t = r.t[m]
+        r = thinned(r, t_window, max_points)
+        t = r.t
         for i, (ylabel, chans) in enumerate(rows):
             a = axes[i, j]
             for ch, leg in chans:
-                a.plot(t, channel(r, ch)[m], label=leg)
+                a.plot(t, channel(r, ch), label=leg)
             if j == 0:
                 a.set_ylabel(ylabel)
             if len(chans) > 1:
@@ -317,7 +333,7 @@ def ripple_panels(results: dict, speeds: Sequence[float], title: str | None = No
             t = r.t[m]
             lab = "baseline (61)" if law == "tde17" else "proposed (33)"
             axes[0, j].plot(t, r.n_hat_rpm[m], color=col, label=lab, lw=0.6)
-            f, X = _spectrum(r.n_hat_rpm[m], r.scenario.T_sp * r.scenario.log_stride)
+            f, X = _spectrum(r.n_hat_rpm[m], r.scenario.T_sp * r.log_stride)
             axes[1, j].semilogy(f, X + 1e-6, color=col, lw=0.6)
             axes[2, j].plot(t, channel(r, "s_abs")[m], color=col, lw=0.5)
         axes[0, j].set_title(f"{n / 1e3:g} kr/min")
@@ -349,7 +365,7 @@ def waveform_spectrum(results: Sequence[Result], labels: Sequence[str], channel_
         axes[0, j].set_title(lab)
         axes[0, j].set_xlabel("t (ms)")
         mm = r.window(0.1, t1)
-        f, X = _spectrum(x[mm], r.scenario.T_sp * r.scenario.log_stride)
+        f, X = _spectrum(x[mm], r.scenario.T_sp * r.log_stride)
         axes[1, j].semilogy(f, X + 1e-9)
         axes[1, j].set_xlim(0, f_max)
         axes[1, j].set_xlabel("f (Hz)")

@@ -39,8 +39,7 @@ def reproduce(
                 on_experiment(exp.id, exp.title)
             outcome = exp.run(progress)
             rep.claims.extend(outcome.claims)
-            rep.samples += sum(r.data.shape[0] * r.scenario.log_stride
-                               for r in outcome.results.values())
+            rep.samples += sum(r.samples for r in outcome.results.values())
             for _, plot in outcome.figures:
                 rep.figures.extend(_paths(plot(fig_dir)))
     rep.seconds = time.perf_counter() - t0

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import re
 try:
     import tomllib
 except ModuleNotFoundError:  # Python 3.10: the same parser as a package
@@ -96,13 +97,25 @@ def _kwargs(cls: type, section: str, data: dict[str, Any]) -> dict[str, Any]:
     profiles = _profile_fields(cls)
     units = _unit_forms(cls)
     kwargs: dict[str, Any] = {}
+    given: dict[str, str] = {}  # field -> the key that set it
+
+    def once(name: str, key: str) -> None:
+        """One quantity, one key: w_M_ref and w_M_ref_rpm together are refused."""
+        if name in given:
+            raise ParameterError(
+                f"{section}.{given[name]} and {section}.{key} both set {section}.{name}: "
+                "give one of them")
+        given[name] = key
+
     for key, value in data.items():
+        as_written = key
         if key in _RENAMED and _RENAMED[key] in units:
             warnings.warn(f"{section}.{key} is now {_RENAMED[key]} (SI field "
-                          f"{units[_RENAMED[key]][0]}); read as such", UserWarning, stacklevel=4)
+                          f"{units[_RENAMED[key]][0]}); read as such", UserWarning, stacklevel=5)
             key = _RENAMED[key]
         if key in units:
             name, k = units[key]
+            once(name, as_written)
             if name in profiles:
                 kwargs[name] = _profile_from(f"{section}.{key}", value, k)
             elif _is_num(value):
@@ -113,12 +126,14 @@ def _kwargs(cls: type, section: str, data: dict[str, Any]) -> dict[str, Any]:
             known = sorted(names | set(units) | ({"base"} if cls is Scenario else set()))
             raise ParameterError(
                 f"{section}.{key}: unknown parameter (known: {', '.join(known)})")
-        elif key in profiles:
-            kwargs[key] = _profile_from(f"{section}.{key}", value)
-        elif isinstance(value, list):
-            kwargs[key] = tuple(value)
         else:
-            kwargs[key] = value
+            once(key, key)
+            if key in profiles:
+                kwargs[key] = _profile_from(f"{section}.{key}", value)
+            elif isinstance(value, list):
+                kwargs[key] = tuple(value)
+            else:
+                kwargs[key] = value
     return kwargs
 
 
@@ -158,6 +173,33 @@ _LEGACY_ADC = {"gain_i2": "gain", "offset_i2": "offset"}
 # the old LCL controller used the plant's own values for its model and speed PI
 _LEGACY_ESTIMATES = {"R": ("R_s_hat",), "Ls": ("L_s_hat",), "psi_m": ("psi_r_hat", "psi_r_pi"),
                      "J": ("J_hat",)}
+
+
+def _legacy_origins(data: dict[str, Any]) -> dict[str, str]:
+    """For a `kind = "lcl"` file: each field its [plant] keys set -> the key
+    as the user wrote it (a message names what the user wrote)."""
+    if data.get("kind") != "lcl" or not isinstance(data.get("plant"), dict):
+        return {}
+    ctrl = data.get("controller")
+    ctrl_given = set(ctrl) if isinstance(ctrl, dict) else set()
+    out = {}
+    for key in data["plant"]:
+        if key in _LEGACY_PLANT:
+            sec, new = _LEGACY_PLANT[key]
+            out[f"{sec}.{new}"] = f"plant.{key}"
+            for est in _LEGACY_ESTIMATES.get(key, ()):
+                if est not in ctrl_given:
+                    out[f"controller.{est}"] = f"plant.{key}"
+    return out
+
+
+def _as_written(exc: ParameterError, origins: dict[str, str]) -> ParameterError:
+    """exc with the fields an older file's keys were moved to named by those keys."""
+    if not origins:
+        return exc
+    pattern = "|".join(re.escape(k) for k in sorted(origins, key=len, reverse=True))
+    return ParameterError(re.sub(rf"(?<![\w.])({pattern})(?![\w])",
+                                 lambda m: origins[m.group(1)], str(exc)))
 
 
 def _from_legacy_lcl(data: dict[str, Any]) -> dict[str, Any]:
@@ -206,12 +248,19 @@ def _from_legacy_lcl(data: dict[str, Any]) -> dict[str, Any]:
     warnings.warn(
         "kind = 'lcl' is the schema before the one drive; read as base = 'yao2022.base' "
         "with: " + "; ".join(moved) + ". `smodrive show` prints a scenario in the current "
-        "schema.", UserWarning, stacklevel=3)
+        "schema.", UserWarning, stacklevel=4)
     return {k: v for k, v in out.items() if v != {}}
 
 
 def scenario_from_dict(data: dict[str, Any]) -> Scenario:
     """A Scenario from parsed TOML (see the module docstring)."""
+    try:
+        return _scenario_from_dict(data)
+    except ParameterError as exc:
+        raise _as_written(exc, _legacy_origins(data)) from None
+
+
+def _scenario_from_dict(data: dict[str, Any]) -> Scenario:
     data = dict(data)
     kind = data.pop("kind", None)
     if kind == "lcl":
@@ -245,11 +294,24 @@ def load_scenario(path: str | Path) -> Scenario:
     controller."""
     path = Path(path)
     try:
-        data = tomllib.loads(path.read_text())
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise ParameterError(f"{path}: cannot read the file ({exc.strerror or exc})") from None
+    try:
+        text = raw.decode("utf-8-sig")  # TOML is UTF-8 (a byte-order mark is skipped)
+    except UnicodeDecodeError as exc:
+        raise ParameterError(
+            f"{path}: not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset {exc.start}); a "
+            "TOML file is UTF-8: save it in that encoding") from None
+    try:
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise ParameterError(f"{path}: not valid TOML: {exc}") from exc
+        raise ParameterError(f"{path}: not valid TOML: {exc}") from None
     s = scenario_from_dict(data)
-    s.check_controller()
+    try:
+        s.check_controller()
+    except ParameterError as exc:
+        raise _as_written(exc, _legacy_origins(data)) from None
     return s
 
 

@@ -27,7 +27,7 @@ from typing import Callable
 import numpy as np
 
 from . import _ffi
-from .params import RPM, ParameterError, Profile, Scenario
+from .params import LCL_TABLE_RPM, RPM, ParameterError, Profile, Scenario
 
 CURRENT = {"pi": 0, "dbpc": 1, "robust_dbpc": 2}
 POSITION = {"encoder": 0, "smdo_emf": 1, "lcl_smo_pll": 2, "lcl_linear": 3}
@@ -87,7 +87,7 @@ CHANNEL_INFO: dict[str, tuple[str, str]] = {
 if set(CHANNEL_INFO) != set(CHANNELS):
     raise ImportError("smodrive: channel descriptions out of date with the C engine")
 
-TABLE_RPM = np.arange(-110e3, 110e3 + 1.0, 1000.0)  # LCL observer tables, r/min
+TABLE_RPM = np.arange(-LCL_TABLE_RPM, LCL_TABLE_RPM + 1.0, 1000.0)  # LCL observer tables, r/min
 
 
 class SimulationError(RuntimeError):
@@ -185,15 +185,36 @@ def lcl_observer_tables(s: Scenario, design=None):
     estimates (L_s_hat, R_s_hat, psi_r_hat) and the filter with the
     observer's capacitance C1_hat_ratio C1, at the scenario's T_sp."""
     from .design import yao2022 as dz
-    from .params import MotorPars
+    from .params import LclFilterPars, MotorPars
 
     c = s.controller
     if s.lcl is None:
         raise ParameterError("the LCL observers need the [lcl] filter section")
+    # the design's machine and filter are the controller's estimates: a value
+    # the design cannot take is named by the field the user set
+    for label, value, cls, name in (
+            ("controller.R_s_hat", c.R_s_hat, MotorPars, "R_s"),
+            ("controller.L_s_hat", c.L_s_hat, MotorPars, "L_s"),
+            ("controller.psi_r_hat", c.psi_r_hat, MotorPars, "psi_r"),
+            (f"lcl.C1 x controller.C1_hat_ratio = {s.lcl.C1!r} x {c.C1_hat_ratio!r}",
+             s.lcl.C1 * c.C1_hat_ratio, LclFilterPars, "C1")):
+        lo, hi, lo_open = cls.__dataclass_fields__[name].metadata["range"]
+        if not ((value > lo if lo_open else value >= lo) and value <= hi):
+            raise ParameterError(
+                f"{label} = {value!r} is outside its valid range {'(' if lo_open else '['}"
+                f"{lo:g}, {hi:g}] {cls.__dataclass_fields__[name].metadata['unit']} of the "
+                "LCL observers' design (their model is the controller's estimates)")
     est_motor = MotorPars(R_s=c.R_s_hat, L_s=c.L_s_hat, psi_r=c.psi_r_hat, n_p=s.motor.n_p)
     est_lcl = dataclasses.replace(s.lcl, C1=s.lcl.C1 * c.C1_hat_ratio)
     design = design or dz.ObserverDesignPars(Q=tuple(c.Q))
-    return observer_tables(dz.DesignPlant(est_motor, est_lcl, s.T_sp), design)
+    try:
+        return observer_tables(dz.DesignPlant(est_motor, est_lcl, s.T_sp), design)
+    except (ValueError, ArithmeticError, np.linalg.LinAlgError) as exc:
+        raise ParameterError(
+            f"{s.name}: the LCL observers' design failed: {exc}. It is designed from T_sp = "
+            f"{s.T_sp!r} s, lcl.L1, lcl.L2o, lcl.C1 x controller.C1_hat_ratio, "
+            "controller.L_s_hat, controller.R_s_hat and controller.Q (motor.n_p scales its "
+            "speed axis)") from None
 
 
 def drive_config(s: Scenario, tables=None) -> _ffi.DriveConfig:
@@ -258,6 +279,14 @@ class Result:
     scenario: Scenario
     data: np.ndarray  # rows x channels
     status: int
+    log_stride: int | None = None  # control samples per row (None: the scenario's)
+    samples: int | None = None  # control samples simulated (None: the scenario's n_steps)
+
+    def __post_init__(self) -> None:
+        if self.log_stride is None:
+            self.log_stride = self.scenario.log_stride
+        if self.samples is None:
+            self.samples = self.scenario.n_steps
 
     def __getitem__(self, name: str) -> np.ndarray:
         return self.data[:, CHANNELS.index(name)]
@@ -298,12 +327,99 @@ def _wrap_pi(x: float) -> float:
     return x - 2 * math.pi * math.floor((x + math.pi) / (2 * math.pi))
 
 
-def _describe(rc: int) -> str:
+# The C plant's field codes (smd_plant_field) and the controller's init
+# statuses (smd_status) as the scenario fields behind them: the C names
+# (T_sw, i_d0/i_q0, omega_c, k_p, w_max, ...) are the structs', not the user's.
+_WARM = ("warm_start", "w_M0", "load.T_ext", "load.T_brake", "load.k_fan", "motor.B",
+         "motor.psi_r", "motor.n_p")
+_PLANT_FIELDS: dict[int, tuple[str, ...]] = {
+    1: ("motor.R_s",), 2: ("motor.L_s",), 3: ("motor.psi_r",), 4: ("motor.n_p",),
+    5: ("motor.J",), 6: ("motor.B",), 7: ("lcl",), 8: ("lcl.L1",), 9: ("lcl.L2o",),
+    10: ("lcl.C1",), 11: ("inverter.u_dc",), 12: ("T_sp",), 13: ("inverter.pwm",),
+    14: ("inverter.t_dead",), 15: ("adc.gain",), 16: ("adc.offset",), 17: ("adc.gain_i1",),
+    18: ("adc.offset_i1",), 19: ("adc.noise",), 20: ("adc.bits",), 21: ("adc.full_scale",),
+    22: ("load.w_brake_eps",), 23: ("load.k_fan",), 24: ("w_M0",), 25: ("theta_r0",),
+    26: _WARM,  # the warm start's q current, T_L(0) / k_t
+    27: _WARM + ("motor.R_s", "motor.L_s", "lcl.L2o"),  # ... its capacitor voltage
+    28: _WARM + ("motor.R_s", "motor.L_s", "lcl.L2o", "lcl.C1"),  # ... its i_1
+    29: ("motor.R_s", "motor.L_s", "lcl.L1", "lcl.L2o", "lcl.C1"),
+}
+_SPEED_PI = ("controller.speed_bw", "controller.J_hat", "controller.psi_r_pi", "motor.n_p")
+_PLL = ("controller.k_theta", "controller.k_omega", "controller.k_a")
+_DRIVE_FIELDS: dict[int, tuple[str, ...]] = {
+    2: ("T_sp",), 3: ("controller.L_s_hat",), 4: ("controller.R_s_hat",),
+    5: ("controller.psi_r_hat",), 6: ("controller.lambda_min",), 7: ("controller.l",),
+    8: ("controller.w_c",), 9: ("controller.rho",), 10: _SPEED_PI + _PLL,
+    11: _SPEED_PI + _PLL, 12: ("controller.i_max", "controller.bw_rel", "controller.w_M_bp_min"),
+    13: ("controller.current", "controller.position", "controller.start", "controller.law",
+         "inverter.svm_limit"),
+    14: ("controller.l", "controller.lambda_min", "controller.rho", "controller.w_c",
+         "controller.w_M_max", "controller.Q", "T_sp") + _PLL,
+    15: ("controller.w_lpf", "T_sp"), 17: ("controller.speed_decimation",),
+    18: ("controller.w_hys",), 19: ("controller.w_M_max", "controller.w_hys", "motor.n_p", "T_sp"),
+    20: ("controller.t_dead_comp", "controller.i_dtc", "T_sp"), 21: ("controller.t_handover",),
+    23: ("controller.position", "lcl", "T_sp"),
+    24: ("controller.current", "controller.position", "controller.R_v", "lcl"),
+    25: ("controller.current_bw", "controller.k_p_i", "controller.k_i_i", "controller.L_dec",
+         "controller.R_v"),
+    26: ("controller.i_start", "controller.a_M_start", "controller.w_M_handover", "T_sp"),
+    27: ("controller.i_trip", "controller.u_dc_min_ratio", "controller.u_dc_max_ratio",
+         "controller.safe_state", "controller.t_lock", "controller.lock_ratio",
+         "controller.w_M_lock_min", "controller.w_M_if_enter", "inverter.u_dc"),
+}
+_PROFILES = ("w_M_ref", "load.T_ext", "load.T_brake", "i_d_ref", "i_q_ref", "i_d_sin_amp",
+             "i_d_sin_freq", "theta_r0", "w_M0")
+
+
+def plant_fields(code: int) -> tuple[str, ...]:
+    """The scenario fields behind the C plant's field code `code`."""
+    return _PLANT_FIELDS.get(code, ())
+
+
+def controller_fields(status: int) -> tuple[str, ...]:
+    """The scenario fields behind the controller's init status `status`
+    (none for the statuses of a step)."""
+    return _DRIVE_FIELDS.get(status, ())
+
+
+def _value(s: Scenario, name: str):
+    obj = s
+    for part in name.split("."):
+        obj = getattr(obj, part, None)
+    return obj
+
+
+def _with_values(s: Scenario, names: tuple[str, ...]) -> str:
+    out = []
+    for n in names:
+        v = _value(s, n)
+        out.append(n if v is None or dataclasses.is_dataclass(v) else f"{n} = {v!r}")
+    return ", ".join(out)
+
+
+def _describe(rc: int, s: Scenario) -> str:
+    """The engine's refusal `rc` in the scenario's fields."""
+    if rc in (1026, 1027, 1028):
+        i_q0 = _warm_i_q0(s)
+        k_t = s.motor.k_t
+        what = {1026: f"a q current of {i_q0:.4g} A (beyond +-1e5 A)",
+                1027: "a filter-capacitor voltage beyond +-1e5 V",
+                1028: "an inverter-side current beyond +-1e5 A"}[rc]
+        return (f"the warm start (warm_start = true) would need {what} to carry the load at "
+                f"t = 0: load torque {i_q0 * k_t:.4g} N m (load.T_ext + load.T_brake at t = 0, "
+                f"load.k_fan w_M0 |w_M0|, motor.B w_M0; w_M0 = {s.w_M0:.4g} rad/s) over the "
+                f"torque constant 1.5 motor.n_p motor.psi_r = {k_t:.4g} N m/A. Lower the load "
+                "or the speed at t = 0, check motor.psi_r and the [lcl] filter, or set "
+                "warm_start = false")
     if 1000 <= rc < 2000:
-        return f"plant parameter {_ffi.lib.smd_plant_field(rc - 1000).decode()} rejected"
+        return (f"the plant model refused {_with_values(s, plant_fields(rc - 1000))} "
+                f"(plant field code {rc - 1000})")
     if 2000 <= rc < 3000:
-        return f"controller rejected: {_ffi.status_str(rc - 2000)}"
-    return "a profile or the initial state is malformed (times must be non-decreasing)"
+        names = controller_fields(rc - 2000) or ("controller",)
+        return (f"the controller refused {_with_values(s, names)} (smd_status {rc - 2000}; "
+                "docs/parameters.md lists the codes)")
+    return (f"a profile or the initial state is malformed: {', '.join(_PROFILES)} must be "
+            "finite, with non-decreasing times")
 
 
 class Engine:
@@ -322,7 +438,7 @@ class Engine:
         rc = _ffi.lib.smd_engine_init(self._buf, ct.byref(self._pc), ct.byref(self._dc),
                                       ct.byref(self._pr), ct.byref(self._st))
         if rc != 0:
-            raise ParameterError(f"{s.name}: {_describe(rc)}")
+            raise ParameterError(f"{s.name}: {_describe(rc, s)}")
 
     def run(self, n: int, out: np.ndarray, row0: int, stride: int) -> int:
         ptr = out[row0:].ctypes.data_as(ct.POINTER(ct.c_double))
@@ -333,35 +449,81 @@ class Engine:
         _ffi.lib.smd_engine_run(self._buf, n, None, 1)
 
 
+#: Memory the log of one run may take by default (2 GiB), bytes.
+DEFAULT_LOG_BUDGET = 2 * 1024**3
+
+
+@dataclass(frozen=True)
+class LogPlan:
+    """How a run is logged: every `stride`-th control sample, `rows` rows of
+    `bytes` bytes in all, within `budget_bytes`; `decimated` when the budget
+    made the stride larger than the scenario's log_stride."""
+
+    stride: int
+    rows: int
+    bytes: int
+    budget_bytes: int
+    decimated: bool
+
+    def as_dict(self) -> dict:
+        return dataclasses.asdict(self)
+
+
+def log_plan(s: Scenario, budget: int = DEFAULT_LOG_BUDGET) -> LogPlan:
+    """The log of scenario `s` within `budget` bytes: the scenario's
+    log_stride, or the smallest multiple of it whose rows (len(CHANNELS)
+    float64 each) fit the budget."""
+    if isinstance(budget, bool) or not isinstance(budget, (int, float, np.integer,
+                                                           np.floating)):
+        raise ParameterError(f"log budget = {budget!r} is not a number of bytes")
+    row = len(CHANNELS) * 8
+    if not (math.isfinite(budget) and budget >= 2 * row):
+        raise ParameterError(f"log budget = {budget!r} B is outside its valid range "
+                             f"[{2 * row}, inf) B: two rows of the log ({row} B each)")
+    budget = int(budget)
+    n, stride = s.n_steps, s.log_stride
+    # ceil(n / (stride k)) <= max_rows  <=>  k >= n / (stride max_rows)
+    k = max(1, -(-n // (stride * (budget // row))))
+    rows = -(-n // (stride * k))
+    return LogPlan(stride * k, rows, rows * row, budget, k > 1)
+
+
 def simulate(
     s: Scenario,
     progress: Callable[[float], None] | None = None,
     chunk_seconds: float = 0.05,
     design=None,
+    log_budget: int = DEFAULT_LOG_BUDGET,
 ) -> Result:
     """Run scenario `s` to its duration; `progress(fraction)` after each
     chunk. `design` overrides the LCL observer's design choices
-    (:class:`smodrive.design.yao2022.ObserverDesignPars`)."""
+    (:class:`smodrive.design.yao2022.ObserverDesignPars`). The log takes at
+    most `log_budget` bytes: a longer one logs every k-th sample instead
+    (:func:`log_plan`; the stride is ``Result.log_stride``)."""
     eng = Engine(s, design)
-    n = s.n_steps
-    stride = s.log_stride
-    rows = math.ceil(n / stride)
-    out = np.zeros((rows, len(CHANNELS)), dtype=np.float64)
+    plan = log_plan(s, log_budget)
+    n, stride = s.n_steps, plan.stride
+    out = np.zeros((plan.rows, len(CHANNELS)), dtype=np.float64)
     chunk = max(stride, int(chunk_seconds / s.T_sp) // stride * stride)
     done, row = 0, 0
     while done < n:
         m = min(chunk, n - done)
-        row += eng.run(m, out, row, stride)
+        got = eng.run(m, out, row, stride)
+        _check_finite(s, out[row:row + got])  # one chunk at a time: no log-sized temporary
+        row += got
         done += m
         if progress is not None:
             progress(done / n)
     out = out[:row]
     status = int(np.max(out[:, -1])) if row else 0
-    bad = ~np.isfinite(out)
+    return Result(s, out, status, log_stride=stride, samples=n)
+
+
+def _check_finite(s: Scenario, rows: np.ndarray) -> None:
+    bad = ~np.isfinite(rows)
     if bad.any():
         first = int(np.argmax(bad.any(axis=1)))
         raise SimulationError(
-            f"{s.name}: non-finite values at t = {out[first, 0]:.6f} s "
+            f"{s.name}: non-finite values at t = {rows[first, 0]:.6f} s "
             f"in {[c for c, b in zip(CHANNELS, bad[first]) if b]}"
         )
-    return Result(s, out, status)

@@ -262,12 +262,22 @@ class ObserverDesignPars:
             if len(v) != n or not all(np.isfinite(v)) or max(abs(x) for x in v) >= 1.0:
                 raise ParameterError(
                     f"ObserverDesignPars.{name} = {v!r} must be {n} values inside the unit circle")
+        # p_L and p_u are placed through 2-column input matrices (rank 2): a
+        # pole may repeat at most twice (place); p_lin's has rank 4
+        for name in ("p_L", "p_u"):
+            v = getattr(self, name)
+            if max(list(v).count(x) for x in v) > 2:
+                raise ParameterError(
+                    f"ObserverDesignPars.{name} = {v!r}: a pole may repeat at most twice (the "
+                    "rank of the input matrix it is placed through)")
         for name in ("bw_rel_2", "bw_rel_3", "k_min"):
             v = getattr(self, name)
             if not (math.isfinite(v) and 0.0 < v < 1.0):
                 raise ParameterError(f"ObserverDesignPars.{name} = {v!r} must be in (0, 1)")
         if not 0.0 < self.phi < 1.0:
             raise ParameterError(f"ObserverDesignPars.phi = {self.phi!r} must be in (0, 1)")
+        if isinstance(self.n_delay_max, np.integer):
+            object.__setattr__(self, "n_delay_max", int(self.n_delay_max))
         if not (isinstance(self.n_delay_max, int) and self.n_delay_max >= 2):
             raise ParameterError(
                 f"ObserverDesignPars.n_delay_max = {self.n_delay_max!r} must be an integer >= 2")
@@ -476,7 +486,16 @@ def place(A: np.ndarray, B: np.ndarray, poles: Sequence[float]) -> np.ndarray:
     _, counts = np.unique(p, return_counts=True)
     if counts.max() > np.linalg.matrix_rank(B):
         raise ValueError(f"a pole is repeated more often than rank(B) = {np.linalg.matrix_rank(B)}")
-    return scipy.signal.place_poles(A, B, p, method="YT", maxiter=100, rtol=1e-10).gain_matrix
+    K = scipy.signal.place_poles(A, B, p, method="YT", maxiter=100, rtol=1e-10).gain_matrix
+    # an ill-conditioned pair can come back with other poles than asked for:
+    # 1e-3 is far above the round-off of a sound placement (about 1e-12) and
+    # far below the design poles' distance to the unit circle (>= 0.05)
+    got = np.sort_complex(np.linalg.eigvals(A - B @ K))
+    err = float(np.max(np.abs(got - np.sort_complex(p.astype(complex)))))
+    if not err <= 1e-3:
+        raise ValueError(f"the pole placement did not converge: the poles differ by {err:.3g} "
+                         "from the ones asked for")
+    return K
 
 
 @dataclass(frozen=True)
@@ -832,9 +851,15 @@ def design_point(plant: DesignPlant, w: float,
     """Full observer design at the electrical speed ``w`` (rad/s)."""
     design = design or ObserverDesignPars()
     G, H, F = rotor_frame_model(plant, w)
-    cf = canonical_form(G, F)
-    ss = sliding_surface(cf, design.p_L, design.p_u)
-    rm = reaching_mode(cf, ss)
+    try:
+        cf = canonical_form(G, F)
+        ss = sliding_surface(cf, design.p_L, design.p_u)
+        rm = reaching_mode(cf, ss)
+    except (ValueError, np.linalg.LinAlgError) as exc:
+        raise ParameterError(
+            f"the sliding-mode observer's design (ObserverDesignPars.p_L = {design.p_L!r}, "
+            f"p_u = {design.p_u!r}) failed at w = {w:g} rad/s for the plant with T_sp = "
+            f"{plant.T_sp!r} s: {exc}") from None
     f_e = abs(w) / (2.0 * math.pi)
     T = plant.T_sp
     k = max(emf_adaption_gain(f_e, design.phi, T), design.k_min)
@@ -846,7 +871,12 @@ def design_point(plant: DesignPlant, w: float,
             return design.n_delay_max
         return int(min(round(1.0 / (h * f_e * T)), design.n_delay_max))
 
-    lo = linear_observer(plant, w, design.p_lin)
+    try:
+        lo = linear_observer(plant, w, design.p_lin)
+    except (ValueError, np.linalg.LinAlgError) as exc:
+        raise ParameterError(
+            f"the linear observer's design (ObserverDesignPars.p_lin = {design.p_lin!r}) failed "
+            f"at w = {w:g} rad/s for the plant with T_sp = {plant.T_sp!r} s: {exc}") from None
     return ObserverMatrices(
         w=float(w), G=G, H=H, F=F, T_r=cf.T_r, B=cf.B, H_c=ss.H_c, D1=ss.D1, D2=ss.D2,
         Gamma_c=ss.Gamma_c, Gamma_1=ss.Gamma_1, Gamma_2=ss.Gamma_2,
