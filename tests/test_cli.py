@@ -17,7 +17,8 @@ from smodrive.scenario_io import load_scenario
 ROOT = Path(__file__).resolve().parents[1]
 SUMMARY_KEYS = {"name", "samples", "status", "speed_rpm_mean_last_20pct",
                 "speed_estimate_rpm_mean_last_20pct", "i_d_mean_last_20pct",
-                "i_q_mean_last_20pct", "theta_error_rms_deg_last_20pct", "log"}
+                "i_q_mean_last_20pct", "theta_error_rms_deg_last_20pct", "log",
+                "first_fault_t", "first_fault", "final_fault", "faults_expected"}
 
 
 def _run(src: Path, out: Path) -> dict:

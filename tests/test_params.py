@@ -90,7 +90,7 @@ def _build(cls, f, v):
 def test_every_section_has_numeric_fields_and_valid_defaults():
     # guards the parametrisation below against silently covering nothing
     assert len(NUMERIC) >= 40
-    assert len([f for _, _, f in NUMERIC if _is_optional(f)]) == 3  # k_p_i, k_i_i, L_dec
+    assert len([f for _, _, f in NUMERIC if _is_optional(f)]) == 4  # k_p_i, k_i_i, L_dec, i_trip
     for sec, cls in CLASSES.items():
         assert any(s == sec for s, _, _ in NUMERIC)
         cls()  # the defaults are valid

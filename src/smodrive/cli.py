@@ -277,6 +277,15 @@ def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
         plots.save(axes, out, _file_stem(s.name))
         prog.update(t_fig, completed=2)
     _say(_json(summary).rstrip())
+    f = r.faults
+    if f.t_first is not None:
+        what = ", ".join(summary["first_fault"])
+        if f.ends_in_fault and not s.faults_expected:
+            _fail(f"the run ends in a fault: {', '.join(summary['final_fault'])} (first fault: "
+                  f"{what} at t = {f.t_first:.6g} s); the outputs are in {out}. If the "
+                  "scenario tests this fault, set faults_expected = true in it", 1)
+        _say(f"faults: first {what} at t = {f.t_first:.6g} s"
+             + ("" if not f.ends_in_fault else " (expected by the scenario)"))
 
 
 def write_signals(path: Path, r, progress: Callable[[float], None] | None = None) -> None:
@@ -308,6 +317,8 @@ def run_summary(s, r, plan) -> dict[str, Any]:
         "i_q_mean_last_20pct": float(np.mean(last["i_q"])),
         "theta_error_rms_deg_last_20pct": float(np.degrees(np.sqrt(np.mean(
             last.theta_error ** 2)))),
+        **r.faults.as_dict(),
+        "faults_expected": bool(s.faults_expected),
         "log": plan.as_dict(),
     }
 

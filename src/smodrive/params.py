@@ -305,6 +305,24 @@ class ControllerCfg(_Validated):
     # modulator
     t_dead_comp: float = num(2e-6, 0.0, 1e-3, "s", "dead time compensated by the modulator")
     i_dtc: float = num(0.3, 0.0, 1e5, "A", "linear zone of the compensation", lo_open=True)
+    # protection, loss of lock, zero-speed crossing (smd_drive.h; assumed values)
+    i_trip: float | None = num(None, 0.0, 1e5, "A",
+                               "overcurrent trip, peak phase current (None: 2.5 i_max; 0: off)")
+    u_dc_min_ratio: float = num(0.5, 0.0, 1.0, "",
+                                "undervoltage trip, fraction of the inverter's u_dc (0: off)")
+    u_dc_max_ratio: float = num(1.5, 0.0, 100.0, "",
+                                "overvoltage trip, multiple of the inverter's u_dc (0: off)")
+    safe_state: str = choice("zero_vector", ("zero_vector", "pwm_off"),
+                             "what a fault applies (the plant models both as the zero vector)")
+    t_lock: float = num(0.02, 0.0, 100.0, "s",
+                        "loss of lock after this long implausible (sensorless; 0: off)")
+    lock_ratio: float = num(3.0, 1.0, 1e3, "", "EMF plausibility band [1/r, r] of |w| psi",
+                            lo_open=True)
+    w_M_lock_min: float = num(300.0 * RPM, 0.0, 1e6, "rad/s",
+                              "no EMF plausibility check below this speed (mechanical)")
+    w_M_if_enter: float = num(0.0, 0.0, 1e6, "rad/s",
+                              "sensorless below this speed returns to I/f, through zero "
+                              "(mechanical; 0: never; below w_M_handover)")
 
     def pi_gains(self, n_p: int) -> tuple[float, float]:
         """Speed PI gains in A per electrical rad/s: the loop
@@ -407,6 +425,8 @@ class Scenario(_Validated):
     i_d_sin_amp: float = num(0.0, 0.0, 1e4, "A", "sinusoid added to the i_d reference")
     i_d_sin_freq: float = num(0.0, 0.0, 1e7, "Hz", "its frequency")
     log_stride: int = num(1, 1, 10**6, "", "log every N samples", integer=True)
+    faults_expected: bool = flag(False, "a run that ends in a fault is what the scenario "
+                                        "tests (the CLI exits 0)")
     warm_start: bool = flag(True, "start in steady state: current and speed PI carry the load")
     motor: MotorPars = field(default_factory=MotorPars)
     lcl: LclFilterPars | None = None
@@ -497,6 +517,24 @@ class Scenario(_Validated):
             raise ParameterError(
                 f"controller.w_M_handover = {c.w_M_handover!r} is outside its valid range: "
                 f"w_M_handover n_p must be at most pi/T_sp = {nyq:g} rad/s")
+        if c.w_M_if_enter > 0.0:
+            if c.position == "encoder":
+                raise ParameterError(
+                    f"controller.w_M_if_enter = {c.w_M_if_enter!r}: the return to I/f through "
+                    "zero speed is for a sensorless position source; set it to 0 with the "
+                    "encoder")
+            if not c.w_M_if_enter < c.w_M_handover:
+                raise ParameterError(
+                    f"controller.w_M_if_enter = {c.w_M_if_enter!r} must be below "
+                    f"w_M_handover = {c.w_M_handover!r} (the hysteresis of the return to I/f)")
+        if 0.0 < c.u_dc_max_ratio <= c.u_dc_min_ratio:
+            raise ParameterError(
+                f"controller.u_dc_max_ratio = {c.u_dc_max_ratio!r} must exceed "
+                f"u_dc_min_ratio = {c.u_dc_min_ratio!r} (or be 0: off)")
+        if c.t_lock / T > 1e6:
+            raise ParameterError(
+                f"controller.t_lock = {c.t_lock!r} is too long: at most {1e6 * T:g} s "
+                f"at T_sp = {T:g} s")
         if c.position == "smdo_emf":
             if c.w_lpf >= nyq:
                 raise ParameterError(

@@ -83,6 +83,7 @@ CHANNEL_INFO: dict[str, tuple[str, str]] = {
     "lin_e_beta": ("V", "linear observer's EMF estimate, beta"),
     "phase": ("", "start-up phase: 0 forced (I/f), 1 encoder handover, 2 position source"),
     "status": ("", "controller status code of the step (smd_status)"),
+    "fault": ("", "controller fault word of the step (smd_drive_out.fault, FAULT_BITS)"),
 }
 if set(CHANNEL_INFO) != set(CHANNELS):
     raise ImportError("smodrive: channel descriptions out of date with the C engine")
@@ -254,6 +255,15 @@ def drive_config(s: Scenario, tables=None) -> _ffi.DriveConfig:
     c.svm_limit = 1 if s.inverter.svm_limit == "hexagon" else 0
     c.t_dead_comp = k.t_dead_comp
     c.i_dtc = k.i_dtc
+    c.i_trip = min(2.5 * k.i_max, 1e5) if k.i_trip is None else k.i_trip
+    c.u_dc_min = k.u_dc_min_ratio * s.inverter.u_dc
+    c.u_dc_max = k.u_dc_max_ratio * s.inverter.u_dc
+    c.safe_state = 1 if k.safe_state == "pwm_off" else 0
+    sensorless = k.position != "encoder"
+    c.lock_samples = int(round(k.t_lock / T)) if sensorless else 0
+    c.lock_ratio = k.lock_ratio
+    c.w_lock_min = k.w_M_lock_min * n_p
+    c.w_if_enter = k.w_M_if_enter * n_p
     return c
 
 
@@ -271,6 +281,39 @@ def profiles(s: Scenario) -> _ffi.Profiles:
 
 # --------------------------------------------------------------- results --
 
+#: bits of the controller's fault word (core/include/smodrive/smd_drive.h)
+FAULT_BITS = {"input": 1, "internal": 2, "overcurrent": 4, "undervoltage": 8,
+              "overvoltage": 16, "lost_lock": 32}
+#: the latched ones: the drive stays in its safe state until cleared
+LATCHED_FAULTS = ("overcurrent", "undervoltage", "overvoltage", "lost_lock")
+
+
+def fault_names(word: int) -> list[str]:
+    """The names of the bits set in a fault word."""
+    return [k for k, b in FAULT_BITS.items() if int(word) & b]
+
+
+@dataclass(frozen=True)
+class FaultReport:
+    """When the controller first reported a fault, with which bits, and the
+    fault word of the last sample (non-zero: the run ends in a fault)."""
+
+    t_first: float | None  # s; None: no fault
+    first: int
+    final: int
+
+    @property
+    def ends_in_fault(self) -> bool:
+        return self.final != 0
+
+    def as_dict(self) -> dict:
+        return {"first_fault_t": self.t_first, "first_fault": fault_names(self.first),
+                "final_fault": fault_names(self.final)}
+
+
+NO_FAULT = FaultReport(None, 0, 0)
+
+
 @dataclass
 class Result:
     """Logged signals of one run, by channel name (:data:`CHANNELS`; units
@@ -279,6 +322,7 @@ class Result:
     scenario: Scenario
     data: np.ndarray  # rows x channels
     status: int
+    faults: FaultReport = NO_FAULT
     log_stride: int | None = None  # control samples per row (None: the scenario's)
     samples: int | None = None  # control samples simulated (None: the scenario's n_steps)
 
@@ -444,6 +488,14 @@ class Engine:
         ptr = out[row0:].ctypes.data_as(ct.POINTER(ct.c_double))
         return int(_ffi.lib.smd_engine_run(self._buf, n, ptr, stride))
 
+    def faults(self) -> "FaultReport":
+        """The first fault of the run so far (time, cause) and the last
+        sample's fault word."""
+        first, now = ct.c_uint(0), ct.c_uint(0)
+        k = int(_ffi.lib.smd_engine_fault(self._buf, ct.byref(first), ct.byref(now)))
+        return FaultReport(None if k < 0 else k * self.scenario.T_sp, int(first.value),
+                           int(now.value))
+
     def run_nolog(self, n: int) -> None:
         """Run n samples without logging (benchmarks)."""
         _ffi.lib.smd_engine_run(self._buf, n, None, 1)
@@ -515,8 +567,8 @@ def simulate(
         if progress is not None:
             progress(done / n)
     out = out[:row]
-    status = int(np.max(out[:, -1])) if row else 0
-    return Result(s, out, status, log_stride=stride, samples=n)
+    status = int(np.max(out[:, CHANNELS.index("status")])) if row else 0
+    return Result(s, out, status, eng.faults(), log_stride=stride, samples=n)
 
 
 def _check_finite(s: Scenario, rows: np.ndarray) -> None:
