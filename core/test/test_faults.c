@@ -73,8 +73,15 @@ static void test_bad_inputs(void)
 {
     const smd_real bad[3] = {R(NAN), R(INFINITY), R(1e30)};
     int mode, field, kind, pass;
+    printf("    fault-injection table (NaN at sample 1000): status / samples back within "
+           "0.05 A of the undisturbed run\n      mode");
+    for (field = 0; field < N_FIELDS; field++) {
+        printf(" %10s", FIELD[field]);
+    }
+    printf("\n");
     for (mode = 0; mode < 5; mode++) {
         int worst_rec = 0;
+        int tab_st[N_FIELDS], tab_rec[N_FIELDS];
         for (pass = 0; pass < 2; pass++) {
             for (field = 0; field < N_FIELDS; field++) {
                 for (kind = 0; kind < 3; kind++) {
@@ -115,6 +122,9 @@ static void test_bad_inputs(void)
                         }
                         st = smd_drive_step(&p, &s, &in, &out);
                         (void)smd_drive_step(&p, &s2, &in2, &out2);
+                        if (pass == 0 && kind == 0 && inject) {
+                            tab_st[field] = (int)st;
+                        }
                         bad_duty += !duties_ok(out.d_abc);
                         if (inject) {
                             int reads = used(mode, field, c.speed_loop) &&
@@ -149,9 +159,17 @@ static void test_bad_inputs(void)
                                mode, FIELD[field], (double)bad[kind], late);
                     }
                     worst_rec = rec > worst_rec ? rec : worst_rec;
+                    if (pass == 0 && kind == 0) {
+                        tab_rec[field] = rec;
+                    }
                 }
             }
         }
+        printf("      %4d", mode);
+        for (field = 0; field < N_FIELDS; field++) {
+            printf("    %2d / %3d", tab_st[field], tab_rec[field]);
+        }
+        printf("\n");
         printf("    mode %d: back within 0.05 A of the undisturbed run at most %d samples "
                "after a bad input\n", mode, worst_rec);
     }
