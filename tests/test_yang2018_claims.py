@@ -19,6 +19,7 @@ import pytest
 from smodrive.analysis import metrics
 from smodrive.claims import Claim, write_claims
 from smodrive.scenarios import yang2018 as y
+from smodrive.scenarios.common import over_seeds
 from smodrive.simulate import simulate
 
 REQUIRED = [
@@ -32,9 +33,11 @@ REQUIRED = [
     "yang2018.fig6a.id_offset_A",
     "yang2018.fig6a.iq_error_A",
     "yang2018.fig6a.ripple_ratio",
+    "yang2018.fig6a.noise_ripple_ratio",
     "yang2018.fig6b.id_offset_A",
     "yang2018.fig6b.iq_error_A",
     "yang2018.fig6b.ripple_ratio",
+    "yang2018.fig6b.noise_ripple_ratio",
     "yang2018.fig7a.pos_error_deg",
     "yang2018.fig7a.pos_error_peak_deg",
     "yang2018.fig7b.pos_error_deg",
@@ -42,13 +45,12 @@ REQUIRED = [
     "yang2018.fig8.speed_dip_rpm",
     "yang2018.fig8.pos_error_peak_deg",
     "yang2018.fig9.pos_error_peak_deg",
-    "yang2018.fig9.speed_error_mean_rpm",
+    "yang2018.fig9.speed_error_rms_rpm",
 ]
 
 # Failing claims and why (each reason is checked below).
 KNOWN_FAILING = {
     "yang2018.fig1.sim_peak_gain_db_Lhat_2L_vs_eq14": "eq. (14) assumes the Euler plant",
-    "yang2018.fig6a.ripple_ratio": "ADC noise amplified by L_hat / T_sp",
     "yang2018.fig7b.pos_error_peak_deg": "ADC noise and dead time at 75 r/min",
     "yang2018.fig9.pos_error_peak_deg": "ADC noise and dead time at 150 r/min",
 }
@@ -140,7 +142,8 @@ def _ideal_inverter(s):
 
 def test_fig6a_ripple_is_adc_noise():
     """Without ADC noise and quantisation the robust DBPC with L_hat = 2 L has
-    no more ripple than with exact parameters plus 1.5x (the claim's bound)."""
+    little more ripple than with exact parameters (measured 1.17; 2.95 with
+    the noise): the ripple growth of Fig. 6(a) is the noise gain's."""
     L = y.MOTOR.L_s
     ex = simulate(_ideal_adc(y.fig56_scenario("ex", "robust")))
     mm = simulate(_ideal_adc(y.fig56_scenario("2L", "robust", L_s_hat=2 * L)))
@@ -150,16 +153,125 @@ def test_fig6a_ripple_is_adc_noise():
     assert r_mm / r_ex <= 1.5
 
 
-@pytest.mark.parametrize("scenario, cid", [
-    (lambda: y.fig7_scenario(75.0), "yang2018.fig7b.pos_error_peak_deg"),
-    (y.fig9_scenario, "yang2018.fig9.pos_error_peak_deg"),
+def _no_noise(s):
+    """The ADC noise off, its 12-bit quantisation kept."""
+    return s.replace(adc=dataclasses.replace(s.adc, noise=0.0))
+
+
+def _p90_peak(s, t0):
+    return over_seeds(s, y.peak_pos_error(t0, s.duration)).p90
+
+
+@pytest.mark.parametrize("scenario, t0, cid", [
+    (lambda: y.fig7_scenario(75.0), 0.5, "yang2018.fig7b.pos_error_peak_deg"),
+    (y.fig9_scenario, y.HANDOVER, "yang2018.fig9.pos_error_peak_deg"),
 ])
-def test_low_speed_peaks_are_adc_noise_and_dead_time(claims, scenario, cid):
+def test_low_speed_peaks_are_adc_noise_and_dead_time(claims, scenario, t0, cid):
     """With an ideal ADC and no dead time the low-speed peak position error
-    is inside the claims' 10 deg bound (and its quoted 1.1 deg)."""
+    is inside the claims' 10 deg bound (and its quoted 1.1 deg); with the
+    noise off and the quantisation kept, below the quoted 1.4 deg."""
     bound = claims[cid].tolerance
     assert bound == 10.0 and claims[cid].check == "max"
-    s = _ideal_inverter(_ideal_adc(scenario()))
+    peak = y.peak_pos_error(t0, scenario().duration)
+    assert peak(simulate(_ideal_inverter(_ideal_adc(scenario())))) <= min(bound, 1.1)
+    assert peak(simulate(_ideal_inverter(_no_noise(scenario())))) <= 1.45
+
+
+def test_fig7b_each_cause_alone_fails():
+    """At 75 r/min either cause alone exceeds the 10 deg bound (90th
+    percentile over the seeds): the dead time with the noise off (quoted
+    11.7 deg), the noise with the dead time off (quoted 13.0 deg)."""
+    s = y.fig7_scenario(75.0)
+    assert 10.0 < _p90_peak(_no_noise(s), 0.5) <= 12.5
+    assert 10.0 < _p90_peak(_ideal_inverter(s), 0.5) <= 14.0
+
+
+def test_fig9_peak_is_dead_time():
+    """In Fig. 9 the dead time dominates: with the noise off the peak stays
+    above the bound (quoted 19.1 deg), with the dead time off it is inside
+    (quoted 8.4 deg, 90th percentile)."""
+    s = y.fig9_scenario()
+    assert _p90_peak(_no_noise(s), y.HANDOVER) > 15.0
+    assert _p90_peak(_ideal_inverter(s), y.HANDOVER) <= 10.0
+
+
+# ------------------------------------------------- the wrong variants ----
+#
+# Each claim's criterion must reject the plausible wrong implementation:
+# the variant is measured the way the claim measures and judged by the
+# claim's own check.
+
+def test_fig2_euler_rotation_fails_both_claims():
+    """The forward-Euler rotation printed in (36) (gain 1.0133, phase
+    0.215 deg) fails both Fig. 2 claims, the exact rotation passes them."""
+    s = y.fig2_scenario()
+    G, w, i_q = y.fig2_measure(simulate(s))
+    s_e = s.replace(controller=dataclasses.replace(s.controller, smdo_euler=True))
+    G_e, w_e, i_q_e = y.fig2_measure(simulate(s_e))
+    assert all(c.passed for c in y.fig2_claims(G, w, i_q, G_e))
+    assert not any(c.passed for c in y.fig2_claims(G_e, w_e, i_q_e, G_e))
+
+
+def test_fig2_phase_follows_the_load():
+    """The expected phase R T i_q / (2 psi) is a prediction, not a fit: it
+    moves with the load, and without load the measured phase follows it to
+    0.005 deg (the claim's tolerance is 0.03 deg)."""
+    s = y.fig2_scenario().replace(load=y.LoadCfg())
+    G, w, i_q = y.fig2_measure(simulate(s))
+    gain, phase = y.fig2_expected(w, i_q)
+    assert abs(i_q) < 0.5 and abs(phase) < 0.01
+    assert abs(np.degrees(np.angle(G)) - phase) < 0.01
+    assert abs(abs(G) - gain) < 1e-4
+
+
+def test_fig7a_timing_errors_fail():
+    """The controller's angle one sample late (3.6 deg RMS), or eq. (44)
+    without the half-sample advance of errata E4 (1.8 deg), fails the
+    1500 r/min RMS claim."""
+    r = simulate(y.fig7_scenario(1500.0))
+    m = r.window(0.5, 1.0)
+    lag = metrics.rms(y.pos_error_lagged_deg(r, m, 1))
+    assert 3.3 < lag < 3.9
+    half = (r["theta_r"] - (r["theta_hat"] - 0.5 * r["w_hat"] * r.scenario.T_sp) + np.pi) \
+        % (2 * np.pi) - np.pi
+    for wrong in (lag, metrics.rms(np.degrees(half[m]))):
+        assert not y.SPECS.claim("yang2018.fig7a.pos_error_deg", wrong, lag_deg=lag).passed
+    right = metrics.rms(y.pos_error_lagged_deg(r, m, 0))
+    assert y.SPECS.claim("yang2018.fig7a.pos_error_deg", right, lag_deg=lag).passed
+
+
+def test_fig9_wrong_speed_paths_fail():
+    """The RMS claim rejects what the old mean criterion (|mean| <= 0.5 r/min)
+    cannot: eq. (45) on the angle without the low-pass (mean error still
+    small); and, like the mean, a single cycle slip (a 2 pi step of the angle
+    through the low-pass, about 90 r/min RMS over these windows)."""
+    s = y.fig9_scenario()
     r = simulate(s)
-    m = r.window(y.HANDOVER, s.duration)
-    assert np.max(np.abs(np.degrees(r.theta_error[m]))) <= min(bound, 1.1)
+    T, ctrl = s.T_sp, s.controller
+    ok = y.fig9_speed_claim(y.fig9_speed_error_rpm(r, r["w_hat"]), ctrl)
+    assert ok.passed
+    raw = np.concatenate([[0.0], np.diff(np.unwrap(r["theta_hat"])) / T])
+    dw = y.fig9_speed_error_rpm(r, raw)
+    assert abs(np.mean(dw)) < 0.5
+    assert not y.fig9_speed_claim(dw, ctrl).passed
+    # one slip of -2 pi in the steady interval at 1500 r/min, through the LPF
+    p = np.exp(-ctrl.w_lpf * T)
+    k0 = int(np.searchsorted(r.t, 1.0))
+    slip = np.zeros_like(r.t)
+    slip[k0:] = -2 * np.pi / T * (1 - p) * p ** np.arange(len(r.t) - k0)
+    dw = y.fig9_speed_error_rpm(r, r["w_hat"] + slip)
+    assert 60.0 < metrics.rms(dw) < 120.0
+    assert not y.fig9_speed_claim(dw, ctrl).passed
+
+
+def test_fig6_noise_ratio_rejects_loop_without_smdo():
+    """The noise-ripple claim rejects the conventional DBPC in its place
+    (the same L_hat, no SMDO: ratio 4 or more with L_hat = 2 L) and the
+    open-loop 2x."""
+    st = y.noise_ripple_ratios(2.0, mode="conventional")
+    g = y.robust_dbpc_noise_gain
+    expected = g(2 * y.MOTOR.L_s) / g(y.MOTOR.L_s)
+    kw = dict(expected=expected, letter="a", ratio=2.0, n_seeds=len(st), worst=st.worst,
+              noise_mA=0.5, scenario_ratio=3.0)
+    assert not y.SPECS.claim("yang2018.fig6{letter}.noise_ripple_ratio", st.median, **kw).passed
+    assert not y.SPECS.claim("yang2018.fig6{letter}.noise_ripple_ratio", 2.0, **kw).passed

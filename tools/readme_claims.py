@@ -24,14 +24,20 @@ SHORT = {
     "yang2018.fig6a.ripple_ratio": "ADC noise through the gain L_hat/T_sp",
     "yang2018.fig7b.pos_error_peak_deg": "ADC noise and dead time at 75 r/min",
     "yang2018.fig9.pos_error_peak_deg": "ADC noise and dead time at 150 r/min",
-    **{f"yao2022.table5.ripple_rpm_{law}_{t}": "PLL filters the chattering; noise dominates"
+    **{f"yao2022.table5.ripple_rpm_{law}_{t}": "the PLL (50) cannot pass such ripple (errata Y12)"
        for law in ("baseline", "proposed") for t in ("30k", "60k", "100k")},
     "yao2022.table5.ripple_reduction_100k": "ripple set by noise (the 2 f_e / 3 f_e lines: next "
                                             "claim)",
-    "yao2022.fig10.pos_error_rad_100k": "ADC gain error vs 30 A",
-    "yao2022.fig14.pos_error_peak_rad": "ADC noise at 5-10 kr/min",
-    "yao2022.fig22.reversal_pos_error_peak_rad": "ADC noise at 3-4 kr/min",
+    "yao2022.fig10.pos_error_vs_paper_rad_30k": "paper's error falls as 1/speed: a voltage error "
+                                                "the simulation lacks",
+    "yao2022.fig14.pos_error_peak_rad": "PLL takes up the assumed ramp slowly",
+    "yao2022.fig14.pos_error_peak_rad_adc": "ADC noise at 5-10 kr/min",
+    "yao2022.fig14.end_speed_rpm": "inverter voltage limit",
+    "yao2022.fig22.reversal_pos_error_peak_rad": "lost lock at zero speed (6 of 10 seeds stop)",
+    "yao2022.fig22.crossing_pos_error_peak_rad": "no back EMF within +-3 kr/min",
     "yao2022.fig23.linear_observer_stable": "linear observer keeps its poles",
+    "yao2022.fig23.smo_stable": "capacitance error biases the angle by 0.105 rad",
+    "yao2022.fig4.comp_error_ratio_18_over_17": "periodic disturbance is the 2 f_e line alone",
     "yao2022.table6.cycles_observer": "full model interpolation every sample (1,292 cycles)",
     "yao2022.table6.cycles_reaching_law": "sin/cos and band-pass coefficient updates",
     "yao2022.table6.cycles_pll": "atan2 of the position error (102 cycles)",
