@@ -25,6 +25,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import numbers
+import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -251,26 +252,33 @@ class ControllerCfg(_Validated):
                         "running: the source from t = 0; handover: encoder for t_handover "
                         "first; if: I/f forced start up to w_M_handover")
     # model estimates
-    L_s_hat: float = num(23.45e-3, 0.0, 10.0, "H", "inductance estimate", lo_open=True)
-    R_s_hat: float = num(2.25, 0.0, 1e3, "ohm", "resistance estimate")
-    psi_r_hat: float = num(0.4, 0.0, 100.0, "Wb", "PM flux estimate (DBPC, EMF feed-forward)")
+    L_s_hat: float | None = num(None, 0.0, 10.0, "H", "inductance estimate (None: motor.L_s)",
+                                lo_open=True)
+    R_s_hat: float | None = num(None, 0.0, 1e3, "ohm", "resistance estimate (None: motor.R_s)")
+    psi_r_hat: float | None = num(None, 0.0, 100.0, "Wb",
+                                  "PM flux estimate (DBPC, EMF feed-forward; None: motor.psi_r)")
     # SMDO, yang2018 eq. (34)-(39)
-    lambda_min: float = num(800.0, 0.0, 1e7, "A/s", "SMDO lambda_min, eq. (37)")
+    lambda_min: float | None = num(None, 0.0, 1e7, "A/s",
+                                   "SMDO lambda_min, eq. (37) (None: 800 A/s x (E_N / L_s) / "
+                                   "(E_N / L_s of Table I), E_N = n_p w_M_N psi_r)")
     l: float = num(1200.0, 0.0, 1e7, "1/s", "SMDO proportional gain l, eq. (21)", lo_open=True)
     w_c: float = num(1500.0, 0.0, 1e7, "rad/s", "SMDO filter gain omega_c, eq. (19)", lo_open=True)
-    rho: float = num(0.2, 0.0, 1e3, "A", "SMDO smoothing rho, eq. (39)", lo_open=True)
+    rho: float | None = num(None, 0.0, 1e3, "A", "SMDO smoothing rho, eq. (39) (None: 0.2 A x "
+                            "the same ratio, so lambda_min / rho stays 4000 1/s)", lo_open=True)
     smdo_euler: bool = flag(False, "eq. (36) as printed (forward-Euler rotation)")
     # position from the disturbance, eq. (44)-(45)
     w_lpf: float = num(100.0, 0.0, 1e6, "rad/s", "sensorless speed LPF bandwidth (assumed)",
                        lo_open=True)
     w_hys: float = num(5.0, 0.0, 1e5, "rad/s", "direction hysteresis (electrical)")
-    w_M_max: float = num(3000.0 * RPM, 0.0, 1e5, "rad/s",
-                         "sensorless speed-estimate limit (mechanical)", lo_open=True)
+    w_M_max: float | None = num(None, 0.0, 1e5, "rad/s",
+                                "sensorless speed-estimate limit (mechanical; None: 2 w_M_N, "
+                                "within the SMDO filter's stable range)", lo_open=True)
     # current PI (current = "pi")
     current_bw: float = num(2500.0, 0.0, 1e6, "rad/s",
                             "current-loop bandwidth: k_p_i = bw L, k_i_i = bw R (assumed)",
                             lo_open=True)
-    k_p_i: float | None = num(None, 0.0, 1e4, "V/A", "current PI gain (None: current_bw L_s_hat)")
+    k_p_i: float | None = num(None, 0.0, 1e4, "V/A", "current PI gain (None: current_bw L_s_hat; "
+                              "with the filter current_bw (L1 + L2o + L_s_hat))")
     k_i_i: float | None = num(None, 0.0, 1e9, "V/(A s)",
                               "current PI integral gain (None: current_bw R_s_hat)")
     L_dec: float | None = num(None, 0.0, 10.0, "H",
@@ -280,9 +288,13 @@ class ControllerCfg(_Validated):
     # speed loop
     speed_loop: bool = flag(True, "i_q reference from the speed PI (else from i_q_ref)")
     speed_bw: float = num(60.0, 0.0, 1e4, "rad/s", "speed-loop bandwidth (assumed)", lo_open=True)
-    J_hat: float = num(0.012, 1e-9, 1e4, "kg m^2", "inertia used to tune the speed PI")
-    psi_r_pi: float = num(0.4, 0.0, 100.0, "Wb", "flux used to tune the speed PI", lo_open=True)
-    i_max: float = num(15.0, 0.0, 1e5, "A", "current-reference limit (assumed)", lo_open=True)
+    J_hat: float | None = num(None, 1e-9, 1e4, "kg m^2",
+                              "inertia used to tune the speed PI (None: motor.J)")
+    psi_r_pi: float | None = num(None, 0.0, 100.0, "Wb",
+                                 "flux used to tune the speed PI (None: motor.psi_r)", lo_open=True)
+    i_max: float | None = num(None, 0.0, 1e5, "A",
+                              "current-reference limit (None: 15 A x I_N / (I_N of Table I), "
+                              "I_N = T_N / k_t; at most 0.9 adc.full_scale)", lo_open=True)
     speed_decimation: int = num(1, 1, 1000, "", "speed loop runs every N samples", integer=True)
     # PLL, yao2022 eq. (48), (50)
     k_theta: float = num(0.1, 0.0, 2.0, "", "PLL, eq. (50)")
@@ -297,14 +309,18 @@ class ControllerCfg(_Validated):
                             "band-pass suppression above this speed (mechanical, assumed)")
     # start
     t_handover: float = num(0.0, 0.0, 1e3, "s", "handover: time run on the encoder first")
-    i_start: float = num(10.0, 0.0, 1e5, "A", "I/f start current (assumed)")
-    a_M_start: float = num(3000.0 * RPM, 0.0, 1e8, "rad/s^2",
-                           "I/f acceleration (mechanical, assumed)")
-    w_M_handover: float = num(150.0 * RPM, 0.0, 1e6, "rad/s",
-                              "I/f: speed of the handover (mechanical, assumed)")
+    i_start: float | None = num(None, 0.0, 1e5, "A",
+                                "I/f start current (None: 10 A x I_N / (I_N of Table I), at "
+                                "most i_max)")
+    a_M_start: float | None = num(None, 0.0, 1e8, "rad/s^2",
+                                  "I/f acceleration (mechanical; None: 3000 r/min/s x (T_N / J) "
+                                  "/ (T_N / J of Table I))")
+    w_M_handover: float | None = num(None, 0.0, 1e6, "rad/s",
+                                     "I/f: speed of the handover (mechanical; None: 0.1 w_M_N)")
     # modulator
     t_dead_comp: float = num(2e-6, 0.0, 1e-3, "s", "dead time compensated by the modulator")
-    i_dtc: float = num(0.3, 0.0, 1e5, "A", "linear zone of the compensation", lo_open=True)
+    i_dtc: float | None = num(None, 0.0, 1e5, "A", "linear zone of the compensation (None: "
+                              "0.3 A x I_N / (I_N of Table I))", lo_open=True)
     # protection, loss of lock, zero-speed crossing (smd_drive.h; assumed values)
     i_trip: float | None = num(None, 0.0, 1e5, "A",
                                "overcurrent trip, peak phase current (None: 2.5 i_max; 0: off)")
@@ -323,11 +339,22 @@ class ControllerCfg(_Validated):
     w_M_if_enter: float = num(0.0, 0.0, 1e6, "rad/s",
                               "sensorless below this speed returns to I/f, through zero "
                               "(mechanical; 0: never; below w_M_handover)")
+    # record of the design from the motor (not a parameter)
+    derived: tuple = field(default=(), compare=False, repr=False, metadata={"internal": True})
+
+    def _need(self, *names: str) -> None:
+        """A derived field used before a Scenario resolved it is named."""
+        for n in names:
+            if getattr(self, n) is None:
+                raise ParameterError(
+                    f"controller.{n} is unset: it is derived from the motor when the "
+                    "ControllerCfg is part of a Scenario (Scenario(...).controller), or set it")
 
     def pi_gains(self, n_p: int) -> tuple[float, float]:
         """Speed PI gains in A per electrical rad/s: the loop
         b / s with b = 1.5 n_p^2 psi / J closed by k_p + k_i / s has the
         characteristic polynomial s^2 + b k_p s + b k_i; both roots at -speed_bw."""
+        self._need("psi_r_pi", "J_hat")
         b = 1.5 * n_p**2 * self.psi_r_pi / self.J_hat
         if not (math.isfinite(b) and b > 0.0):
             raise ParameterError(
@@ -338,6 +365,10 @@ class ControllerCfg(_Validated):
     def current_pi_gains(self) -> tuple[float, float]:
         """(k_p_i, k_i_i): the set values, or the internal-model design
         k_p = bw L_s_hat, k_i = bw R_s_hat (the PI zero cancels the R/L pole)."""
+        if self.k_p_i is None:
+            self._need("L_s_hat")
+        if self.k_i_i is None:
+            self._need("R_s_hat")
         k_p = self.current_bw * self.L_s_hat if self.k_p_i is None else self.k_p_i
         k_i = self.current_bw * self.R_s_hat if self.k_i_i is None else self.k_i_i
         return k_p, k_i
@@ -447,6 +478,13 @@ class Scenario(_Validated):
         super().__post_init__()
         if self.lcl is not None and not isinstance(self.lcl, LclFilterPars):
             raise ParameterError(f"scenario.lcl = {self.lcl!r} is not an LclFilterPars or None")
+        # the controller's motor-specific values the user left unset, derived
+        # from the motor (smodrive.design.from_motor; the record: controller.derived)
+        from .design import from_motor
+
+        object.__setattr__(self, "controller", from_motor.resolve(
+            self.controller, self.motor, T_sp=self.T_sp, lcl=self.lcl,
+            adc_full_scale=self.adc.full_scale))
         # plant limits that depend on more than one field
         if self.inverter.t_dead > 0.25 * self.T_sp:
             raise ParameterError(
@@ -469,6 +507,11 @@ class Scenario(_Validated):
         simulation, not for plant-only use."""
         T, c = self.T_sp, self.controller
         nyq = math.pi / T
+        from .design import from_motor
+
+        for msg in from_motor.override_warnings(c, self.motor, T_sp=T, lcl=self.lcl,
+                                                adc_full_scale=self.adc.full_scale):
+            warnings.warn(f"{self.name}: {msg}", UserWarning, stacklevel=2)
         lcl_src = c.position in ("lcl_smo_pll", "lcl_linear")
         if lcl_src and self.lcl is None:
             raise ParameterError(
