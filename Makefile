@@ -31,11 +31,13 @@ reproduce: $(STAMP) toolchain
 toolchain:
 	@command -v arm-none-eabi-gcc >/dev/null 2>&1 && command -v qemu-system-arm >/dev/null 2>&1 && \
 	 command -v clang >/dev/null 2>&1 && command -v cppcheck >/dev/null 2>&1 && \
+	 command -v valgrind >/dev/null 2>&1 && \
 	 ls "$$(clang -print-resource-dir)"/lib/linux/libclang_rt.fuzzer-*.a >/dev/null 2>&1 || { \
-	  echo "installing from Debian: the Cortex-M4F cross compiler and emulator (gcc-arm-none-eabi, qemu-system-arm), clang with libFuzzer and the sanitizers (clang, libclang-rt-dev), cppcheck"; \
+	  echo "installing from Debian: the Cortex-M4F cross compiler and emulator (gcc-arm-none-eabi, qemu-system-arm), clang with libFuzzer and the sanitizers (clang, libclang-rt-dev), cppcheck, valgrind (the C tests' memcheck)"; \
 	  $(SUDO) apt-get update -qq && \
 	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
-	    gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm clang libclang-rt-dev cppcheck >/dev/null; }
+	    gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm clang libclang-rt-dev cppcheck \
+	    valgrind >/dev/null; }
 
 ctest: toolchain
 	cmake -S . -B build/ctest -DSMD_BUILD_TESTS=ON -DSMD_BUILD_PYLIB=OFF -DCMAKE_BUILD_TYPE=Release >/dev/null
@@ -63,6 +65,19 @@ dev: $(STAMP)
 	cmake --build build/dev -j 2
 	cp build/dev/libsmodrive.so src/smodrive/.libsmodrive.so.tmp
 	mv src/smodrive/.libsmodrive.so.tmp src/smodrive/libsmodrive.so  # atomic: running tests keep the old one
+
+# The documentation site (Sphinx: docs/, the API reference from the
+# docstrings, the parameter reference from the dataclass metadata, the
+# gallery of examples/) into build/docs; its tools are the extra `docs`.
+DOCS_STAMP := $(VENV)/.docs-installed
+$(DOCS_STAMP): $(STAMP)
+	$(BIN)/python -m pip install -q ".[docs]"
+	@touch $(DOCS_STAMP)
+
+.PHONY: docs
+docs: $(DOCS_STAMP)
+	$(BIN)/python -m sphinx -b html -q docs build/docs
+	@echo "documentation: build/docs/index.html"
 
 bench: $(STAMP) toolchain
 	$(BIN)/python benchmarks/bench_engine.py
