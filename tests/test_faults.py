@@ -112,7 +112,7 @@ def test_lcl_observer_reverses_through_zero_on_if():
     the run ends at -30 kr/min within 1 %."""
     from smodrive.scenarios import yao2022
 
-    s = yao2022.fig22_scenario().with_controller(
+    s = yao2022.fig22_protected_scenario().with_controller(
         w_M_if_enter=1500 * RPM, w_M_handover=3000 * RPM, a_M_start=60e3 * RPM, i_start=30.0)
     r = simulate(s)
     assert r.faults.t_first is None

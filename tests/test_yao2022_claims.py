@@ -47,7 +47,7 @@ KNOWN_FAILING = {
     "yao2022.fig10.pos_error_vs_paper_rad_30k": "the paper's error falls as 1/speed: a voltage "
                                                 "error the simulation does not have",
     "yao2022.fig14.pos_error_peak_rad_adc": "ADC noise at 5-10 kr/min after the handover",
-    "yao2022.fig22.reversal_pos_error_peak_rad": "lost lock at zero speed in 6 of 10 seeds",
+    "yao2022.fig22.reversal_pos_error_peak_rad": "ADC noise just outside the crossing",
     "yao2022.fig22.crossing_pos_error_peak_rad": "no back EMF within +-3 kr/min",
     "yao2022.fig23.linear_observer_stable": "the linear observer keeps its designed poles",
     "yao2022.fig23.smo_stable": "the capacitance error biases the angle by 0.105 rad",
@@ -215,12 +215,16 @@ def test_fig14_voltage_limit_at_100krpm():
 
 
 def test_fig22_reasons():
-    """Seed 0 (one of those that stop): the loss of lock is declared at the
-    crossing and the drive ends in its safe state near zero speed; seed 1
-    gets through and its error outside the crossing, ADC noise, falls
-    inside the bound without the noise."""
+    """Seed 0: the paper's drive (no loss-of-lock protection) gets through the
+    crossing; with smodrive's protection the loss of lock is declared in the
+    crossing and the drive ends in its safe state near zero speed. Without
+    the noise the error outside the crossing falls inside the bound."""
     s = y.fig22_scenario()
-    r0 = simulate(s.replace(adc=dataclasses.replace(s.adc, seed=0)))
+    assert s.controller.t_lock == 0.0 and y.fig22_protected_scenario().controller.t_lock > 0
+    seed0 = dataclasses.replace(s.adc, seed=0)
+    r_paper = simulate(s.replace(adc=seed0))
+    assert y.crossing(r_paper)[1] and r_paper.faults.t_first is None
+    r0 = simulate(y.fig22_protected_scenario().replace(adc=seed0))
     band, done = y.crossing(r0)
     assert not done and "lost_lock" in r0.faults.as_dict()["first_fault"]
     assert 1.0 < r0.faults.t_first < 1.4 and abs(y.end_speed_rpm(r0)) < 100
