@@ -27,7 +27,7 @@ Example
 from __future__ import annotations
 
 import dataclasses
-import json
+import numbers
 import re
 try:
     import tomllib
@@ -36,6 +36,8 @@ except ModuleNotFoundError:  # Python 3.10: the same parser as a package
 import warnings
 from pathlib import Path
 from typing import Any
+
+import tomli_w
 
 from .params import (RPM, AdcCfg, ControllerCfg, InverterCfg, LclFilterPars, LoadCfg, MotorPars,
                      ParameterError, Profile, Scenario, yang2018_mode)
@@ -315,34 +317,50 @@ def load_scenario(path: str | Path) -> Scenario:
     return s
 
 
-def _val(v: Any) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, str):
-        # a JSON string is a TOML basic string, but for DEL, which TOML escapes
-        return json.dumps(v, ensure_ascii=False).replace("\x7f", "\\u007f")
-    if isinstance(v, tuple):
-        return "[" + ", ".join(_val(x) for x in v) + "]"
+def _plain(v: Any) -> Any:
+    """A field value as tomli-w writes it: a profile as a table {t, y}, tuples
+    as arrays, NumPy scalars as Python numbers (floats keep their repr, so a
+    value round-trips exactly)."""
     if isinstance(v, Profile):
-        return "{ t = " + _val(v.t) + ", y = " + _val(v.y) + " }"
-    return repr(v)
+        return {"t": _plain(v.t), "y": _plain(v.y)}
+    if isinstance(v, (tuple, list)):
+        return [_plain(x) for x in v]
+    if isinstance(v, (bool, str)):
+        return v
+    if isinstance(v, numbers.Integral):
+        return int(v)
+    if isinstance(v, numbers.Real):
+        return float(v)
+    return v
+
+
+def scenario_dict(s: Scenario) -> dict[str, Any]:
+    """A scenario as the nested dict its TOML holds (the inverse of
+    :func:`scenario_from_dict`; optional fields left at None, "derived", are
+    omitted, as is an absent [lcl] section)."""
+    out: dict[str, Any] = {}
+    for f in dataclasses.fields(s):
+        v = getattr(s, f.name)
+        if f.name in SECTIONS:
+            if v is not None:
+                # controller values derived from the motor are left out: the
+                # file derives them again from its [motor] (smodrive design)
+                derived = {n for n, _, _ in getattr(v, "derived", ())}
+                out[f.name] = {g.name: _plain(getattr(v, g.name)) for g in dataclasses.fields(v)
+                               if getattr(v, g.name) is not None and g.name not in derived
+                               and not g.metadata.get("internal")}
+        elif v is not None and not f.metadata.get("internal"):
+            out[f.name] = _plain(v)
+    return out
 
 
 def scenario_to_toml(s: Scenario) -> str:
-    """Serialise a scenario to TOML (round-trips through load_scenario;
-    optional fields left at None, "derived", are omitted)."""
-    lines = []
-    for f in dataclasses.fields(s):
-        v = getattr(s, f.name)
-        if f.name not in SECTIONS:
-            lines.append(f"{f.name} = {_val(v)}")
-    for sec in SECTIONS:
-        obj = getattr(s, sec)
-        if obj is None:
-            continue
-        lines.append(f"\n[{sec}]")
-        for f in dataclasses.fields(obj):
-            v = getattr(obj, f.name)
-            if v is not None:
-                lines.append(f"{f.name} = {_val(v)}")
-    return "\n".join(lines) + "\n"
+    """Serialise a scenario to TOML with tomli-w (round-trips through
+    load_scenario; optional fields left at None, "derived", are omitted).
+
+    >>> from smodrive.params import Scenario
+    >>> text = scenario_to_toml(Scenario(duration=0.5))
+    >>> scenario_from_dict(tomllib.loads(text)) == Scenario(duration=0.5)
+    True
+    """
+    return tomli_w.dumps(scenario_dict(s))
