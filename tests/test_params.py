@@ -90,7 +90,9 @@ def _build(cls, f, v):
 def test_every_section_has_numeric_fields_and_valid_defaults():
     # guards the parametrisation below against silently covering nothing
     assert len(NUMERIC) >= 40
-    assert len([f for _, _, f in NUMERIC if _is_optional(f)]) == 4  # k_p_i, k_i_i, L_dec, i_trip
+    # k_p_i, k_i_i, L_dec, i_trip and the 13 derived from the motor
+    # (smodrive.design.from_motor.DERIVED_FIELDS less k_p_i, k_i_i)
+    assert len([f for _, _, f in NUMERIC if _is_optional(f)]) == 17
     for sec, cls in CLASSES.items():
         assert any(s == sec for s, _, _ in NUMERIC)
         cls()  # the defaults are valid
@@ -392,6 +394,8 @@ def profiles(draw, nonnegative: bool = False):
 def instances(draw, cls):
     kw = {}
     for f in dataclasses.fields(cls):
+        if f.metadata.get("internal"):
+            continue  # a record the code keeps (ControllerCfg.derived)
         if f.name == "lcl":
             kw[f.name] = draw(st.one_of(st.none(), instances(LclFilterPars)))
         elif f.name in CLASSES:
@@ -576,8 +580,9 @@ def test_mode_shorthand_expands_to_the_parts(mode, parts):
         c = s.controller
         assert (c.current, c.position, c.start) == parts
         assert c.t_handover == 0.1  # the other keys still apply
-        assert c == ControllerCfg(current=parts[0], position=parts[1], start=parts[2],
-                                  t_handover=0.1)
+        # the rest is the defaults, derived from the (default) motor
+        assert c == Scenario(controller=ControllerCfg(
+            current=parts[0], position=parts[1], start=parts[2], t_handover=0.1)).controller
     assert yang2018_mode(mode) == dict(zip(("current", "position", "start"), parts))
 
 
@@ -876,7 +881,8 @@ def test_unknown_key_names_the_known_ones(sec):
     msg = str(ei.value)
     assert msg.startswith(f"{sec}.bogus_key: unknown parameter (known: ")
     known = msg.split("(known: ", 1)[1].rstrip(")").split(", ")
-    fields = {f.name for f in dataclasses.fields(cls)} - set(CLASSES)
+    fields = {f.name for f in dataclasses.fields(cls)
+              if not f.metadata.get("internal")} - set(CLASSES)
     profiles = {f.name for f in dataclasses.fields(cls)
                 if isinstance(getattr(cls(), f.name), Profile)}
     top = {"base"} if sec == "scenario" else set()  # the catalogue scenario to start from

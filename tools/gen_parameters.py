@@ -207,7 +207,8 @@ def _differs(obj: Any, cls: type) -> bool:
         return False  # the filter section of a preset without a filter
     dflt = cls()
     return any(_cell_value(obj, cls._section, f, getattr(dflt, f.name))
-               for f in dataclasses.fields(cls) if f.name != "name")
+               for f in dataclasses.fields(cls)
+               if f.name != "name" and not f.metadata.get("internal"))
 
 
 def table(cls: type) -> str:
@@ -222,6 +223,9 @@ def table(cls: type) -> str:
     lines = [NOTE, "", "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     fields = {f.name: f for f in dataclasses.fields(cls)}
     for title, names in field_groups(cls):
+        names = [n for n in names if not fields[n].metadata.get("internal")]
+        if not names:
+            continue  # a record the code keeps (ControllerCfg.derived), no parameter
         if title:
             lines.append(f"| **{cell(title)}** |" + " |" * (len(head) - 1))
         for n in names:

@@ -39,6 +39,7 @@ from typing import Any
 
 import tomli_w
 
+from .design import from_motor
 from .params import (RPM, AdcCfg, ControllerCfg, InverterCfg, LclFilterPars, LoadCfg, MotorPars,
                      ParameterError, Profile, Scenario, yang2018_mode)
 
@@ -95,7 +96,8 @@ def _unit_forms(cls: type) -> dict[str, tuple[str, float]]:
 
 
 def _kwargs(cls: type, section: str, data: dict[str, Any]) -> dict[str, Any]:
-    names = {f.name for f in dataclasses.fields(cls)} - set(SECTIONS)
+    names = {f.name for f in dataclasses.fields(cls)
+             if not f.metadata.get("internal")} - set(SECTIONS)
     profiles = _profile_fields(cls)
     units = _unit_forms(cls)
     kwargs: dict[str, Any] = {}
@@ -282,12 +284,19 @@ def _scenario_from_dict(data: dict[str, Any]) -> Scenario:
     built: dict[str, Any] = {}
     for key, value in sections.items():
         if key == "controller":
-            built[key] = _controller(value, base.controller)
             continue
         current = getattr(base, key)
         if current is None:  # the filter section of a base without one
             current = SECTIONS[key]()
         built[key] = dataclasses.replace(current, **_kwargs(SECTIONS[key], key, value))
+    base_ctrl = base.controller
+    if kind != "lcl" and "motor" in built and built["motor"] != base.motor:
+        # another machine than the base's: the base's motor-specific
+        # controller values (a preset's estimates, gains and limits) are
+        # derived anew from it, unless [controller] sets them (a file of the
+        # older LCL schema keeps the preset's, as that drive did)
+        base_ctrl = from_motor.unset(base_ctrl)
+    built["controller"] = _controller(sections.get("controller", {}), base_ctrl)
     return dataclasses.replace(base, **_kwargs(Scenario, "scenario", top), **built)
 
 

@@ -126,7 +126,7 @@ def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any =
         # |1 - w_c T + j w_max T| < 1 (filter (36)) and w_max <= pi / T
         a = 1.0 - c.w_c * T_sp
         bound = min(math.sqrt(max(1.0 - a * a, 0.0)) / T_sp, math.pi / T_sp) / m.n_p
-        if v > W_MAX_MARGIN * bound:
+        if 0.0 < W_MAX_MARGIN * bound < v:  # (w_c T >= 1: check_controller names w_c)
             return W_MAX_MARGIN * bound, (f"2 w_M_N, limited to {W_MAX_MARGIN:g} of the speed "
                                           "the SMDO filter (36) is stable at (w_c, T_sp)")
         return v, "2 w_M_N (twice rated speed)"
@@ -190,6 +190,7 @@ def resolve(c: ControllerCfg, m: MotorPars, *, T_sp: float, lcl: Any = None,
         else:
             new, src = derive(name, m, c, T_sp=T_sp, lcl=lcl, adc_full_scale=adc_full_scale,
                               resolved=out)
+            new, src = _within_range(name, new, src)
         out[name] = new
         record.append((name, new, src))
     try:
@@ -201,6 +202,20 @@ def resolve(c: ControllerCfg, m: MotorPars, *, T_sp: float, lcl: Any = None,
         raise ParameterError(
             f"{exc} (derived from the motor: {dict((n, s) for n, _, s in record)[bad]}; set "
             f"controller.{bad} in [controller])") from None
+
+
+def _within_range(name: str, v: float, src: str) -> tuple[float, str]:
+    """A derived value clamped into the field's valid range (a machine at
+    the ends of the ranges; the drive's own checks then name what does not
+    fit)."""
+    lo, hi, lo_open = ControllerCfg.__dataclass_fields__[name].metadata["range"]
+    if v > hi:
+        return hi, f"{src}; clamped to the upper end of its range"
+    if v < lo or (lo_open and v <= lo) or not math.isfinite(v):
+        ref = REFERENCE_UNUSED.get(name)
+        if ref is not None:
+            return ref, f"reference: {src} gives {v:g}, outside the field's range"
+    return v, src
 
 
 def _same(a: Any, b: Any) -> bool:
