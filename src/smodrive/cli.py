@@ -17,7 +17,6 @@ import re
 import sys
 import tempfile
 import warnings
-import zipfile
 from pathlib import Path
 from typing import Any, Callable, NoReturn
 
@@ -228,14 +227,24 @@ def _load(scenario: str):
               show_default=True,
               help="with --pil: the core's portable float math on both sides (bit-identical), "
                    "or each platform's C library (glibc against newlib)")
+@click.option("--format", "formats", default="npz", show_default=True, metavar="FORMATS",
+              help="the log's formats, comma-separated: npz, mat (MATLAB, with the structs "
+                   "units and descriptions), csv (units in signals.csv.json), parquet (units "
+                   "in the column metadata)")
 def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
-        math: str) -> None:
+        math: str, formats: str) -> None:
     """Simulate one SCENARIO (a TOML file or a catalogue name); write
-    signals.npz, summary.json and a figure (with --pil: pil.json and the
-    comparison figure)."""
-    from . import plots
+    signals.npz (or the --format files), summary.json and a figure (with
+    --pil: pil.json and the comparison figure)."""
+    from . import export, plots
     from .simulate import SimulationError, log_plan, simulate
 
+    fmts = export.parse_formats(formats)
+    if "parquet" in fmts:
+        try:
+            import pyarrow  # noqa: F401
+        except ImportError:
+            _fail("--format parquet needs pyarrow: pip install pyarrow", 2)
     s = _load(scenario)
     if pil:
         if not 0.0 < seconds <= 10.0:
@@ -256,14 +265,14 @@ def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
              "summary and figure use those rows")
     with _progress() as prog:
         t_sim = _task(prog, f"simulating {s.name}")
-        t_npz = _task(prog, "writing signals.npz")
+        t_npz = _task(prog, "writing " + ", ".join(export.FORMATS[f] for f in fmts))
         t_fig = _task(prog, "plotting", 2)
         try:
             r = simulate(s, progress=lambda f: prog.update(t_sim, completed=f),
                          log_budget=log_budget)
         except SimulationError as exc:
             _fail(str(exc), 1)
-        write_signals(out / "signals.npz", r, lambda f: prog.update(t_npz, completed=f))
+        export.write(r, out, fmts, lambda f: prog.update(t_npz, completed=f))
         summary = run_summary(s, r, plan)
         (out / "scenario.toml").write_text(scenario_to_toml(s), encoding="utf-8")
         (out / "summary.json").write_text(_json(summary), encoding="utf-8")
@@ -289,16 +298,10 @@ def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
 
 
 def write_signals(path: Path, r, progress: Callable[[float], None] | None = None) -> None:
-    """signals.npz (one array per channel, compressed, as np.savez_compressed
-    writes it), a channel at a time: no copy of the log is made."""
-    from .simulate import CHANNELS
+    """signals.npz (:func:`smodrive.export.write_npz`)."""
+    from .export import write_npz
 
-    with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED, allowZip64=True) as zf:
-        for k, c in enumerate(CHANNELS):
-            with zf.open(f"{c}.npy", "w", force_zip64=True) as f:
-                np.lib.format.write_array(f, r[c], allow_pickle=False)
-            if progress is not None:
-                progress((k + 1) / len(CHANNELS))
+    write_npz(r, path, progress)
 
 
 def run_summary(s, r, plan) -> dict[str, Any]:

@@ -337,7 +337,30 @@ class Result:
 
     @staticmethod
     def unit(name: str) -> str:
+        """The SI unit of channel `name` ("" for a dimensionless code).
+
+        >>> Result.unit("T_e")
+        'N m'
+        """
         return CHANNEL_INFO[name][0]
+
+    @staticmethod
+    def description(name: str) -> str:
+        """What channel `name` is.
+
+        >>> Result.description("w_M")
+        'true mechanical speed'
+        """
+        return CHANNEL_INFO[name][1]
+
+    def to_dataframe(self):
+        """The log as a pandas DataFrame (needs pandas: the extra
+        ``smodrive[pandas]``): a column per channel, units and descriptions
+        in ``df.attrs["units"]`` and ``df.attrs["descriptions"]``
+        (:func:`smodrive.export.to_dataframe`)."""
+        from .export import to_dataframe
+
+        return to_dataframe(self)
 
     @property
     def t(self) -> np.ndarray:
