@@ -364,5 +364,43 @@ def show(name: str) -> None:
     click.echo(scenario_to_toml(cat[name]()))
 
 
+
+@main.command()
+@click.argument("scenario")
+@click.option("--header", "header", type=click.Path(path_type=Path), default=None,
+              help="write the drive's configuration (and LCL observer tables) as a C header")
+@click.option("--name", default="SMD", show_default=True, help="prefix of the header's names")
+def design(scenario: str, header: Path | None, name: str) -> None:
+    """Print the controller designed from the motor: each motor-specific value,
+    derived (with its rule) or set; with --header, write it for firmware."""
+    from .design import from_motor
+
+    s = _load(scenario)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        s.check_controller()
+    for w in caught:
+        _say(f"warning: {w.message}", "yellow")
+    m = s.motor
+    click.echo(f"{s.name}: {s.controller.current} current control, {s.controller.position} "
+               f"position, {s.controller.start} start")
+    click.echo(f"motor: E_N = {from_motor.rated_emf(m):.4g} V peak (n_p w_M_N psi_r), I_N = "
+               f"{from_motor.rated_current(m):.4g} A peak (T_N / k_t), T_N = {m.T_N:.4g} N m")
+    t = Table("value", "", "unit", "origin", box=None)
+    for r in from_motor.design_rows(s):
+        t.add_row(r.name, f"{r.value:.6g}", r.unit, r.origin)
+    Console(soft_wrap=True, width=160).print(t)
+    if s.lcl is not None and s.controller.position in ("lcl_smo_pll", "lcl_linear"):
+        d = from_motor.lcl_design(s)
+        lo, hi, n = d["table_rpm"]
+        click.echo(f"LCL observers: filter resonance {d['f_res_hz']:.5g} Hz (observer's model), "
+                   f"PLL bandwidth {d['pll_bandwidth_hz']:.4g} Hz, tables designed at {n} speeds "
+                   f"from {lo:g} to {hi:g} r/min")
+    if header is not None:
+        text = from_motor.drive_header(s, name)
+        header.write_text(text, encoding="utf-8")
+        _say(f"wrote {header}")
+
+
 if __name__ == "__main__":
     main()
