@@ -28,6 +28,9 @@ class Claim:
     passed: bool = False
     basis: str = ""  # why the tolerance is what it is
     why_fail: str = ""  # the reason, stated in the claim if it fails
+    # why the run could not measure it (a tool missing, ...): neither a pass
+    # nor a fail; its reproduced value is NaN
+    not_measured: str = ""
 
     def __post_init__(self) -> None:
         # plain Python numbers (NumPy scalars do not serialise to JSON)
@@ -35,11 +38,22 @@ class Claim:
             v = getattr(self, name)
             if v is not None:
                 setattr(self, name, float(v))
+        if self.not_measured:
+            self.reproduced = float("nan")
+            self.passed = False
+            if "NOT MEASURED" not in self.statement:
+                self.statement += f" NOT MEASURED: {self.not_measured}"
+            return
         self.passed = bool(self.evaluate())
         if not self.passed and "FAILS" not in self.statement:
             self.statement += f" FAILS: {self.describe_check()}, reproduced {self.reproduced:.4g}."
             if self.why_fail:
                 self.statement += f" Why: {self.why_fail}"
+
+    @property
+    def status(self) -> str:
+        """"pass", "fail" or "not measured"."""
+        return "not measured" if self.not_measured else "pass" if self.passed else "fail"
 
     @property
     def target(self) -> float | None:
@@ -52,7 +66,7 @@ class Claim:
             "rel": f"|reproduced / {ref} - 1| <= {self.tolerance:g}",
             "max": f"reproduced <= {self.tolerance:g} {self.unit}",
             "min": f"reproduced >= {self.tolerance:g} {self.unit}",
-        }[self.check]
+        }[self.check].rstrip()
 
     def evaluate(self) -> bool:
         r = self.reproduced
@@ -72,7 +86,18 @@ class Claim:
     def to_json(self) -> dict:
         d = asdict(self)
         d["criterion"] = self.describe_check()
+        d["status"] = self.status
+        if self.not_measured:
+            d["reproduced"] = None  # strict JSON: no NaN
         return d
+
+
+def count(claims: list[Claim]) -> dict[str, int]:
+    """How many claims passed, failed and could not be measured."""
+    out = {"pass": 0, "fail": 0, "not measured": 0}
+    for c in claims:
+        out[c.status] += 1
+    return out
 
 
 def write_claims(claims: list[Claim], path: Path) -> None:
@@ -186,10 +211,13 @@ class ClaimSpec:
         return data if from_run is None else from_run
 
     def make(self, reproduced: float, /, expected: float | None = None, *,
-             paper: float | None = None, tolerance: float | None = None, **fields) -> Claim:
+             paper: float | None = None, tolerance: float | None = None,
+             not_measured: str = "", **fields) -> Claim:
         """The claim of one run; `fields` fill `{name}` in the id and texts.
         A field the texts need and the run does not give, or one it gives
-        that no text uses, is an error (so neither text nor number is lost)."""
+        that no text uses, is an error (so neither text nor number is lost).
+        `not_measured`: why the run could not measure the claim (it is then
+        neither passed nor failed)."""
         need = self.fields()
         missing, unused = need - set(fields), set(fields) - need
         if missing or unused:
@@ -203,7 +231,8 @@ class ClaimSpec:
             id=cid, statement=self.statement.format(**fields),
             paper=self._fixed("paper", cid, paper), expected=expected,
             reproduced=reproduced, unit=self.unit, tolerance=tol, check=self.check,
-            basis=self.basis.format(**fields), why_fail=self.why_fail.format(**fields))
+            basis=self.basis.format(**fields), why_fail=self.why_fail.format(**fields),
+            not_measured=not_measured)
 
 
 class ClaimSpecs(Mapping[str, ClaimSpec]):

@@ -161,6 +161,7 @@ def main() -> None:
 def reproduce(papers: tuple[str, ...], out: Path) -> None:
     """Run every experiment of PAPERS (default: all) and write figures,
     claims.json and report.md into OUT."""
+    from .claims import count
     from .report import reproduce as run
 
     chosen = list(papers) or list(PAPERS)
@@ -182,15 +183,18 @@ def reproduce(papers: tuple[str, ...], out: Path) -> None:
         table.add_column(col)
     for c in rep.claims:
         table.add_row(escape(c.id), _f(c.paper), _f(c.expected), _f(c.reproduced),
-                      escape(c.unit), "[green]pass" if c.passed else "[red]FAIL")
+                      escape(c.unit), {"pass": "[green]pass", "fail": "[red]FAIL",
+                                       "not measured": "[yellow]not measured"}[c.status])
     Console().print(table)
-    n_pass = sum(c.passed for c in rep.claims)
-    _say(f"{n_pass} claims passed, {len(rep.claims) - n_pass} failed; report: "
-         f"{out / 'report.md'}; {rep.samples:,} samples in {rep.seconds:.1f} s")
+    n = count(rep.claims)
+    _say(f"{n['pass']} claims passed, {n['fail']} failed"
+         + (f", {n['not measured']} not measured (report.md says why)"
+            if n["not measured"] else "")
+         + f"; report: {out / 'report.md'}; {rep.samples:,} samples in {rep.seconds:.1f} s")
 
 
 def _f(x: float | None) -> str:
-    return "-" if x is None else f"{x:.4g}"
+    return "-" if x is None or x != x else f"{x:.4g}"
 
 
 def _load(scenario: str):
@@ -362,7 +366,6 @@ def show(name: str) -> None:
     if name not in cat:
         _fail(f"unknown scenario {name!r}; see `smodrive scenarios`", 2)
     click.echo(scenario_to_toml(cat[name]()))
-
 
 
 @main.command()

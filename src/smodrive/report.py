@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
-from .claims import Claim, write_claims
+from .claims import Claim, count, write_claims
 from .scenarios import PAPERS
 
 
@@ -19,6 +19,12 @@ class Reproduction:
     figures: list[Path] = field(default_factory=list)
     seconds: float = 0.0
     samples: int = 0
+    # (experiment id, title, the figures its outcome wrote), in run order
+    sections: list[tuple[str, str, list[Path]]] = field(default_factory=list)
+
+
+def _pngs(fig_dir: Path) -> dict[Path, int]:
+    return {p: p.stat().st_mtime_ns for p in fig_dir.glob("*.png")}
 
 
 def reproduce(
@@ -40,11 +46,18 @@ def reproduce(
             outcome = exp.run(progress)
             rep.claims.extend(outcome.claims)
             rep.samples += sum(r.samples for r in outcome.results.values())
+            made: list[Path] = []
             for _, plot in outcome.figures:
-                rep.figures.extend(_paths(plot(fig_dir)))
+                before = _pngs(fig_dir)
+                made += _paths(plot(fig_dir))
+                # a figure a closure writes without returning it is shown too
+                made += sorted(p for p, t in _pngs(fig_dir).items() if before.get(p) != t)
+            made = list(dict.fromkeys(p.resolve() for p in made))
+            rep.figures.extend(made)
+            rep.sections.append((exp.id, exp.title, made))
     rep.seconds = time.perf_counter() - t0
     write_claims(rep.claims, out / "claims.json")
-    (out / "report.md").write_text(render_report(rep, papers, out))
+    (out / "report.md").write_text(render_report(rep, papers, out), encoding="utf-8")
     return rep
 
 
@@ -57,35 +70,70 @@ def _paths(written: Path | list[Path] | tuple[Path, ...]) -> list[Path]:
 
 
 def _fmt(x: float | None) -> str:
-    if x is None:
+    if x is None or x != x:
         return "-"
     return f"{x:.4g}"
 
 
+def cell(text: str) -> str:
+    r"""Text as one cell of a GitHub/CommonMark-extension table: ``|``
+    escaped (also inside code spans, where the table parser splits first),
+    line breaks as spaces.
+
+    >>> print(cell("|rep - exp| <= 0.1 A"))
+    \|rep - exp\| <= 0.1 A
+    """
+    return str(text).replace("\\|", "|").replace("|", "\\|").replace("\r", " ").replace(
+        "\n", " ")
+
+
+RESULT = {"pass": "pass", "fail": "**FAIL**", "not measured": "not measured"}
+
+
+def _rel(f: Path, out: Path) -> str:
+    try:
+        return Path(f).resolve().relative_to(Path(out).resolve()).as_posix()
+    except ValueError:
+        return Path(f).as_posix()
+
+
 def render_report(rep: Reproduction, papers: list[str], out: Path) -> str:
-    n_pass = sum(c.passed for c in rep.claims)
-    n_fail = len(rep.claims) - n_pass
+    """report.md: the claims table (one row of seven cells per claim in any
+    Markdown renderer), each claim's statement and tolerance, and every
+    figure of the run under its experiment."""
+    n = count(rep.claims)
     lines = [
         f"# smodrive reproduction: {', '.join(papers)}",
         "",
-        f"{n_pass} claims passed, {n_fail} failed. {rep.samples:,} control samples simulated "
-        f"in {rep.seconds:.1f} s wall time on {platform.machine()} ({platform.python_version()}).",
+        f"{n['pass']} claims passed, {n['fail']} failed"
+        + (f", {n['not measured']} not measured" if n["not measured"] else "")
+        + f". {rep.samples:,} control samples simulated in {rep.seconds:.1f} s wall time on "
+        f"{platform.machine()} ({platform.python_version()}).",
         "",
         "| claim | paper | expected | reproduced | unit | criterion | result |",
         "|---|---|---|---|---|---|---|",
     ]
     for c in rep.claims:
-        lines.append(
-            f"| `{c.id}` | {_fmt(c.paper)} | {_fmt(c.expected)} | {_fmt(c.reproduced)} | "
-            f"{c.unit} | {c.describe_check()} | {'pass' if c.passed else '**FAIL**'} |"
-        )
+        cells = [f"`{c.id}`", _fmt(c.paper), _fmt(c.expected), _fmt(c.reproduced), c.unit,
+                 c.describe_check(), RESULT[c.status]]
+        lines.append("| " + " | ".join(cell(x) for x in cells) + " |")
     lines += ["", "## Statements and tolerances", ""]
     for c in rep.claims:
-        lines.append(f"- **{c.id}** ({'pass' if c.passed else 'FAIL'}): {c.statement}"
+        verdict = {"pass": "pass", "fail": "FAIL", "not measured": "not measured"}[c.status]
+        lines.append(f"- **{c.id}** ({verdict}): {c.statement}"
                      + (f" *Tolerance:* {c.basis}." if c.basis else ""))
     lines += ["", "## Figures", ""]
-    for f in rep.figures:
-        rel = f.relative_to(out)
-        lines.append(f"![{f.stem}]({rel.as_posix()})")
-        lines.append("")
+    shown = set()
+    sections = rep.sections or [("", "", list(rep.figures))]
+    for exp_id, title, figs in sections:
+        if not figs:
+            continue
+        if exp_id:
+            lines += [f"### {exp_id}: {title}", ""]
+        for f in figs:
+            shown.add(Path(f))
+            lines += [f"![{Path(f).stem}]({_rel(f, out)})", ""]
+    rest = [f for f in rep.figures if Path(f) not in shown]
+    for f in rest:
+        lines += [f"![{Path(f).stem}]({_rel(f, out)})", ""]
     return "\n".join(lines) + "\n"
