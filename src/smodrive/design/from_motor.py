@@ -169,6 +169,10 @@ def resolve(c: ControllerCfg, m: MotorPars, *, T_sp: float, lcl: Any = None,
     the value an earlier resolution derived, derived from motor `m` (and the
     filter `lcl`); the others kept. The result's ``derived`` lists the
     derived ones as (name, value, source)."""
+    if not (isinstance(c.derived, tuple) and all(
+            isinstance(t, tuple) and len(t) == 3 and t[0] in DERIVED_FIELDS for t in c.derived)):
+        raise ParameterError(f"controller.derived = {c.derived!r}: the record of the values "
+                             "derived from the motor is kept by the code; leave it out")
     before = {n: (v, src) for n, v, src in c.derived}
     uses = _uses(c)
     out: dict[str, Any] = {}
