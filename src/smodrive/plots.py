@@ -88,8 +88,14 @@ def _suptitle(axes: np.ndarray, title: str | None) -> None:
 
 def save(ax, fig_dir: Path, name: str) -> Path:
     """Write the figure of `ax` (a Figure, an Axes or an array of Axes of one
-    figure) to ``fig_dir/name.png`` in :data:`STYLE`; returns the path."""
+    figure) to ``fig_dir/name.png`` in :data:`STYLE`; returns the path. A
+    paper figure (`name` a key of :data:`PAPER_MARKS`, `ax` its layout's
+    array of Axes) gets the paper's values drawn on it first
+    (:func:`draw_paper_marks`)."""
     fig = ax if isinstance(ax, Figure) else np.ravel(np.asarray(ax, dtype=object))[0].figure
+    if name in PAPER_MARKS and not isinstance(ax, Figure):
+        with style():
+            draw_paper_marks(ax, name)
     fig_dir = Path(fig_dir)
     fig_dir.mkdir(parents=True, exist_ok=True)
     path = fig_dir / f"{name}.png"
@@ -266,12 +272,14 @@ def thinned(r: Result, t_window: tuple[float, float] | None = None,
 def time_panels(results: Sequence[Result], labels: Sequence[str], title: str | None,
                 rows: Sequence[tuple[str, Sequence[tuple[str, str]]]],
                 t_window: tuple[float, float] | None = None, ax=None,
-                max_points: int = MAX_POINTS) -> np.ndarray:
+                max_points: int = MAX_POINTS, robust: bool = True) -> np.ndarray:
     """Columns per run, rows of ``(ylabel, [(channel, legend), ...])``, one
     curve per channel (logged or :data:`DERIVED`), over `t_window` (default
     the whole run), each of at most `max_points` points (every k-th row,
-    :func:`thinned`); either plant. `ax`: len(rows) x len(results) Axes;
-    returns them as a (len(rows), len(results)) array."""
+    :func:`thinned`); either plant. With `robust` each panel's y axis is
+    scaled to the bulk of its samples when a few (a start transient) would
+    flatten the rest (:func:`robust_ylim`). `ax`: len(rows) x len(results)
+    Axes; returns them as a (len(rows), len(results)) array."""
     n = len(results)
     axes = _layout(ax, len(rows), n, (4.0 * n, 1.9 * len(rows) + 0.6), sharex="col")
     for j, (r, lab) in enumerate(zip(results, labels)):
@@ -279,8 +287,12 @@ def time_panels(results: Sequence[Result], labels: Sequence[str], title: str | N
         t = r.t
         for i, (ylabel, chans) in enumerate(rows):
             a = axes[i, j]
+            ys = []
             for ch, leg in chans:
-                a.plot(t, channel(r, ch), label=leg)
+                ys.append(channel(r, ch))
+                a.plot(t, ys[-1], label=leg)
+            if robust:
+                robust_ylim(a, t, ys)
             if j == 0:
                 a.set_ylabel(ylabel)
             if len(chans) > 1:
@@ -289,6 +301,146 @@ def time_panels(results: Sequence[Result], labels: Sequence[str], title: str | N
         axes[-1, j].set_xlabel("t (s)")
     _suptitle(axes, title)
     return axes
+
+
+#: robust_ylim: the share of samples that may lie off scale at each end
+ROBUST_TAIL = 0.005
+#: ... and only when the full range is at least this many times the rest's
+ROBUST_RATIO = 5.0
+
+
+def robust_ylim(ax: Axes, t: np.ndarray, ys: Sequence[np.ndarray],
+                tail: float = ROBUST_TAIL, ratio: float = ROBUST_RATIO) -> bool:
+    """Scale the y axis of `ax` to the bulk of the curves `ys` (sampled at
+    `t`): when the full range of the samples is more than `ratio` times the
+    range between their `tail` and 1 - `tail` quantiles (a start transient
+    of a few samples beside a steady error of milliradians), the axis shows
+    that range with a margin of a quarter of it, and a note names the peak
+    left off scale and when it occurs. Returns whether it rescaled."""
+    data = [np.asarray(y, dtype=float) for y in ys if np.size(y)]
+    if not data:
+        return False
+    v = np.concatenate([y.ravel() for y in data])
+    v = v[np.isfinite(v)]
+    if v.size < 20:
+        return False
+    lo, hi = np.quantile(v, [tail, 1.0 - tail])
+    span = hi - lo
+    full = float(v.max() - v.min())
+    if not (span > 0 and full > ratio * span):
+        return False
+    y0, y1 = lo - 0.25 * span, hi + 0.25 * span
+    ax.set_ylim(y0, y1)
+    # the largest excursion off scale, with its time
+    best, when, peak = 0.0, 0.0, 0.0
+    for y in data:
+        off = np.where(y > y1, y - y1, np.where(y < y0, y0 - y, 0.0))
+        off = np.where(np.isfinite(off), off, 0.0)
+        k = int(np.argmax(off)) if off.size else 0
+        if off.size and off[k] > best:
+            best, when, peak = float(off[k]), float(t[min(k, len(t) - 1)]), float(y[k])
+    if best > 0:
+        ax.annotate(f"off scale: {peak:.3g} at t = {when:.3g} s", xy=(0.01, 0.97),
+                    xycoords="axes fraction", va="top", ha="left", fontsize=6, color="0.3")
+    return True
+
+
+# ----------------------------------------------------- the paper's values ----
+
+@dataclasses.dataclass(frozen=True)
+class PaperMark:
+    """A value the paper prints, drawn on the panel (`row`, `col`) of a
+    figure's layout (`col` None: every column): the `claim`'s paper value
+    from the paper's claims data, as horizontal lines at ``center +- v``
+    (`kind` "pm") or at ``center + v`` ("level"), `v` mapped by `scale`
+    (e.g. a gain to dB)."""
+
+    row: int
+    col: int | None
+    claim: str
+    label: str  # "{v}" is the drawn value
+    kind: str = "pm"
+    center: float = 0.0
+    color: str = "k"
+    scale: Callable[[float], float] | None = None
+
+
+def _tags(fmt: str, speeds=(30e3, 60e3, 100e3)) -> list[tuple[int, float, str]]:
+    return [(j, n, fmt.format(tag=f"{n / 1e3:g}k")) for j, n in enumerate(speeds)]
+
+
+#: The paper's values drawn on each reproduced figure, by figure name (the
+#: name passed to :func:`save`): the numbers come from the claims data
+#: (``scenarios/<paper>.claims.toml``), the layout is the figure's.
+PAPER_MARKS: dict[str, list[PaperMark]] = {
+    "yao2022_fig10": [PaperMark(1, j, cid, "paper, by (60): +-{v:g} rad")
+                      for j, _, cid in _tags("yao2022.fig10.pos_error_vs_paper_rad_{tag}")],
+    "yao2022_fig12_13": [
+        PaperMark(0, j, cid, f"Table V, {lab}: +-{{v:g}} r/min", center=n, color=col)
+        for law, lab, col in (("baseline", "baseline", "C3"), ("proposed", "proposed", "C0"))
+        for j, n, cid in _tags(f"yao2022.table5.ripple_rpm_{law}_{{tag}}")],
+    "yao2022_fig14_16": [PaperMark(1, None, "yao2022.fig14.pos_error_peak_rad",
+                                   "paper (Fig. 16): peak +-{v:g} rad")],
+    "yao2022_fig19_21": [PaperMark(1, None, "yao2022.fig19.pos_error_peak_rad",
+                                   "paper (Fig. 20): peak +-{v:g} rad")],
+    "yang2018_fig2": [
+        PaperMark(1, 0, "yang2018.fig2.phase_at_wr_deg", "paper, eq. (33): {v:g} deg at w_r",
+                  kind="level")],
+}
+
+
+@functools.lru_cache(maxsize=4)
+def _paper_specs(paper: str):
+    from .claims import load_specs
+
+    return load_specs(Path(__file__).resolve().parent / "scenarios" / f"{paper}.claims.toml")
+
+
+def paper_value(claim_id: str) -> float | None:
+    """The paper's value of a claim (None if the data gives none)."""
+    spec = _paper_specs(claim_id.split(".")[0]).spec_of(claim_id)
+    if spec is None:
+        return None
+    v = spec.paper
+    return v.get(claim_id) if isinstance(v, dict) else v
+
+
+def draw_paper_marks(ax, name: str) -> int:
+    """Draw the paper's values of figure `name` (:data:`PAPER_MARKS`) on its
+    Axes `ax` (the layout's array). A value within three times the panel's
+    range widens the axis to show it; one further off is stated in the
+    panel instead (the axis stays scaled to the reproduced curves). Returns
+    the number of values drawn or stated."""
+    axes = np.asarray(ax, dtype=object)
+    axes = axes.reshape(-1, 1) if axes.ndim == 1 else axes.reshape(axes.shape[0], -1)
+    done = 0
+    for m in PAPER_MARKS.get(name, []):
+        v = paper_value(m.claim)
+        if v is None:
+            continue
+        shown = m.scale(v) if m.scale else v
+        cols = range(axes.shape[1]) if m.col is None else [m.col]
+        for j in cols:
+            a = axes[m.row, j]
+            y0, y1 = a.get_ylim()
+            ys = [m.center + shown] if m.kind == "level" else [m.center - shown,
+                                                               m.center + shown]
+            half = max(y1 - y0, 1e-300)
+            label = m.label.format(v=shown)
+            if all(y0 - 3 * half <= y <= y1 + 3 * half for y in ys):
+                for k, y in enumerate(ys):
+                    a.axhline(y, color=m.color, ls=":", lw=1.1,
+                              label=label if k == 0 else None)
+                a.set_ylim(min(y0, *ys) - 0.05 * half if min(ys) < y0 else y0,
+                           max(y1, *ys) + 0.05 * half if max(ys) > y1 else y1)
+                a.legend(fontsize=6, loc="best")
+            else:
+                n_notes = sum(1 for tx in a.texts if tx.get_gid() == "paper-note")
+                a.text(0.99, 0.03 + 0.08 * n_notes, label + " (off this scale)",
+                       transform=a.transAxes, ha="right", va="bottom", fontsize=6,
+                       color=m.color, gid="paper-note")
+            done += 1
+    return done
 
 
 # ------------------------------------------------------------- yao2022 ----
