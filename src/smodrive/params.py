@@ -313,8 +313,8 @@ class ControllerCfg(_Validated):
                                 "I/f start current (None: 10 A x I_N / (I_N of Table I), at "
                                 "most i_max)")
     a_M_start: float | None = num(None, 0.0, 1e8, "rad/s^2",
-                                  "I/f acceleration (mechanical; None: 3000 r/min/s x (T_N / J) "
-                                  "/ (T_N / J of Table I))")
+                                  "I/f acceleration (mechanical; None: 3000 r/min/s x the "
+                                  "smaller of the ratios of T_N / J and of w_M_N to Table I's)")
     w_M_handover: float | None = num(None, 0.0, 1e6, "rad/s",
                                      "I/f: speed of the handover (mechanical; None: 0.1 w_M_N)")
     # modulator

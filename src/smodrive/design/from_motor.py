@@ -145,6 +145,10 @@ def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any =
         k = _ratio(m.T_N / m.J, ref.T_N / ref.J)
         if k is None:
             return REFERENCE[name], "reference: motor.P_N = 0 (no rated torque)"
+        k_w = _ratio(m.w_M_N, ref.w_M_N)
+        if k_w is not None and k_w < k:
+            return REFERENCE[name] * k_w, ("scaled by w_M_N (the handover speed in 50 ms), "
+                                           "below the T_N / J scaling")
         return REFERENCE[name] * k, "scaled by T_N / J (rated torque over inertia)"
     if name == "w_M_handover":
         k = _ratio(m.w_M_N, ref.w_M_N)
