@@ -405,5 +405,69 @@ def design(scenario: str, header: Path | None, name: str) -> None:
         _say(f"wrote {header}")
 
 
+
+@main.command()
+@click.argument("sweep_file", required=False)
+@click.option("--out", type=click.Path(path_type=Path), default=None,
+              help="results folder (default: sweeps/<name>); runs already there are not run "
+                   "again")
+@click.option("--scheduler", default=None, metavar="ADDRESS",
+              help="a running Dask scheduler (tcp://host:port); default: a LocalCluster over "
+                   "this machine's cores")
+@click.option("--workers", type=int, default=None,
+              help="LocalCluster worker processes (default: one a core)")
+@click.option("--plot", "plot_dir", type=click.Path(path_type=Path), default=None,
+              metavar="DIR", help="only draw the maps of the sweep whose results DIR holds")
+@click.option("--list", "list_", is_flag=True, help="list the built-in sweeps")
+@click.option("--no-plot", is_flag=True, help="do not draw the maps after the runs")
+def sweep(sweep_file: str | None, out: Path | None, scheduler: str | None,
+          workers: int | None, plot_dir: Path | None, list_: bool, no_plot: bool) -> None:
+    """Run a parameter sweep (a sweep TOML, or a built-in name from --list) on
+    Dask: one Parquet row a run in OUT/runs, maps in OUT/maps."""
+    from . import sweep as sw
+    from .sweep_plot import plot_all
+
+    if list_:
+        for name, title in sw.builtins().items():
+            click.echo(f"{name}  {title}")
+        return
+    if plot_dir is not None:
+        if sweep_file is not None:
+            _fail("give a SWEEP_FILE to run or --plot DIR to draw, not both", 2)
+        spec = sw.load_out_spec(plot_dir)
+        for p in plot_all(spec, plot_dir):
+            _say(f"wrote {p}")
+        return
+    if sweep_file is None:
+        _fail("missing SWEEP_FILE (a sweep TOML or a built-in name: smodrive sweep --list)", 2)
+    if workers is not None and not 1 <= workers <= 1024:
+        _fail(f"--workers {workers} is outside its valid range [1, 1024]", 2)
+    spec = sw.load_sweep(sweep_file)
+    out = out or Path("sweeps") / spec.name
+    _prepare_out(out)
+    path = Path(sweep_file)
+    text = path.read_text(encoding="utf-8-sig") if path.is_file() else None
+    with _progress() as prog:
+        tasks: dict[str, int] = {}
+
+        def on_progress(phase: str, done: int, total: int) -> None:
+            if phase not in tasks:
+                tasks[phase] = _task(prog, f"{spec.name}: {phase}", max(total, 1))
+            prog.update(tasks[phase], completed=done, total=max(total, 1))
+
+        rep = sw.run_sweep(spec, out, scheduler=scheduler, workers=workers,
+                           progress=on_progress, sweep_text=text)
+    rate = f"; {rep.computed / rep.seconds:.1f} runs/s, {rep.steps / rep.seconds / 1e6:.2f} M " \
+           f"steps/s on {rep.workers} workers" if rep.computed and rep.seconds > 0 else ""
+    _say(f"{rep.total} runs: {rep.done_before} already in {out}, {rep.computed} computed in "
+         f"{rep.seconds:.1f} s{rate}; {rep.faults} end in a fault, {rep.errors} could not run")
+    if rep.failed_batches:
+        _fail(f"{len(rep.failed_batches)} batches were lost with their workers "
+              f"({rep.failed_batches[0]}); run the same command again for the missing runs", 1)
+    if not no_plot and spec.plots:
+        for p in plot_all(spec, out):
+            _say(f"wrote {p}")
+
+
 if __name__ == "__main__":
     main()

@@ -1,0 +1,396 @@
+"""Maps of a sweep's results: heatmaps (two axes, with contours and
+analytic overlays), lines with percentile bands over the seeds (one axis),
+and the envelope of a pass/fail metric (the lowest value of an axis that
+holds). What is drawn is the sweep file's ``[[plots]]`` (docs/sweeps.md).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .analysis.metrics import METRICS
+from .params import ParameterError
+
+PLOT_KEYS = {"kind", "file", "title", "metric", "x", "y", "facet", "hue", "fixed", "rows",
+             "reduce", "band", "log", "overlay", "overlay_facet", "over", "ok", "label"}
+REDUCE = ("median", "mean", "max", "min")
+
+
+# ------------------------------------------------------------ checking ---
+
+def _rows_of(p: dict) -> list[dict]:
+    """A plot's rows of panels: `rows` (tables overriding the plot's keys),
+    or one row a metric of `metric` when it is a list."""
+    base = {k: v for k, v in p.items() if k != "rows"}
+    if "rows" in p:
+        return [{**base, **r} for r in p["rows"]]
+    m = p.get("metric")
+    if isinstance(m, list):
+        return [{**base, "metric": x} for x in m]
+    return [base]
+
+
+def check_plots(spec) -> None:
+    """Every [[plots]] entry names existing axes, metrics and options; each
+    axis is plotted, fixed, or reduced (the seeds)."""
+    names = set(spec.axis_names)
+    for i, p in enumerate(spec.plots):
+        ctx = f"plots[{i}]"
+        bad = sorted(set(p) - PLOT_KEYS)
+        if bad:
+            raise ParameterError(f"{ctx}.{bad[0]}: unknown field (known: "
+                                 f"{', '.join(sorted(PLOT_KEYS))})")
+        kind = p.get("kind")
+        if kind not in ("heatmap", "lines", "envelope"):
+            raise ParameterError(f"{ctx}.kind = {kind!r} is not one of heatmap, lines, envelope")
+        if not isinstance(p.get("file", ""), str) or not p.get("file", "x").isidentifier():
+            raise ParameterError(f"{ctx}.file = {p.get('file')!r} must be a file stem "
+                                 "(letters, digits, _)")
+        if "rows" in p and not (isinstance(p["rows"], list) and p["rows"]
+                                and all(isinstance(r, dict) for r in p["rows"])):
+            raise ParameterError(f"{ctx}.rows must be a non-empty array of tables")
+        for j, r in enumerate(_rows_of(p)):
+            c = f"{ctx}" if "rows" not in p else f"{ctx}.rows[{j}]"
+            bad = sorted(set(r) - PLOT_KEYS)
+            if bad:
+                raise ParameterError(f"{c}.{bad[0]}: unknown field")
+            metric = r.get("ok") if kind == "envelope" else r.get("metric")
+            what = "ok" if kind == "envelope" else "metric"
+            if metric not in spec.metrics:
+                raise ParameterError(f"{c}.{what} = {metric!r} is not a metric of the sweep "
+                                     f"(sweep.metrics: {', '.join(spec.metrics)})")
+            need = {"heatmap": ("x", "y"), "lines": ("x",), "envelope": ("x", "over")}[kind]
+            used = set()
+            for k in need + ("facet", "hue"):
+                if k in r:
+                    if r[k] not in names:
+                        raise ParameterError(f"{c}.{k} = {r[k]!r} is not an axis (axes: "
+                                             f"{', '.join(spec.axis_names)})")
+                    used.add(r[k])
+                elif k in need:
+                    raise ParameterError(f"{c}: missing {k!r} (an axis name)")
+            fixed = r.get("fixed", {})
+            if not isinstance(fixed, dict):
+                raise ParameterError(f"{c}.fixed must be a table axis = value")
+            for k, v in fixed.items():
+                if k not in names:
+                    raise ParameterError(f"{c}.fixed.{k}: not an axis")
+                ax = spec.axis(k)
+                if not any(_same(v, a) for a in ax.values):
+                    raise ParameterError(f"{c}.fixed.{k} = {v!r} is not one of the axis's "
+                                         f"values {list(ax.values)}")
+            for a in spec.axes:
+                if a.name not in used and a.name not in fixed and len(a.values) > 1:
+                    raise ParameterError(f"{c}: axis {a.name} is neither plotted (x, y, facet, "
+                                         "hue, over) nor fixed (fixed = {" f"{a.name} = ...}})")
+            red = r.get("reduce", "median")
+            if red not in REDUCE:
+                raise ParameterError(f"{c}.reduce = {red!r} is not one of {', '.join(REDUCE)}")
+            band = r.get("band", [10, 90])
+            if not (isinstance(band, list) and len(band) == 2
+                    and all(isinstance(b, (int, float)) for b in band)
+                    and 0 <= band[0] < band[1] <= 100):
+                raise ParameterError(f"{c}.band = {band!r} must be two percentiles [lo, hi] "
+                                     "with 0 <= lo < hi <= 100")
+            ov = r.get("overlay")
+            if ov is not None and ov not in OVERLAYS:
+                raise ParameterError(f"{c}.overlay = {ov!r} is not one of "
+                                     f"{', '.join(OVERLAYS)}")
+    if spec.sample == "lhs" and any(p.get("kind") == "heatmap" for p in spec.plots):
+        raise ParameterError("plots: a heatmap needs a grid (sample = 'product'); a Latin-"
+                             "hypercube sample has no grid")
+
+
+def _same(a: Any, b: Any) -> bool:
+    if isinstance(a, (int, float)) and isinstance(b, (int, float)) and not isinstance(a, bool):
+        return math.isclose(a, b, rel_tol=1e-9, abs_tol=1e-12)
+    return a == b
+
+
+# ------------------------------------------------------------- helpers ---
+
+def _select(cols: dict, fixed: dict) -> np.ndarray:
+    m = np.ones(len(cols["run_id"]), dtype=bool)
+    for k, v in fixed.items():
+        m &= np.array([_same(x, v) for x in cols[k]], dtype=bool)
+    return m
+
+
+def _reduce(x: np.ndarray, how: str) -> float:
+    x = np.asarray(x, dtype=float)
+    if x.size == 0 or np.all(np.isnan(x)):
+        return math.nan
+    return float({"median": np.nanmedian, "mean": np.nanmean, "max": np.nanmax,
+                  "min": np.nanmin}[how](x))
+
+
+def _edges(v: np.ndarray, log: bool) -> np.ndarray:
+    v = np.asarray(v, dtype=float)
+    if v.size == 1:
+        return np.array([v[0] * 0.9, v[0] * 1.1]) if log else np.array([v[0] - 0.5, v[0] + 0.5])
+    t = np.log(v) if log else v
+    mid = (t[1:] + t[:-1]) / 2
+    e = np.concatenate([[t[0] - (mid[0] - t[0])], mid, [t[-1] + (t[-1] - mid[-1])]])
+    return np.exp(e) if log else e
+
+
+def _axis_label(spec, name: str) -> str:
+    return spec.axis(name).label
+
+
+def _metric_label(m: str) -> str:
+    u = METRICS[m].unit
+    return f"{m} ({u})" if u else m
+
+
+def _is_log_axis(spec, name: str) -> bool:
+    a = spec.axis(name)
+    if not a.numeric or a.kind != "grid":
+        return False
+    v = np.asarray(a.values, dtype=float)
+    return v.size > 2 and np.all(v > 0) and np.allclose(np.diff(np.log(v)),
+                                                        np.log(v[1] / v[0]), rtol=1e-6)
+
+
+# -------------------------------------------------------------- overlays ---
+
+def _yang2018_eq12_13(spec, r: dict, X: np.ndarray, Y: np.ndarray) -> np.ndarray | None:
+    """yang2018 eq. (12)-(13) (conventional DBPC, steady state): the
+    predicted id_error or iq_error over the (x, y) grid of L_hat and psi_hat
+    axes; i_d_ref = 0 and i_q_ref carrying the base scenario's load at its
+    initial speed."""
+    from .analysis.tf import dbpc_steady_state
+
+    s = spec.base
+    m = s.motor
+    vals = {}
+    for axis_name, grid in ((r["x"], X), (r["y"], Y)):
+        a = spec.axis(axis_name)
+        ref = 1.0
+        if a.relative_to:
+            obj: Any = s
+            for part in a.relative_to.split("."):
+                obj = getattr(obj, part)
+            ref = float(obj)
+        for k in a.keys:
+            vals[k] = grid * ref
+    L_hat = vals.get("controller.L_s_hat", np.full_like(X, s.controller.L_s_hat))
+    psi_hat = vals.get("controller.psi_r_hat", np.full_like(X, s.controller.psi_r_hat))
+    w = s.w_M0
+    T_L = s.load.T_brake(0.0) + s.load.T_ext(0.0) + s.load.k_fan * w * abs(w) + m.B * w
+    i_q = T_L / m.k_t
+    i_d, i_qs = dbpc_steady_state(m.L_s, m.R_s, m.psi_r, L_hat, s.controller.R_s_hat, psi_hat,
+                                  w * m.n_p, s.T_sp, 0.0, i_q)
+    if r["metric"] == "id_error":
+        return i_d - 0.0
+    if r["metric"] == "iq_error":
+        return i_qs - i_q
+    return None
+
+
+OVERLAYS = {"yang2018_eq12_13": _yang2018_eq12_13}
+
+
+# --------------------------------------------------------------- drawing ---
+
+def _heatmap_row(fig, axs, spec, cols, r: dict) -> None:
+    import matplotlib.colors as mcolors
+
+    metric = r["metric"]
+    facet_vals = spec.axis(r["facet"]).values if "facet" in r else (None,)
+    xa, ya = spec.axis(r["x"]), spec.axis(r["y"])
+    xs, ys = np.asarray(xa.values, float), np.asarray(ya.values, float)
+    xlog, ylog = _is_log_axis(spec, r["x"]), _is_log_axis(spec, r["y"])
+    grids, bads = [], []
+    for fv in facet_vals:
+        fixed = dict(r.get("fixed", {}))
+        if fv is not None:
+            fixed[r["facet"]] = fv
+        sel = _select(cols, fixed)
+        Z = np.full((ys.size, xs.size), np.nan)
+        B = np.zeros_like(Z, dtype=bool)
+        for i, yv in enumerate(ys):
+            for j, xv in enumerate(xs):
+                m = sel & _select(cols, {r["x"]: xv, r["y"]: yv})
+                Z[i, j] = _reduce(cols[metric][m].astype(float), r.get("reduce", "median"))
+                B[i, j] = bool(np.any(cols["status"][m] != "ok")) if m.any() else False
+        grids.append(Z)
+        bads.append(B)
+    good = np.concatenate([z[~b].ravel() for z, b in zip(grids, bads)] or [np.array([])])
+    good = good[np.isfinite(good)]
+    signed = good.size and np.min(good) < 0
+    if r.get("log") and good.size and np.all(good > 0):
+        norm = mcolors.LogNorm(vmin=max(np.percentile(good, 1), 1e-12),
+                               vmax=np.percentile(good, 99))
+        cmap = "viridis"
+    elif signed:
+        v = float(np.percentile(np.abs(good), 98)) or 1.0
+        norm, cmap = mcolors.Normalize(-v, v), "RdBu_r"
+    else:
+        hi = float(np.percentile(good, 98)) if good.size else 1.0
+        norm, cmap = mcolors.Normalize(0.0 if good.size and good.min() >= 0 else None,
+                                       hi or 1.0), "viridis"
+    X, Y = np.meshgrid(xs, ys)
+    ov_name = r.get("overlay")
+    mesh = None
+    for ax, fv, Z, B in zip(axs, facet_vals, grids, bads):
+        mesh = ax.pcolormesh(_edges(xs, xlog), _edges(ys, ylog), np.ma.masked_invalid(Z),
+                             norm=norm, cmap=cmap, shading="flat")
+        if B.any():
+            ax.plot(X[B], Y[B], "x", color="k", ms=4, mew=0.8, label="fault or error")
+        Zc = np.where(B, np.nan, Z)
+        levels = None
+        if np.isfinite(Zc).sum() >= 4 and xs.size > 1 and ys.size > 1:
+            lo, hi = norm.vmin, norm.vmax
+            if isinstance(norm, mcolors.LogNorm):
+                levels = np.geomspace(lo, hi, 6)[1:-1]
+            else:
+                levels = np.linspace(lo, hi, 9)[1:-1]
+                if signed:  # no zero contour: on a map of errors it traces the noise
+                    levels = levels[np.abs(levels) > 1e-6 * hi]
+            cs = ax.contour(X, Y, np.ma.masked_invalid(Zc), levels=levels, colors="k",
+                            linewidths=0.6)
+            ax.clabel(cs, fontsize=6, fmt="%.3g")
+        if ov_name and (r.get("overlay_facet") is None or _same(fv, r.get("overlay_facet"))):
+            P = OVERLAYS[ov_name](spec, r, X, Y)
+            if P is not None and levels is not None:
+                fine = [np.geomspace(v.min(), v.max(), 120) if lg else
+                        np.linspace(v.min(), v.max(), 120) for v, lg in ((xs, xlog), (ys, ylog))]
+                FX, FY = np.meshgrid(*fine)
+                FP = OVERLAYS[ov_name](spec, r, FX, FY)
+                ax.contour(FX, FY, FP, levels=levels, colors="m", linewidths=1.0,
+                           linestyles="--")
+                ax.plot([], [], "--", color="m", label="eq. (12)-(13)")
+                ax.legend(loc="upper right", fontsize=6)
+        if xlog:
+            ax.set_xscale("log")
+        if ylog:
+            ax.set_yscale("log")
+        title = metric if fv is None else f"{r['facet']} = {fv}"
+        ax.set_title(r.get("label", title) if fv is None else f"{title}", fontsize=8)
+        ax.set_xlabel(_axis_label(spec, r["x"]), fontsize=8)
+        ax.set_ylabel(_axis_label(spec, r["y"]), fontsize=8)
+        ax.tick_params(labelsize=7)
+    cb = fig.colorbar(mesh, ax=list(axs), shrink=0.9)
+    cb.set_label(r.get("label", _metric_label(metric)), fontsize=8)
+    cb.ax.tick_params(labelsize=7)
+
+
+def _band_lines(ax, spec, cols, r: dict, values_of: callable) -> None:
+    """One line per hue value: the reduction over seeds of values_of(mask)
+    at each x, and the band of percentiles r['band'] over the seeds."""
+    xa = spec.axis(r["x"])
+    xs = np.asarray(xa.values, float)
+    hues = spec.axis(r["hue"]).values if "hue" in r else (None,)
+    lo, hi = r.get("band", [10, 90])
+    for hv in hues:
+        fixed = dict(r.get("fixed", {}))
+        if hv is not None:
+            fixed[r["hue"]] = hv
+        med, blo, bhi = [], [], []
+        for xv in xs:
+            v = np.asarray(values_of({**fixed, r["x"]: xv}), float)
+            v = v[np.isfinite(v)]
+            med.append(_reduce(v, r.get("reduce", "median")))
+            blo.append(np.percentile(v, lo) if v.size else np.nan)
+            bhi.append(np.percentile(v, hi) if v.size else np.nan)
+        label = None if hv is None else f"{spec.axis(r['hue']).label} = {hv:g}" if isinstance(
+            hv, (int, float)) else f"{r['hue']} = {hv}"
+        line, = ax.plot(xs, med, "o-", ms=3, label=label)
+        ax.fill_between(xs, blo, bhi, color=line.get_color(), alpha=0.2, lw=0)
+    if _is_log_axis(spec, r["x"]):
+        ax.set_xscale("log")
+    if r.get("log"):
+        ax.set_yscale("log")
+    ax.set_xlabel(_axis_label(spec, r["x"]), fontsize=8)
+    ax.tick_params(labelsize=7)
+    ax.grid(alpha=0.3)
+    if hues != (None,):
+        ax.legend(fontsize=6)
+
+
+def lowest_holding(over_values, ok: np.ndarray, over: np.ndarray) -> float:
+    """The lowest value v of the `over` axis such that every run at v and
+    above holds (`ok`), among the runs given (one a value of `over`); NaN
+    if the highest value does not hold."""
+    best = math.nan
+    for v in sorted(over_values, reverse=True):
+        m = np.array([_same(x, v) for x in over])
+        if not m.any():
+            continue
+        if np.all(ok[m]):
+            best = float(v)
+        else:
+            break
+    return best
+
+
+def envelope_values(spec, cols, r: dict, fixed: dict) -> np.ndarray:
+    """Per seed (or the single run without seeds): the lowest value of axis
+    r['over'] that holds (metric r['ok'] >= 0.5 and no fault) at the point
+    `fixed` of the other axes."""
+    sel = _select(cols, fixed)
+    seeds = sorted(set(cols["seed"][sel])) if "seed" in cols and spec.seeds else [None]
+    out = []
+    for sd in seeds:
+        m = sel & (np.asarray(cols["seed"]) == sd) if sd is not None else sel
+        ok = (cols[r["ok"]][m].astype(float) >= 0.5) & (cols["status"][m] == "ok")
+        out.append(lowest_holding(spec.axis(r["over"]).values, ok, cols[r["over"]][m]))
+    return np.array(out, float)
+
+
+def plot_all(spec, out: Path, cols: dict | None = None) -> list[Path]:
+    """Draw every [[plots]] entry of the sweep from OUT's results into
+    OUT/maps/<file>.png; returns the paths."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .sweep import load_results
+
+    out = Path(out)
+    if cols is None:
+        cols = load_results(spec, out)
+    if len(cols["run_id"]) == 0:
+        raise ParameterError(f"{out}: no results of this sweep to plot (run it first)")
+    (out / "maps").mkdir(parents=True, exist_ok=True)
+    paths = []
+    for i, p in enumerate(spec.plots):
+        rows = _rows_of(p)
+        kind = p["kind"]
+        ncol = len(spec.axis(p["facet"]).values) if "facet" in p else 1
+        fig, axs = plt.subplots(len(rows), ncol, figsize=(3.3 * ncol + 1.2, 2.8 * len(rows)),
+                                squeeze=False, constrained_layout=True)
+        for k, r in enumerate(rows):
+            if kind == "heatmap":
+                _heatmap_row(fig, axs[k], spec, cols, r)
+                continue
+            facets = spec.axis(r["facet"]).values if "facet" in r else (None,)
+            for ax, fv in zip(axs[k], facets):
+                rr = dict(r)
+                if fv is not None:
+                    rr["fixed"] = {**r.get("fixed", {}), r["facet"]: fv}
+                if kind == "lines":
+                    def vals(fx, rr=rr):
+                        return cols[rr["metric"]][_select(cols, fx)].astype(float)
+                    _band_lines(ax, spec, cols, rr, vals)
+                    ax.set_ylabel(r.get("label", _metric_label(r["metric"])), fontsize=8)
+                else:
+                    def vals(fx, rr=rr):
+                        return envelope_values(spec, cols, rr, fx)
+                    _band_lines(ax, spec, cols, rr, vals)
+                    ax.set_ylabel(r.get("label", f"lowest {spec.axis(r['over']).label} "
+                                                 "that holds"), fontsize=8)
+                if fv is not None:
+                    ax.set_title(f"{r['facet']} = {fv}", fontsize=8)
+        fig.suptitle(p.get("title", spec.title), fontsize=9)
+        path = out / "maps" / f"{p.get('file', f'map{i}')}.png"
+        fig.savefig(path, dpi=int(p.get("dpi", 90)))
+        plt.close(fig)
+        paths.append(path)
+    return paths
