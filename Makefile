@@ -74,9 +74,12 @@ $(DOCS_STAMP): $(STAMP)
 	$(BIN)/python -m pip install -q ".[docs]"
 	@touch $(DOCS_STAMP)
 
+# built from a copy (build/docs-src): the generated API stubs and gallery
+# stay out of docs/
 .PHONY: docs
 docs: $(DOCS_STAMP)
-	$(BIN)/python -m sphinx -b html -q docs build/docs
+	rm -rf build/docs-src && mkdir -p build && cp -r docs build/docs-src
+	$(BIN)/python -m sphinx -b html -q build/docs-src build/docs
 	@echo "documentation: build/docs/index.html"
 
 bench: $(STAMP) toolchain

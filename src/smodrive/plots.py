@@ -397,7 +397,11 @@ def _paper_specs(paper: str):
 
 
 def paper_value(claim_id: str) -> float | None:
-    """The paper's value of a claim (None if the data gives none)."""
+    """The paper's value of a claim (None if the data gives none).
+
+    >>> paper_value("yao2022.fig10.pos_error_vs_paper_rad_30k")  # Sec. VII-A, rad
+    0.018
+    """
     spec = _paper_specs(claim_id.split(".")[0]).spec_of(claim_id)
     if spec is None:
         return None
