@@ -440,7 +440,8 @@ def test_cli_log_budget_decimates_and_says_so(tmp_path):
     for phase in ("simulating", "writing signals.npz", "plotting"):
         assert phase in res.output
     sig = np.load(out / "signals.npz")
-    assert set(sig.files) == set(CHANNELS) and sig["t"].shape == (10_000,)
+    assert set(sig.files) == set(CHANNELS) | {"_units", "_descriptions"}
+    assert sig["t"].shape == (10_000,)
     np.testing.assert_allclose(np.diff(sig["t"]), 3e-4, rtol=1e-9)
     ref = simulate(_long().replace(log_stride=3))
     assert np.array_equal(sig["w_M"], ref["w_M"])
