@@ -38,6 +38,7 @@ import hashlib
 import json
 import math
 import os
+import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -602,6 +603,19 @@ class Job:
     version: str
 
 
+_LOCAL = threading.local()
+
+
+def _log_buffer(rows: int, cols: int) -> np.ndarray:
+    """A log buffer of at least `rows` rows, kept for the thread's next runs
+    (a worker with several threads has one each): a fresh one each run
+    costs page faults, about a tenth of a yang2018 run in a Dask worker."""
+    buf = getattr(_LOCAL, "buf", None)
+    if buf is None or buf.shape[0] < rows or buf.shape[1] != cols:
+        buf = _LOCAL.buf = np.empty((rows, cols))
+    return buf[:rows]
+
+
 def run_one(job: Job, run: Run) -> dict[str, Any]:
     """One run in this process: the C engine directly, the samples before the
     metrics' window unlogged; the row of the results (point, metrics,
@@ -623,7 +637,7 @@ def run_one(job: Job, run: Run) -> dict[str, Any]:
         if n0:
             eng.run_nolog(n0)
         rows = max(n1 - n0, 0)
-        out = np.zeros((max(rows, 1), len(CHANNELS)))
+        out = _log_buffer(max(rows, 1), len(CHANNELS))
         got = eng.run(rows, out, 0, 1) if rows else 0
         if n > n1:
             eng.run_nolog(n - n1)
@@ -716,11 +730,12 @@ def load_results(spec: SweepSpec, out: Path) -> dict[str, np.ndarray]:
             keep.append(i)
     keep.sort(key=lambda i: order[ids[i]])
     t = t.take(keep)
+    import pyarrow as pa
+
     cols = {}
     for name in t.column_names:
         col = t.column(name)
-        cols[name] = np.array(col.to_pylist(), dtype=object if col.type in (
-            __import__("pyarrow").string(),) else None)
+        cols[name] = np.array(col.to_pylist(), dtype=object if col.type == pa.string() else None)
     return cols
 
 
@@ -855,7 +870,7 @@ def start_client(scheduler: str | None = None, workers: int | None = None):
     if not 1 <= n <= 1024:
         raise ParameterError(f"--workers {n} is outside its valid range [1, 1024]")
     cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                           dashboard_address=None, silence_logs=logging.CRITICAL)
+                           dashboard_address=":0", silence_logs=logging.CRITICAL)
     return Client(cluster), cluster
 
 
@@ -898,6 +913,8 @@ def run_sweep(spec: SweepSpec, out: str | Path, scheduler: str | None = None,
     cluster = None
     try:
         prepare_out(spec, out, sweep_text)
+        for tmp in runs_dir(out).glob(".part-*.tmp"):  # a write a killed sweep left half done
+            tmp.unlink()
         have = done_ids(out)
         todo = [r for r in runs if r.id not in have]
         n_before = len(runs) - len(todo)

@@ -7,6 +7,7 @@ holds). What is drawn is the sweep file's ``[[plots]]`` (docs/sweeps.md).
 from __future__ import annotations
 
 import math
+import textwrap
 from pathlib import Path
 from typing import Any
 
@@ -156,6 +157,20 @@ def _is_log_axis(spec, name: str) -> bool:
                                                         np.log(v[1] / v[0]), rtol=1e-6)
 
 
+def _log_ticks(ax, which: str, values: np.ndarray, log: bool) -> None:
+    """A log axis labelled at the grid's values, as plain numbers."""
+    if not log:
+        return
+    import matplotlib.ticker as mt
+
+    getattr(ax, f"set_{which}scale")("log")
+    axis = ax.xaxis if which == "x" else ax.yaxis
+    ticks = values if values.size <= 8 else values[::int(math.ceil(values.size / 8))]
+    axis.set_major_locator(mt.FixedLocator(ticks))
+    axis.set_major_formatter(mt.FuncFormatter(lambda v, _: f"{v:.3g}"))
+    axis.set_minor_locator(mt.NullLocator())
+
+
 # -------------------------------------------------------------- overlays ---
 
 def _yang2018_eq12_13(spec, r: dict, X: np.ndarray, Y: np.ndarray) -> np.ndarray | None:
@@ -266,10 +281,8 @@ def _heatmap_row(fig, axs, spec, cols, r: dict) -> None:
                            linestyles="--")
                 ax.plot([], [], "--", color="m", label="eq. (12)-(13)")
                 ax.legend(loc="upper right", fontsize=6)
-        if xlog:
-            ax.set_xscale("log")
-        if ylog:
-            ax.set_yscale("log")
+        _log_ticks(ax, "x", xs, xlog)
+        _log_ticks(ax, "y", ys, ylog)
         title = metric if fv is None else f"{r['facet']} = {fv}"
         ax.set_title(r.get("label", title) if fv is None else f"{title}", fontsize=8)
         ax.set_xlabel(_axis_label(spec, r["x"]), fontsize=8)
@@ -302,8 +315,7 @@ def _band_lines(ax, spec, cols, r: dict, values_of: callable) -> None:
             hv, (int, float)) else f"{r['hue']} = {hv}"
         line, = ax.plot(xs, med, "o-", ms=3, label=label)
         ax.fill_between(xs, blo, bhi, color=line.get_color(), alpha=0.2, lw=0)
-    if _is_log_axis(spec, r["x"]):
-        ax.set_xscale("log")
+    _log_ticks(ax, "x", xs, _is_log_axis(spec, r["x"]))
     if r.get("log"):
         ax.set_yscale("log")
     ax.set_xlabel(_axis_label(spec, r["x"]), fontsize=8)
@@ -364,7 +376,8 @@ def plot_all(spec, out: Path, cols: dict | None = None) -> list[Path]:
         rows = _rows_of(p)
         kind = p["kind"]
         ncol = len(spec.axis(p["facet"]).values) if "facet" in p else 1
-        fig, axs = plt.subplots(len(rows), ncol, figsize=(3.3 * ncol + 1.2, 2.8 * len(rows)),
+        width = max(6.5, 3.3 * ncol + 1.2)
+        fig, axs = plt.subplots(len(rows), ncol, figsize=(width, 2.8 * len(rows) + 0.4),
                                 squeeze=False, constrained_layout=True)
         for k, r in enumerate(rows):
             if kind == "heatmap":
@@ -388,7 +401,7 @@ def plot_all(spec, out: Path, cols: dict | None = None) -> list[Path]:
                                                  "that holds"), fontsize=8)
                 if fv is not None:
                     ax.set_title(f"{r['facet']} = {fv}", fontsize=8)
-        fig.suptitle(p.get("title", spec.title), fontsize=9)
+        fig.suptitle(textwrap.fill(p.get("title", spec.title), int(width * 14)), fontsize=9)
         path = out / "maps" / f"{p.get('file', f'map{i}')}.png"
         fig.savefig(path, dpi=int(p.get("dpi", 90)))
         plt.close(fig)
