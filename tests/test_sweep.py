@@ -321,3 +321,33 @@ def test_cli_sweep_errors_and_list(tmp_path):
     assert res.exit_code == 2 and "no sweep.json" in res.output
     res = runner.invoke(main, ["sweep", "nosuch"])
     assert res.exit_code == 2 and "built-in sweep" in res.output
+
+
+def test_the_docs_example_and_quoted_errors(tmp_path):
+    """docs/sweeps.md: its sweep file loads as written, and the errors it
+    quotes are the ones raised."""
+    doc = (ROOT / "docs" / "sweeps.md").read_text()
+    block = doc.split("```toml\n")[1].split("```")[0]
+    p = tmp_path / "doc.toml"
+    p.write_text(block)
+    spec = sw.load_sweep(p)
+    assert len(sw.expand(spec)) == 22 * 3 * 10
+    good = small(tmp_path).read_text()
+    quoted = [
+        _bad(tmp_path, good.replace("values = [0.5, 1.0, 2.0]", "range = [0.5, 2.0]\nn = 0")),
+        _bad(tmp_path, good.replace("window = [0.1, 0.2]", "window = [0.1, 0.5]")),
+    ]
+    p.write_text(good.replace("[0.5, 1.0, 2.0]", "[0.5, 1.0, -2.0]"))
+    spec = sw.load_sweep(p)
+    with pytest.raises(ParameterError) as e:
+        sw.check_runs(spec, sw.expand(spec))
+    quoted.append(str(e.value))
+    flat = " ".join(doc.split())
+    snippets = ["axes[0] (L_ratio).n = 0 is outside its valid range: a whole number in "
+                "[1, 100000]",
+                "sweep.window = [0.1, 0.5] must be [t0, t1] seconds with 0 <= t0 < t1 <= "
+                "duration = 0.2 s",
+                "axis L_ratio = -2.0: controller.L_s_hat = -0.0469 is outside its valid range "
+                "(0, 10] H"]
+    for snippet, msg in zip(snippets, quoted):
+        assert f"`{snippet}" in flat and snippet in msg, (snippet, msg)

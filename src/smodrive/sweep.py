@@ -659,6 +659,14 @@ def run_one(job: Job, run: Run) -> dict[str, Any]:
     return row
 
 
+def _warm_up(base: Scenario) -> None:
+    """On each worker before the runs: the modules and the C library loaded,
+    one engine initialised (start-up is not counted in the run phase)."""
+    from .simulate import Engine
+
+    Engine(base)
+
+
 def run_batch(job: Job, runs: list[Run]) -> list[dict[str, Any]]:
     """A Dask task: the rows of a batch of runs."""
     return [run_one(job, r) for r in runs]
@@ -902,6 +910,7 @@ def run_sweep(spec: SweepSpec, out: str | Path, scheduler: str | None = None,
     total)`; `on_batch(rows, client)` after each part is written (tests
     use it to kill a worker mid-sweep). A batch Dask gives up on (its
     workers died three times) is reported, not written: run again."""
+    import pyarrow.parquet  # noqa: F401  (imported now, not while the workers run)
     from distributed import as_completed
 
     out = Path(out)
@@ -923,6 +932,8 @@ def run_sweep(spec: SweepSpec, out: str | Path, scheduler: str | None = None,
         if todo and own_client:
             client, cluster = start_client(scheduler, workers)
         n_workers = len(client.scheduler_info()["workers"]) if todo else 0
+        if todo:
+            client.run(_warm_up, spec.base)  # imports and the C library, once
         if progress:
             progress("starting Dask", 1, 1)
         batches = make_batches(spec, todo, n_workers)

@@ -74,6 +74,14 @@ def check_plots(spec) -> None:
                     used.add(r[k])
                 elif k in need:
                     raise ParameterError(f"{c}: missing {k!r} (an axis name)")
+            if kind == "heatmap":
+                for k in ("x", "y"):
+                    ax = spec.axis(r[k])
+                    if not ax.numeric or ax.kind == "draw":
+                        raise ParameterError(f"{c}.{k} = {r[k]!r}: a heatmap needs a numeric "
+                                             "grid or list of values, not a "
+                                             + ("random draw" if ax.kind == "draw" else
+                                                "list of names") + " (use facet or hue)")
             fixed = r.get("fixed", {})
             if not isinstance(fixed, dict):
                 raise ParameterError(f"{c}.fixed must be a table axis = value")
@@ -290,7 +298,14 @@ def _heatmap_row(fig, axs, spec, cols, r: dict) -> None:
         ax.tick_params(labelsize=7)
     cb = fig.colorbar(mesh, ax=list(axs), shrink=0.9)
     cb.set_label(r.get("label", _metric_label(metric)), fontsize=8)
-    cb.ax.tick_params(labelsize=7)
+    if isinstance(norm, mcolors.LogNorm):
+        import matplotlib.ticker as mt
+
+        plain = mt.FuncFormatter(lambda v, _: f"{v:.2g}")
+        cb.ax.yaxis.set_major_locator(mt.LogLocator(subs=(1.0, 2.0, 5.0)))
+        cb.ax.yaxis.set_major_formatter(plain)
+        cb.ax.yaxis.set_minor_formatter(mt.NullFormatter())
+    cb.ax.tick_params(which="both", labelsize=7)
 
 
 def _band_lines(ax, spec, cols, r: dict, values_of: callable) -> None:
