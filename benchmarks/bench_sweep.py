@@ -47,8 +47,9 @@ def external_cluster(n: int, tmp: Path):
     """`dask scheduler` and `dask worker --nworkers n` as processes; returns
     (address, processes)."""
     sched_file = tmp / "scheduler.json"
+    # the workers import the smodrive this script imports (installed or src/)
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(
-        [str(Path(__file__).resolve().parents[1] / "src"), os.environ.get("PYTHONPATH", "")])}
+        [str(Path(sw.__file__).resolve().parents[1]), os.environ.get("PYTHONPATH", "")])}
     procs = [subprocess.Popen(dask_cli() + ["scheduler", "--scheduler-file", str(sched_file),
                                             "--port", "0", "--no-dashboard"], env=env,
                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]

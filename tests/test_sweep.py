@@ -225,8 +225,9 @@ def test_killed_sweep_resumes_with_the_missing_runs_only(tmp_path):
     spec = sw.load_sweep(src)
     total = len(sw.expand(spec))
     out = tmp_path / "out"
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "src") + os.pathsep
-           + os.environ.get("PYTHONPATH", "")}
+    # the subprocess imports the smodrive these tests import (installed or src/)
+    env = {**os.environ, "PYTHONPATH": str(Path(sw.__file__).resolve().parents[1])
+           + os.pathsep + os.environ.get("PYTHONPATH", "")}
     proc = subprocess.Popen([sys.executable, "-m", "smodrive.cli", "sweep", str(src), "--out",
                              str(out), "--workers", "1"], env=env, start_new_session=True,
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
