@@ -352,3 +352,32 @@ def test_the_docs_example_and_quoted_errors(tmp_path):
                 "(0, 10] H"]
     for snippet, msg in zip(snippets, quoted):
         assert f"`{snippet}" in flat and snippet in msg, (snippet, msg)
+
+
+def test_lock_metrics_on_a_constructed_log():
+    """holds_lock, time_to_lock, fault and fault_time on a log whose angle
+    error is known: 20 deg until t = 0.3 s, then 5 deg, then one 12 deg
+    sample at t = 0.5 s; after it 1 deg."""
+    from smodrive.analysis.metrics import METRICS, LOCK_DEG
+    from smodrive.params import Scenario
+    from smodrive.simulate import CHANNELS, FaultReport, Result
+
+    assert LOCK_DEG == 10.0
+    t = np.arange(1000) * 1e-3
+    err = np.where(t < 0.3, 20.0, 5.0)
+    err[500] = 12.0
+    err[501:] = 1.0
+    data = np.zeros((t.size, len(CHANNELS)))
+    data[:, CHANNELS.index("t")] = t
+    data[:, CHANNELS.index("theta_r")] = np.radians(err)
+    r = Result(Scenario(duration=1.0, T_sp=1e-3), data, 0, FaultReport(None, 0, 0))
+    vals = metric_values(r, ["holds_lock", "time_to_lock", "pos_error_peak_deg", "fault",
+                             "fault_time"], 0.6, 1.0)
+    assert vals["holds_lock"] == 1.0 and vals["pos_error_peak_deg"] == pytest.approx(1.0)
+    assert vals["time_to_lock"] == pytest.approx(0.501)  # the sample after the last 12 deg
+    assert vals["fault"] == 0.0 and math.isnan(vals["fault_time"])
+    assert metric_values(r, ["holds_lock"], 0.4, 1.0)["holds_lock"] == 0.0  # 12 deg inside
+    faulted = Result(r.scenario, data, 0, FaultReport(0.25, 32, 32))
+    vals = metric_values(faulted, ["holds_lock", "fault", "fault_time"], 0.6, 1.0)
+    assert vals == {"holds_lock": 0.0, "fault": 1.0, "fault_time": 0.25}
+    assert METRICS["time_to_lock"].needs_full_log
