@@ -251,7 +251,7 @@ def override_warnings(c: ControllerCfg, m: MotorPars, *, T_sp: float, lcl: Any =
         if name not in WARNED:
             continue
         ref, src = derive(name, m, c, T_sp=T_sp, lcl=lcl, adc_full_scale=adc_full_scale)
-        if not (ref > 0.0 and math.isfinite(ref)):
+        if src.startswith("reference") or not (ref > 0.0 and math.isfinite(ref)):
             continue
         ratio = v / ref
         if lo <= ratio <= hi:
