@@ -28,6 +28,7 @@ static inline void fz_plant_config(fz *f, smd_plant_config *c)
     c->u_dc = fz_real(f, 0.0, 1000.0);
     c->T_sw = fz_real(f, 0.0, 1e-3);
     c->pwm_mode = fz_int(f, 0, 1);
+    c->dead_time_model = fz_int(f, 0, 1);
     c->t_dead = fz_real(f, 0.0, 1e-5);
     for (k = 0; k < 3; k++) {
         c->adc_gain[k] = fz_real(f, 0.5, 2.0);
@@ -37,6 +38,7 @@ static inline void fz_plant_config(fz *f, smd_plant_config *c)
     }
     c->adc_noise = fz_real(f, 0.0, 1.0);
     c->adc_bits = fz_int(f, 0, 24);
+    c->adc_n_oversample = fz_int(f, 0, 64);
     c->adc_full_scale = fz_real(f, 0.0, 1000.0);
     c->seed = fz_u32(f);
     c->w_brake_eps = fz_real(f, 0.0, 10.0);

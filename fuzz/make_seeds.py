@@ -297,7 +297,8 @@ def scenario_drive(s, sim):
 # ------------------------------------------------------ plant, engine --
 
 PLANT_FIELDS = ["R_s", "L_s", "psi_r", "n_p", "J", "B", ("lcl", (0, 1)), "L1", "L2o", "C1",
-                "u_dc", "T_sw", ("pwm_mode", (0, 1)), "t_dead"]
+                "u_dc", "T_sw", ("pwm_mode", (0, 1)), ("dead_time_model", (0, 1)),
+                "t_dead"]
 PLANT_TAIL = ["w_brake_eps", "k_fan", "w_M0", "theta_r0", "i_d0", "i_q0", "uc_d0", "uc_q0",
               "i1_d0", "i1_q0"]
 
@@ -312,6 +313,7 @@ def put_plant(w: W, c) -> None:
         w.f64(c.adc_gain[k]).f64(c.adc_offset[k]).f64(c.adc_gain_i1[k]).f64(c.adc_offset_i1[k])
     w.f64(c.adc_noise)
     w.int(int(c.adc_bits), 0, 24)
+    w.int(int(c.adc_n_oversample), 0, 64)
     w.f64(c.adc_full_scale)
     w.u32(int(c.seed))
     for f in PLANT_TAIL:
@@ -343,6 +345,18 @@ def plant_seeds(cat, sim) -> None:
         w.u8(4).f64(5.0).f64(1.0).f64(0.01).f64(0.02).int(12, 0, 24).f64(30.0)
         w.u8(5).int(29, -1, 31)
         write("fuzz_plant", name.replace(".", "-"), w.bytes())
+    # zero-current clamping and ADC oversampling near standstill, small current
+    s = cat["yang2018.base"]()
+    c = sim.plant_config(s)
+    c.dead_time_model, c.adc_n_oversample = 1, 4
+    c.w_M0, c.i_q0 = 2.0, 0.05
+    w = W()
+    put_plant(w, c)
+    for _ in range(4):
+        w.u8(1).u8(255).f64(0.02).f64(1.5).f64(0.0)
+    w.u8(0).f64(0.501).f64(0.5).f64(0.499).f64(0.0).f64(0.0)
+    w.u8(2).u8(2 + 8).u8(2 + 16)
+    write("fuzz_plant", "yang2018-base-clamp", w.bytes())
     # a refused configuration (the helpers run on)
     w = W()
     for _ in range(14):

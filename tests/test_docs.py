@@ -235,7 +235,7 @@ def test_plant_field_codes_match_the_library():
             break
         assert f"\n| {code} | `{name}`" in table, (code, name)
         codes += 1
-    assert codes == 29
+    assert codes == 31
     assert _ffi.lib.smd_plant_field(codes).decode() in TEXT
 
 

@@ -97,3 +97,24 @@ void smd_adc_sample3(const double x_abc[3], const double gain[3], const double o
         out[x] = smd_adc_convert(x_abc[x], gain[x], offset[x], noise, bits, full_scale, r);
     }
 }
+
+void smd_adc_sample3_avg(const double x_abc[3], const double gain[3], const double offset[3],
+                         double noise, int bits, double full_scale, int n_avg, smd_rng *r,
+                         double out[3])
+{
+    int x, k;
+    if (n_avg <= 1) {
+        smd_adc_sample3(x_abc, gain, offset, noise, bits, full_scale, r, out);
+        return;
+    }
+    /* oversampling: n_avg conversions of each channel (the burst's duration
+     * neglected: the same true value), each with its own noise draw and
+     * quantisation, then their mean */
+    for (x = 0; x < 3; x++) {
+        double sum = 0.0;
+        for (k = 0; k < n_avg; k++) {
+            sum += smd_adc_convert(x_abc[x], gain[x], offset[x], noise, bits, full_scale, r);
+        }
+        out[x] = sum / (double)n_avg;
+    }
+}

@@ -258,6 +258,7 @@ static const smd_layout_row ROWS[] = {
     F(smd_plant_config, u_dc, "double"),
     F(smd_plant_config, T_sw, "double"),
     F(smd_plant_config, pwm_mode, "int"),
+    F(smd_plant_config, dead_time_model, "int"),
     F(smd_plant_config, t_dead, "double"),
     F(smd_plant_config, adc_gain, "double"),
     F(smd_plant_config, adc_offset, "double"),
@@ -265,6 +266,7 @@ static const smd_layout_row ROWS[] = {
     F(smd_plant_config, adc_offset_i1, "double"),
     F(smd_plant_config, adc_noise, "double"),
     F(smd_plant_config, adc_bits, "int"),
+    F(smd_plant_config, adc_n_oversample, "int"),
     F(smd_plant_config, adc_full_scale, "double"),
     F(smd_plant_config, seed, "uint64_t"),
     F(smd_plant_config, w_brake_eps, "double"),
@@ -307,6 +309,7 @@ static const smd_layout_row ROWS[] = {
     F(smd_plant, L2, "double"),
     F(smd_plant, m, "smd_lcl_modes"),
     F(smd_plant, rng, "smd_rng"),
+    F(smd_plant, solver, "int"),
 };
 
 int smd_layout_rows(void) { return (int)(sizeof(ROWS) / sizeof(ROWS[0])); }

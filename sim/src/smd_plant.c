@@ -15,7 +15,8 @@ static const char *FIELDS[] = {
     "pwm_mode", "t_dead", "adc_gain", "adc_offset", "adc_gain_i1", "adc_offset_i1",
     "adc_noise", "adc_bits", "adc_full_scale", "w_brake_eps", "k_fan", "w_M0", "theta_r0",
     "i_d0/i_q0", "uc_d0/uc_q0", "i1_d0/i1_q0",
-    "R_s/L1/L2o/L_s/C1 (repeated or unstable filter modes)"};
+    "R_s/L1/L2o/L_s/C1 (repeated or unstable filter modes)", "dead_time_model",
+    "adc_n_oversample"};
 
 const char *smd_plant_field(int code)
 {
@@ -61,6 +62,10 @@ static int check(const smd_plant_config *c)
     if (bad(c->i_d0, -1e5, 1e5) || bad(c->i_q0, -1e5, 1e5)) return 26;
     if (c->lcl && (bad(c->uc_d0, -1e5, 1e5) || bad(c->uc_q0, -1e5, 1e5))) return 27;
     if (c->lcl && (bad(c->i1_d0, -1e5, 1e5) || bad(c->i1_q0, -1e5, 1e5))) return 28;
+    /* (29: smd_lcl_setup) the options added later, checked last */
+    if (c->dead_time_model != SMD_DT_SIGN && c->dead_time_model != SMD_DT_CLAMP) return 30;
+    if (c->dead_time_model == SMD_DT_CLAMP && c->lcl) return 30; /* not with the filter */
+    if (c->adc_n_oversample < 0 || c->adc_n_oversample > 64) return 31;
     return 0;
 }
 
@@ -90,6 +95,7 @@ int smd_plant_init(smd_plant *p, const smd_plant_config *c)
         p->i1_re = p->i_re;
         p->i1_im = p->i_im;
     }
+    p->solver = c->lcl ? 2 : (c->dead_time_model == SMD_DT_CLAMP && c->t_dead > 0.0) ? 1 : 0;
     p->w_M = c->w_M0;
     p->T_e_mean = 0.0;
     p->T_L_mean = 0.0;
@@ -101,10 +107,14 @@ int smd_plant_init(smd_plant *p, const smd_plant_config *c)
 
 void smd_plant_step(smd_plant *p, const double d_abc[3], double T_ext, double T_brake)
 {
-    if (p->c.lcl) {
+    if (p->solver == 2) {
         smd_lcl_step(p, d_abc, T_ext, T_brake);
     } else {
-        smd_spmsm_step(p, d_abc, T_ext, T_brake);
+        if (p->solver == 0) {
+            smd_spmsm_step(p, d_abc, T_ext, T_brake);
+        } else {
+            smd_spmsm_step_clamp(p, d_abc, T_ext, T_brake);
+        }
         p->i1_re = p->i_re;
         p->i1_im = p->i_im;
     }
@@ -124,14 +134,25 @@ void smd_plant_sample(smd_plant *p, double i_abc[3], double i1_abc[3])
     if (c->lcl) {
         double dummy[3];
         smd_plant_phase_currents(p, t, t1);
-        smd_adc_sample3(t1, c->adc_gain_i1, c->adc_offset_i1, c->adc_noise, c->adc_bits,
-                        c->adc_full_scale, &p->rng, i1_abc != 0 ? i1_abc : dummy);
+        if (c->adc_n_oversample > 1) {
+            smd_adc_sample3_avg(t1, c->adc_gain_i1, c->adc_offset_i1, c->adc_noise, c->adc_bits,
+                                c->adc_full_scale, c->adc_n_oversample, &p->rng,
+                                i1_abc != 0 ? i1_abc : dummy);
+        } else {
+            smd_adc_sample3(t1, c->adc_gain_i1, c->adc_offset_i1, c->adc_noise, c->adc_bits,
+                            c->adc_full_scale, &p->rng, i1_abc != 0 ? i1_abc : dummy);
+        }
     } else {
         smd_plant_phase_currents(p, t, 0);
         if (i1_abc != 0) i1_abc[0] = i1_abc[1] = i1_abc[2] = 0.0;
     }
-    smd_adc_sample3(t, c->adc_gain, c->adc_offset, c->adc_noise, c->adc_bits, c->adc_full_scale,
-                    &p->rng, i_abc);
+    if (c->adc_n_oversample > 1) {
+        smd_adc_sample3_avg(t, c->adc_gain, c->adc_offset, c->adc_noise, c->adc_bits,
+                            c->adc_full_scale, c->adc_n_oversample, &p->rng, i_abc);
+    } else {
+        smd_adc_sample3(t, c->adc_gain, c->adc_offset, c->adc_noise, c->adc_bits,
+                        c->adc_full_scale, &p->rng, i_abc);
+    }
 }
 
 void smd_plant_eigenvalues(const smd_plant *p, double re[3], double im[3])

@@ -39,3 +39,31 @@ double smd_pwm_avg_duty(double T, double t_dead, double d, double i_x)
     }
     return de;
 }
+
+double smd_pwm_avg_duty_clamp(double T, double t_dead, double d, double i_x, double v_f,
+                              double k_rate)
+{
+    double tz, vr, vfc, dz, de;
+    if (!(t_dead > 0.0)) return smd_pwm_avg_duty(T, t_dead, d, i_x);
+    /* time for the current to reach zero with the leg on the diode's rail:
+     * L di/dt = (2/3) u_dc (v_rail - v_f) (R i neglected), linear */
+    if (i_x > 0.0) {
+        vr = 0.0;
+        tz = v_f > 0.0 ? i_x / (k_rate * v_f) : t_dead;
+    } else if (i_x < 0.0) {
+        vr = 1.0;
+        tz = v_f < 1.0 ? -i_x / (k_rate * (1.0 - v_f)) : t_dead;
+    } else {
+        vr = 0.0;
+        tz = 0.0;
+    }
+    if (!(tz < t_dead)) return smd_pwm_avg_duty(T, t_dead, d, i_x); /* no clamping */
+    vfc = v_f < 0.0 ? 0.0 : (v_f > 1.0 ? 1.0 : v_f);
+    /* each edge's dead time: the rail for tz, then the floating level, where
+     * the ideal leg is high after the rising and low after the falling edge */
+    dz = vr * tz + vfc * (t_dead - tz);
+    de = smd_pwm_clamp(d) + ((dz - t_dead) + dz) / T;
+    if (de < 0.0) de = 0.0;
+    if (de > 1.0) de = 1.0;
+    return de;
+}

@@ -233,9 +233,10 @@ class PlantConfig(ct.Structure):
         ("n_p", ct.c_double), ("J", ct.c_double), ("B", ct.c_double),
         ("lcl", ct.c_int), ("L1", ct.c_double), ("L2o", ct.c_double), ("C1", ct.c_double),
         ("u_dc", ct.c_double), ("T_sw", ct.c_double), ("pwm_mode", ct.c_int),
-        ("t_dead", ct.c_double),
+        ("dead_time_model", ct.c_int), ("t_dead", ct.c_double),
         ("adc_gain", _D3), ("adc_offset", _D3), ("adc_gain_i1", _D3), ("adc_offset_i1", _D3),
-        ("adc_noise", ct.c_double), ("adc_bits", ct.c_int), ("adc_full_scale", ct.c_double),
+        ("adc_noise", ct.c_double), ("adc_bits", ct.c_int), ("adc_n_oversample", ct.c_int),
+        ("adc_full_scale", ct.c_double),
         ("seed", ct.c_uint64),
         ("w_brake_eps", ct.c_double), ("k_fan", ct.c_double),
         ("w_M0", ct.c_double), ("theta_r0", ct.c_double), ("i_d0", ct.c_double),
@@ -315,6 +316,9 @@ _sig("smd_plant_eigenvalues", None, ct.c_void_p, P(ct.c_double), P(ct.c_double))
 _sig("smd_plant_run_open", None, ct.c_void_p, ct.c_long, ct.c_double, ct.c_double, ct.c_double)
 _sig("smd_pwm_edges", None, ct.c_double, ct.c_double, ct.c_double, ct.c_double, P(ct.c_double),
      P(ct.c_double))
+_sig("smd_pwm_avg_duty", ct.c_double, ct.c_double, ct.c_double, ct.c_double, ct.c_double)
+_sig("smd_pwm_avg_duty_clamp", ct.c_double, ct.c_double, ct.c_double, ct.c_double, ct.c_double,
+     ct.c_double, ct.c_double)
 _sig("smd_pwl_eval", ct.c_double, P(Pwl), ct.c_double)
 _sig("smd_pll_impulse", ct.c_int, ct.c_double, ct.c_double, ct.c_double, ct.c_double,
      ct.c_double, ct.c_long, P(ct.c_double))

@@ -206,6 +206,11 @@ class InverterCfg(_Validated):
     u_dc: float = num(540.0, 0.0, 1e5, "V", "DC-link voltage", lo_open=True)
     pwm: str = choice("carrier", ("carrier", "averaged"), "carrier comparison or cycle average")
     t_dead: float = num(2e-6, 0.0, 1e-3, "s", "dead time (assumed)")
+    dead_time_model: str = choice(
+        "sign", ("sign", "clamp"),
+        "dead time near zero current: sign (the diode by the current's sign at the period "
+        "start) or clamp (zero-current clamping: a current reaching zero in the dead time stays "
+        "there and the open leg follows the back EMF; not with the LCL filter)")
     svm_limit: str = choice("hexagon", ("hexagon", "circle"), "voltage limit of the modulator")
 
 
@@ -225,6 +230,9 @@ class AdcCfg(_Validated):
     bits: int = num(12, 0, 24, "", "resolution (0: none)", integer=True)
     full_scale: float = num(25.0, 1e-6, 1e6, "A", "+- input range (assumed)")
     seed: int = num(1, 0, 2**63 - 1, "", "noise seed", integer=True)
+    n_oversample: int = num(1, 1, 64, "",
+                            "conversions averaged a sample (oversampling burst at the carrier "
+                            "peak, its duration neglected) (assumed)", integer=True)
 
 
 CURRENT_CONTROL = ("pi", "dbpc", "robust_dbpc")

@@ -130,11 +130,13 @@ def plant_config(s: Scenario) -> _ffi.PlantConfig:
     c.T_sw = s.T_sp
     c.pwm_mode = 1 if inv.pwm == "carrier" else 0
     c.t_dead = inv.t_dead
+    c.dead_time_model = 1 if inv.dead_time_model == "clamp" else 0
     for k in range(3):
         c.adc_gain[k], c.adc_offset[k] = adc.gain[k], adc.offset[k]
         c.adc_gain_i1[k], c.adc_offset_i1[k] = adc.gain_i1[k], adc.offset_i1[k]
     c.adc_noise = adc.noise
     c.adc_bits = adc.bits
+    c.adc_n_oversample = adc.n_oversample
     c.adc_full_scale = adc.full_scale
     c.seed = adc.seed
     c.w_brake_eps = s.load.w_brake_eps
@@ -410,6 +412,8 @@ _PLANT_FIELDS: dict[int, tuple[str, ...]] = {
     27: _WARM + ("motor.R_s", "motor.L_s", "lcl.L2o"),  # ... its capacitor voltage
     28: _WARM + ("motor.R_s", "motor.L_s", "lcl.L2o", "lcl.C1"),  # ... its i_1
     29: ("motor.R_s", "motor.L_s", "lcl.L1", "lcl.L2o", "lcl.C1"),
+    30: ("inverter.dead_time_model", "lcl"),  # clamp: the machine without the filter only
+    31: ("adc.n_oversample",),
 }
 _SPEED_PI = ("controller.speed_bw", "controller.J_hat", "controller.psi_r_pi", "motor.n_p")
 _PLL = ("controller.k_theta", "controller.k_omega", "controller.k_a")

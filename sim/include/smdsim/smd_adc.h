@@ -37,4 +37,11 @@ double smd_adc_convert(double x, double gain, double offset, double noise, int b
 void smd_adc_sample3(const double x_abc[3], const double gain[3], const double offset[3],
                      double noise, int bits, double full_scale, smd_rng *r, double out[3]);
 
+/* The same with oversampling: each channel the mean of n_avg conversions
+ * (smd_adc_convert each: own noise draw and quantisation; channel a's n_avg
+ * draws first, then b's, c's); n_avg <= 1 is smd_adc_sample3. */
+void smd_adc_sample3_avg(const double x_abc[3], const double gain[3], const double offset[3],
+                         double noise, int bits, double full_scale, int n_avg, smd_rng *r,
+                         double out[3]);
+
 #endif

@@ -29,6 +29,14 @@ typedef enum smd_pwm_mode {
     SMD_PWM_CARRIER = 1     /* carrier comparison, regular sampling */
 } smd_pwm_mode;
 
+/* How the dead time acts on a leg (docs/architecture.md, Plant). */
+typedef enum smd_dead_time_model {
+    SMD_DT_SIGN = 0,  /* the diode by the sign of the current at the period start */
+    SMD_DT_CLAMP = 1  /* zero-current clamping: the diode by the current at each commanded
+                       * edge; a current that reaches zero within the dead time stays there
+                       * and the open leg floats (carrier PWM, the machine without filter) */
+} smd_dead_time_model;
+
 /* Everything the plant needs (true values), SI units. */
 typedef struct smd_plant_config {
     /* machine */
@@ -47,7 +55,8 @@ typedef struct smd_plant_config {
     double u_dc;       /* DC-link voltage, V */
     double T_sw;       /* carrier period = sampling period, s */
     int pwm_mode;      /* smd_pwm_mode */
-    double t_dead;     /* dead time, s (diode by the sign of the inverter current) */
+    int dead_time_model; /* smd_dead_time_model (SMD_DT_CLAMP: not with the LCL filter) */
+    double t_dead;     /* dead time, s (diode by the dead_time_model) */
     /* ADC: the motor-current channels, and the inverter-side ones (LCL) */
     double adc_gain[3];      /* per-phase gain (1 = exact) */
     double adc_offset[3];    /* per-phase offset, A */
@@ -55,6 +64,7 @@ typedef struct smd_plant_config {
     double adc_offset_i1[3];
     double adc_noise;        /* white-noise standard deviation (every channel), A */
     int adc_bits;            /* 0: no quantisation */
+    int adc_n_oversample;    /* conversions averaged a sample, 1..64 (0 is taken as 1) */
     double adc_full_scale;   /* +- range, A */
     uint64_t seed;           /* noise generator seed */
     /* load */
@@ -96,6 +106,7 @@ typedef struct smd_plant {
     double L2;            /* L2o + L_s, H */
     smd_lcl_modes m;      /* LCL only */
     smd_rng rng;          /* ADC noise generator */
+    int solver;           /* 0: smd_spmsm_step, 1: smd_spmsm_step_clamp, 2: smd_lcl_step */
 } smd_plant;
 
 /* Returns 0 or a positive code naming the first bad field (smd_plant_field). */
@@ -128,6 +139,8 @@ unsigned long smd_sizeof_plant_config(void);
 /* The two exact solvers (smd_spmsm.c, smd_lcl.c); their shared mechanics are
  * in sim/src/smd_mech.h. */
 void smd_spmsm_step(smd_plant *p, const double d_abc[3], double T_ext, double T_brake);
+/* the same with zero-current clamping (dead_time_model SMD_DT_CLAMP, t_dead > 0) */
+void smd_spmsm_step_clamp(smd_plant *p, const double d_abc[3], double T_ext, double T_brake);
 int smd_lcl_setup(smd_plant *p); /* 0 or the field code of repeated/unstable modes */
 void smd_lcl_step(smd_plant *p, const double d_abc[3], double T_ext, double T_brake);
 

@@ -23,4 +23,17 @@ void smd_pwm_edges(double T, double t_dead, double d, double i_x, double *t_on, 
  * i_x, clamped to [0, 1]. */
 double smd_pwm_avg_duty(double T, double t_dead, double d, double i_x);
 
+/* The same with zero-current clamping (dead_time_model SMD_DT_CLAMP): at each
+ * of the leg's two edges the diode of i_x's direction holds the leg on its
+ * rail until the current reaches zero, after tz = |i_x| / (k_rate |v_rail -
+ * v_f|) (linear, R i neglected; never if the rate points away from zero), and
+ * the open leg then sits at the floating level v_f (clamped to [0, 1]) for the
+ * rest of the dead time. v_f: the floating level as a fraction of u_dc,
+ * unclamped, (v_y + v_z)/2 + 1.5 e_x/u_dc with the other legs high or low by
+ * their duties at the edges; k_rate = (2/3) u_dc / L, A/s. With tz >= t_dead
+ * (a large current) exactly smd_pwm_avg_duty; with i_x = 0 the leg floats the
+ * whole dead time. Clamped to [0, 1]. */
+double smd_pwm_avg_duty_clamp(double T, double t_dead, double d, double i_x, double v_f,
+                              double k_rate);
+
 #endif
