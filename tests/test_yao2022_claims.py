@@ -385,3 +385,20 @@ def test_table5_needs_more_angle_ripple_than_eq47_can_give():
         assert g_c == pytest.approx(g_tf, rel=1e-6)
         assert 1100 * y.RPM / g_tf == pytest.approx(need, abs=0.05)
         assert 1100 * y.RPM / g_tf > 2 * math.pi  # beyond any angle, let alone pi/2
+
+
+def test_table6_without_the_target_toolchain_is_not_measured(monkeypatch):
+    """Without the cross compiler or the emulator the Table VI claims are
+    'not measured' with the reason, never a failing NaN (issue 13.2)."""
+    from smodrive import target
+
+    def no_toolchain(*_a, **_k):
+        raise target.TargetError("arm-none-eabi-gcc not found")
+
+    monkeypatch.setattr(target, "table6_cycles", no_toolchain)
+    exp = next(e for e in y.EXPERIMENTS if e.id == "yao2022.table6")
+    claims = exp.run(lambda name, frac: None).claims
+    assert len(claims) == 3
+    for c in claims:
+        assert c.status == "not measured", c.id
+        assert "arm-none-eabi-gcc not found" in c.statement
