@@ -2,8 +2,11 @@
 
 Runs the yang2018 Fig. 9 scenario (sensorless robust DBPC + SMDO, 150 -> 1500
 -> 150 r/min) with carrier-comparison PWM, and the same in the switching-
-cycle-averaged mode, and the yao2022 100 kr/min scenario (LCL filter,
-sliding-mode observer + PLL, 20 kHz), each several times; prints steps/s and
+cycle-averaged mode, with the hard-sign dead-time model (the rows every
+earlier measurement used) and once with zero-current clamping (the model the
+reproduction's Fig. 9 uses: its event-walked solver costs about half the
+speed), and the yao2022 100 kr/min scenario (LCL filter, sliding-mode
+observer + PLL, 20 kHz), each several times; prints steps/s and
 simulated seconds per wall-second (min / median / max over repetitions). Usage:
 
     python benchmarks/bench_engine.py [--seconds 20] [--repeat 5] [--json out.json]
@@ -46,11 +49,13 @@ def _rates(s: Scenario, repeat: int, log: bool) -> list[float]:
     return rates
 
 
-def bench(pwm: str, seconds: float, repeat: int, log: bool) -> dict:
+def bench(pwm: str, seconds: float, repeat: int, log: bool, dead_time: str = "sign") -> dict:
     """yang2018 Fig. 9 (sensorless robust DBPC + SMDO), T_sp = 100 us."""
     base = y.fig9_scenario()
-    s = base.replace(duration=seconds, inverter=dataclasses.replace(base.inverter, pwm=pwm))
-    return _summary(pwm, pwm, log, s.n_steps, _rates(s, repeat, log), s.T_sp)
+    s = base.replace(duration=seconds, inverter=dataclasses.replace(
+        base.inverter, pwm=pwm, dead_time_model=dead_time))
+    label = pwm if dead_time == "sign" else f"{pwm} ({dead_time})"
+    return _summary(label, pwm, log, s.n_steps, _rates(s, repeat, log), s.T_sp)
 
 
 def _summary(label: str, pwm: str, log: bool, n: int, rates: list[float], T_sp: float) -> dict:
@@ -82,6 +87,7 @@ def main() -> None:
     a = ap.parse_args()
     rows = [bench(pwm, a.seconds, a.repeat, log) for pwm in ("carrier", "averaged")
             for log in (True, False)]
+    rows += [bench("carrier", a.seconds, a.repeat, True, dead_time="clamp")]
     rows += [bench_lcl("carrier", a.seconds / 2, a.repeat, log) for log in (True, False)]
     print(f"smodrive engine benchmark: yang2018 Fig. 9 scenario, T_sp = 100 us, "
           f"{a.seconds:g} s simulated x {a.repeat}, {platform.processor() or platform.machine()}, "
