@@ -23,7 +23,9 @@ SHORT = {
     "yang2018.fig1.sim_peak_gain_db_Lhat_2L_vs_eq14": "eq. (14) assumes the Euler plant",
     "yang2018.fig6a.ripple_ratio": "ADC noise through the gain L_hat/T_sp",
     "yang2018.fig7b.pos_error_peak_deg": "ADC noise and dead time at 75 r/min",
-    "yang2018.fig9.pos_error_peak_deg": "ADC noise and dead time at 150 r/min",
+    "yang2018.fig7b.pos_error_peak_deg_oversampled": "dead time alone gives 10.5 deg",
+    "yang2018.fig9.pos_error_peak_deg": "dead time at 72-150 r/min without load (noise off: "
+                                        "14.4 deg)",
     **{f"yao2022.table5.ripple_rpm_{law}_{t}": "the PLL (50) cannot pass such ripple (errata Y12)"
        for law in ("baseline", "proposed") for t in ("30k", "60k", "100k")},
     "yao2022.table5.ripple_reduction_100k": "ripple set by noise (the 2 f_e / 3 f_e lines: next "
@@ -33,7 +35,7 @@ SHORT = {
     "yao2022.fig14.pos_error_peak_rad": "PLL takes up the assumed ramp slowly",
     "yao2022.fig14.pos_error_peak_rad_adc": "ADC noise at 5-10 kr/min",
     "yao2022.fig14.end_speed_rpm": "inverter voltage limit",
-    "yao2022.fig22.reversal_pos_error_peak_rad": "lost lock at zero speed (6 of 10 seeds stop)",
+    "yao2022.fig22.reversal_pos_error_peak_rad": "ADC noise just outside the crossing band",
     "yao2022.fig22.crossing_pos_error_peak_rad": "no back EMF within +-3 kr/min",
     "yao2022.fig23.linear_observer_stable": "linear observer keeps its poles",
     "yao2022.fig23.smo_stable": "capacitance error biases the angle by 0.105 rad",
