@@ -9,7 +9,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 OUT ?= results
 STAMP := $(VENV)/.installed
-SOURCES := $(shell find core sim src -type f \( -name '*.c' -o -name '*.h' -o -name '*.py' \)) \
+SOURCES := $(shell find core sim src -type f \( -name '*.c' -o -name '*.h' -o -name '*.py' -o -name '*.toml' \)) \
            CMakeLists.txt pyproject.toml
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
