@@ -385,7 +385,10 @@ def test_defaults():
 
 
 def test_toml_round_trip_of_both_options():
-    import tomllib
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10: the same parser as a package
+        import tomli as tomllib
 
     from smodrive.scenario_io import scenario_from_dict, scenario_to_toml
 
