@@ -170,3 +170,15 @@ def test_real_experiment_figures_are_shown(exp_id, tmp_path, monkeypatch):
     for name in pngs:
         assert f"(figures/{name})" in md
     assert len(table_rows(md)) == 1 + len(rep.claims)
+
+
+def test_only_runs_the_named_experiments(tmp_path, monkeypatch):
+    """reproduce(..., only=ids) runs just those experiments of the paper
+    (the gallery's short versions); the others' claims and figures are
+    absent."""
+    made: list[str] = []
+    monkeypatch.setitem(PAPERS, "fake", _fake_paper(made))
+    rep = report.reproduce(["fake"], tmp_path, only={"fake.fig20"})
+    assert made == ["fake_fig20"]
+    assert [s[0] for s in rep.sections] == ["fake.fig20"]
+    assert [c.id for c in rep.claims] == [c.id for c in claims()[2:]]

@@ -7,7 +7,7 @@ import platform
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Collection
 
 from .claims import Claim, count, write_claims
 from .scenarios import PAPERS
@@ -32,7 +32,11 @@ def reproduce(
     out: Path,
     on_experiment: Callable[[str, str], None] | None = None,
     on_progress: Callable[[str, float], None] | None = None,
+    only: Collection[str] | None = None,
 ) -> Reproduction:
+    """Run the experiments of `papers` (only those whose id is in `only`,
+    when given) and write their figures, claims.json and report.md to
+    `out`."""
     out = Path(out)
     fig_dir = out / "figures"
     fig_dir.mkdir(parents=True, exist_ok=True)
@@ -41,6 +45,8 @@ def reproduce(
     progress = on_progress or (lambda name, frac: None)
     for paper in papers:
         for exp in PAPERS[paper].EXPERIMENTS:
+            if only is not None and exp.id not in only:
+                continue
             if on_experiment:
                 on_experiment(exp.id, exp.title)
             outcome = exp.run(progress)
@@ -58,6 +64,29 @@ def reproduce(
     rep.seconds = time.perf_counter() - t0
     write_claims(rep.claims, out / "claims.json")
     (out / "report.md").write_text(render_report(rep, papers, out), encoding="utf-8")
+    return rep
+
+
+def gallery(paper: str, quick: Collection[str]) -> Reproduction:
+    """A gallery page's reproduction of `paper` (examples/plot_reproduce_*):
+    every experiment, or those of `quick` in the documentation build
+    (SMODRIVE_GALLERY_QUICK set), into a temporary folder; prints each
+    claim with its verdict and shows each figure."""
+    import os
+    import tempfile
+
+    import matplotlib.pyplot as plt
+
+    short = bool(os.environ.get("SMODRIVE_GALLERY_QUICK"))
+    rep = reproduce([paper], Path(tempfile.mkdtemp()), only=quick if short else None)
+    for c in rep.claims:
+        print(f"{c.status:12s} {c.id}: reproduced {_fmt(c.reproduced)} {c.unit} "
+              f"({c.describe_check()})")
+    for png in rep.figures:
+        fig, ax = plt.subplots(figsize=(9, 6), layout="constrained")
+        ax.imshow(plt.imread(png))
+        ax.set_axis_off()
+        ax.set_title(png.stem)
     return rep
 
 
