@@ -21,9 +21,18 @@
  * SMD_SQRT, SMD_FLOOR). The results then differ from the host build (the
  * simulator and the tests use the C library's functions); by how much, for
  * the drive at hand, is the user's to check. See docs/firmware.md.
+ *
+ * IEEE 754 semantics are required: the drive catches non-finite inputs and
+ * internal values (smd_drive.h, faults), and under -ffast-math or
+ * -ffinite-math-only the compiler may take every isfinite() as true and
+ * remove those checks, so such a build is refused here.
  */
 #ifndef SMD_TYPES_H
 #define SMD_TYPES_H
+
+#if defined(__FINITE_MATH_ONLY__) && __FINITE_MATH_ONLY__
+#error "smodrive core: compile without -ffast-math / -ffinite-math-only (its NaN and inf checks need IEEE 754 semantics)"
+#endif
 
 #include <math.h>
 #include <stdbool.h>
