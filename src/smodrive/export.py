@@ -15,7 +15,8 @@ Every format holds one column per channel of :data:`smodrive.simulate.CHANNELS`
 ``csv``
     ``signals.csv``: a header row of channel names, then one row per
     logged sample (17 significant digits: every float64 reads back exactly,
-    with pandas through ``read_csv(..., float_precision="round_trip")``);
+    with pandas 3's ``read_csv``, or pandas 2's with
+    ``float_precision="round_trip"``);
     the units and descriptions in the sidecar ``signals.csv.json``.
 ``parquet``
     ``signals.parquet`` (pyarrow): the unit and description of each column in
