@@ -40,7 +40,6 @@ SHORT = {
     "yao2022.fig23.linear_observer_stable": "linear observer keeps its poles",
     "yao2022.fig23.smo_stable": "capacitance error biases the angle by 0.105 rad",
     "yao2022.fig4.comp_error_ratio_18_over_17": "periodic disturbance is the 2 f_e line alone",
-    "yao2022.table6.cycles_observer": "full model interpolation every sample (1,292 cycles)",
     "yao2022.table6.cycles_reaching_law": "sin/cos and band-pass coefficient updates",
     "yao2022.table6.cycles_pll": "atan2 of the position error (102 cycles)",
 }

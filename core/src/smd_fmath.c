@@ -94,6 +94,30 @@ float smd_cosf(float x)
     }
 }
 
+void smd_sincosf(float x, float *s, float *c)
+{
+    float ax = x < 0.0f ? -x : x;
+    float r, sp, cp;
+    int q;
+    if (!(ax <= FLT_MAX)) {
+        *s = x - x;
+        *c = x - x;
+        return;
+    }
+    r = reduce(ax, &q);
+    sp = sin_poly(r);
+    cp = cos_poly(r);
+    switch (q) {
+    case 0: *s = sp; *c = cp; break;
+    case 1: *s = cp; *c = -sp; break;
+    case 2: *s = -sp; *c = -cp; break;
+    default: *s = -cp; *c = sp; break;
+    }
+    if (x < 0.0f) {
+        *s = -*s;
+    }
+}
+
 /* atan(t) for t >= 0 (Cephes atanf): reduced to |t| <= tan(pi/8). */
 static float atan_pos(float t)
 {

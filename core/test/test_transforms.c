@@ -98,11 +98,49 @@ static void test_park(void)
     }
 }
 
+/* smd_table_interp (the observers' speed tables): every field, for field
+ * counts that leave 0-3 values after the four-at-a-time part, is exactly
+ * a + f (b - a) of its two neighbouring rows (the same operations as the
+ * plain loop, so bit for bit), clamped to the first and last rows outside
+ * the table. A field skipped, a row off by one or a wrong remainder loop
+ * differs by a table step (>= 1 here). */
+static void test_table_interp(void)
+{
+    enum { NR = 4, NF_MAX = 13 };
+    smd_real table[NR * NF_MAX];
+    smd_real out[NF_MAX + 1];
+    const smd_real w_min = R(100.0), dw = R(50.0);
+    const smd_real ws[6] = {R(-1e4), R(100.0), R(137.5), R(220.0), R(250.0), R(1e6)};
+    int nf, i, j;
+    for (nf = 1; nf <= NF_MAX; nf++) {
+        for (i = 0; i < NR * nf; i++) {
+            table[i] = (smd_real)(i * i % 17) + R(0.25) * (smd_real)i;
+        }
+        for (j = 0; j < 6; j++) {
+            smd_real x = (ws[j] - w_min) / dw, f;
+            int k;
+            if (!(x > R(0.0))) x = R(0.0);
+            if (x > (smd_real)(NR - 1)) x = (smd_real)(NR - 1);
+            k = (int)x;
+            if (k > NR - 2) k = NR - 2;
+            f = x - (smd_real)k;
+            out[nf] = R(-7.0); /* sentinel: written beyond nf is an error */
+            smd_table_interp(table, nf, NR, w_min, dw, ws[j], out);
+            for (i = 0; i < nf; i++) {
+                smd_real a = table[k * nf + i], b = table[(k + 1) * nf + i];
+                CHECK(out[i] == a + f * (b - a));
+            }
+            CHECK(out[nf] == R(-7.0));
+        }
+    }
+}
+
 int main(void)
 {
     RUN_TEST(test_clarke_known_values);
     RUN_TEST(test_clarke_balanced_set);
     RUN_TEST(test_inverse_clarke);
     RUN_TEST(test_park);
+    RUN_TEST(test_table_interp);
     return smdt_summary("test_transforms");
 }

@@ -41,8 +41,8 @@ BLOCKS = {"transforms": 1, "svm": 2, "pi": 3, "dbpc": 4, "smdo": 5, "emf_pos": 6
 MATH_FUNCS = ("sin", "cos", "atan2", "exp", "expm1", "floor", "sqrt", "fabs")
 #: the core's math hooks mapped to its portable float math
 FMATH_DEFINES = ['-DSMD_MATH_HEADER="smodrive/smd_fmath.h"', "-DSMD_SINF=smd_sinf",
-                 "-DSMD_COSF=smd_cosf", "-DSMD_ATAN2F=smd_atan2f", "-DSMD_EXPF=smd_expf",
-                 "-DSMD_EXPM1F=smd_expm1f"]
+                 "-DSMD_COSF=smd_cosf", "-DSMD_SINCOSF=smd_sincosf", "-DSMD_ATAN2F=smd_atan2f",
+                 "-DSMD_EXPF=smd_expf", "-DSMD_EXPM1F=smd_expm1f"]
 M4_FLAGS = ["-mcpu=cortex-m4", "-mthumb", "-mfpu=fpv4-sp-d16", "-mfloat-abi=hard"]
 COMMON_FLAGS = ["-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Werror"]
 IN_WORDS = ct.sizeof(_ffi.DriveIn) // 4

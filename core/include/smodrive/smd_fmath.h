@@ -10,8 +10,8 @@
  * Cortex-M4F cannot reproduce the simulator's run bit for bit. Mapped into
  * the core with the math hooks of smd_types.h,
  *
- *   -DSMD_SINF=smd_sinf -DSMD_COSF=smd_cosf -DSMD_ATAN2F=smd_atan2f
- *   -DSMD_EXPF=smd_expf -DSMD_EXPM1F=smd_expm1f
+ *   -DSMD_SINF=smd_sinf -DSMD_COSF=smd_cosf -DSMD_SINCOSF=smd_sincosf
+ *   -DSMD_ATAN2F=smd_atan2f -DSMD_EXPF=smd_expf -DSMD_EXPM1F=smd_expm1f
  *
  * the firmware and the host agree bit for bit, and on a Cortex-M4F these
  * are several times cheaper than newlib's (which evaluate in soft-float
@@ -34,6 +34,9 @@ extern "C" {
 
 float smd_sinf(float x);
 float smd_cosf(float x);
+/* *s = smd_sinf(x) and *c = smd_cosf(x), bit for bit, with one argument
+ * reduction (the core's e^{j theta}, through SMD_SINCOSF). */
+void smd_sincosf(float x, float *s, float *c);
 float smd_atan2f(float y, float x);
 float smd_expf(float x);
 float smd_expm1f(float x);

@@ -162,7 +162,19 @@ static inline smd_cplx smd_cconj(smd_cplx a) { return smd_c(a.re, -a.im); }
 static inline smd_cplx smd_cj(smd_cplx a) { return smd_c(-a.im, a.re); }
 static inline smd_real smd_cabs(smd_cplx a) { return SMD_SQRT(a.re * a.re + a.im * a.im); }
 /* e^{j theta} */
-static inline smd_cplx smd_cexpj(smd_real theta) { return smd_c(SMD_COS(theta), SMD_SIN(theta)); }
+/* With SMD_SINCOSF(x, &s, &c) defined (float build), one call gives both:
+ * it must give the bits SMD_SINF and SMD_COSF give (smd_fmath's
+ * smd_sincosf does, with one argument reduction instead of two). */
+static inline smd_cplx smd_cexpj(smd_real theta)
+{
+#if defined(SMD_SINCOSF) && !defined(SMD_REAL_DOUBLE)
+    smd_cplx z;
+    SMD_SINCOSF(theta, &z.im, &z.re);
+    return z;
+#else
+    return smd_c(SMD_COS(theta), SMD_SIN(theta));
+#endif
+}
 static inline bool smd_cfinite(smd_cplx a) { return isfinite(a.re) && isfinite(a.im); }
 
 /* Wrap an angle to [-pi, pi). */
@@ -208,7 +220,7 @@ static inline void smd_table_interp(const smd_real *table, int nf, int n, smd_re
 {
     smd_real x = (w - w_min) / dw;
     smd_real f;
-    int k, i;
+    int k, i, n4;
     const smd_real *a;
     const smd_real *b;
     if (!(x > SMD_R(0.0))) {
@@ -224,7 +236,18 @@ static inline void smd_table_interp(const smd_real *table, int nf, int n, smd_re
     f = x - (smd_real)k;
     a = table + k * nf;
     b = a + nf;
-    for (i = 0; i < nf; i++) {
+    /* four at a time: the same operations on each value, a quarter of the
+     * loop's compare-and-branch (113 values a sample for the LCL observer) */
+    n4 = nf - nf % 4;
+    for (i = 0; i < n4; i += 4) {
+        smd_real a0 = a[i], a1 = a[i + 1], a2 = a[i + 2], a3 = a[i + 3];
+        smd_real b0 = b[i], b1 = b[i + 1], b2 = b[i + 2], b3 = b[i + 3];
+        out[i] = a0 + f * (b0 - a0);
+        out[i + 1] = a1 + f * (b1 - a1);
+        out[i + 2] = a2 + f * (b2 - a2);
+        out[i + 3] = a3 + f * (b3 - a3);
+    }
+    for (i = n4; i < nf; i++) {
         out[i] = a[i] + f * (b[i] - a[i]);
     }
 }
