@@ -77,6 +77,19 @@ static smd_status check_protection(const smd_drive_config *c)
     if (c->w_if_enter > SMD_R(0.0) && c->position == SMD_POS_ENCODER) {
         return SMD_ERR_COMBINATION; /* the return to I/f is for sensorless sources */
     }
+    if (!smd_in_range(c->a_ref, SMD_R(0.0), SMD_R(1e9)) || c->dwell < 0 || c->dwell > 10000000 ||
+        c->chatter_max < 0 || c->chatter_max > 1000 || c->chatter_window < 0 ||
+        c->chatter_window > 100000000 || (c->chatter_max > 0 && c->chatter_window < 1) ||
+        c->track_samples < 0 || c->track_samples > 100000000 ||
+        !smd_in_range(c->w_track, SMD_R(0.0), SMD_R(1e7)) ||
+        (c->track_samples > 0 && !(c->w_track > SMD_R(0.0))) ||
+        c->forced_samples < 0 || c->forced_samples > 100000000 ||
+        !smd_in_range(c->osc_i, SMD_R(0.0), SMD_R(1e5)) ||
+        !smd_in_range(c->osc_rel, SMD_R(0.0), SMD_R(100.0)) ||
+        c->osc_samples < 0 || c->osc_samples > 10000000 ||
+        (c->osc_samples > 0 && !(c->osc_i > SMD_R(0.0)))) {
+        return SMD_ERR_PROTECTION;
+    }
     return SMD_OK;
 }
 
@@ -206,6 +219,19 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
     p->w_lock_min = c->w_lock_min;
     p->w_if_enter = c->w_if_enter;
     p->w_src_max = source_speed_limit(c);
+    p->R_hat = c->R_s_hat;
+    p->L_hat = c->current == SMD_CC_PI ? c->L_dec : c->L_s_hat;
+    p->a_ref = c->a_ref;
+    p->dwell = c->dwell;
+    p->chatter_max = c->chatter_max;
+    p->chatter_decay = c->chatter_max > 0 ? (smd_real)c->chatter_max / (smd_real)c->chatter_window
+                                          : SMD_R(0.0);
+    p->track_samples = c->track_samples;
+    p->w_track = c->w_track;
+    p->forced_samples = c->forced_samples;
+    p->osc_i = c->osc_i;
+    p->osc_rel = c->osc_rel;
+    p->osc_samples = c->osc_samples;
     p->i_start = c->i_start;
     p->a_start = c->a_start;
     p->w_handover = c->w_handover;
@@ -260,6 +286,38 @@ void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real the
     case SMD_POS_LCL_SMO_PLL: smd_lcl_smo_reset(&s->pos.u.smo, theta0); break;
     case SMD_POS_LCL_LINEAR: smd_linobs_reset(&s->pos.u.lin); break;
     default: break;
+    }
+    s->w_ref_r = w0;
+    s->phase_samples = 0;
+    s->chatter = SMD_R(0.0);
+    s->track_count = 0;
+    s->forced_count = 0;
+    s->start_count = 0;
+    s->osc_count = 0;
+    s->osc_n = 0;
+    s->osc_ms = SMD_R(0.0);
+    s->i_prev1 = zero;
+    s->i_prev2 = zero;
+    s->warn = 0u;
+}
+
+void smd_drive_start_duties(const smd_drive_params *p, smd_drive_state *s, smd_real u_dc,
+                            smd_real d_abc[3])
+{
+    /* steady state of the machine model in the frame of theta0 (rotor
+     * frame, i = j i_q0): u = (R + j w L) j i_q0 + j w psi */
+    const smd_real w = s->w_k, iq = s->i_dq_ref.im;
+    smd_cplx u_dq = smd_c(-w * p->L_hat * iq, p->R_hat * iq + w * p->psi_r_hat);
+    smd_cplx u_ab = smd_dq_to_ab(u_dq, s->theta_k + SMD_R(0.5) * w * p->T_sp);
+    if (!(smd_cfinite(u_ab) && u_dc > SMD_R(0.0) && isfinite(u_dc))) {
+        u_ab = smd_c(SMD_R(0.0), SMD_R(0.0));
+        u_dc = SMD_R(1.0);
+    }
+    smd_svm_step(&p->svm, u_ab, u_dc, d_abc, &s->u_ab_next);
+    if (p->current == SMD_CC_PI) {
+        /* the PI's integrator holds what the steady state needs beyond the
+         * decoupling (and the EMF feed-forward, when on) */
+        s->x_i = smd_c(SMD_R(0.0), p->R_hat * iq + (p->emf_ff ? SMD_R(0.0) : w * p->psi_r_hat));
     }
 }
 
@@ -316,6 +374,14 @@ static smd_cplx emf_estimate(const smd_drive_params *p, const smd_drive_state *s
     }
 }
 
+/* A switch of the start-up supervisor (counted for SMD_FAULT_CHATTER). */
+static void switch_phase(smd_drive_state *s, int phase)
+{
+    s->phase = phase;
+    s->phase_samples = 0;
+    s->chatter += SMD_R(1.0);
+}
+
 /* One sample of the composed drive on good inputs (smd_drive_step checks
  * them before and the state after). */
 static smd_status control(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
@@ -328,10 +394,19 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
     smd_cplx i1_ab = p->lcl ? smd_ab2_to_ab(in->i1_a, in->i1_b) : i_s_ab;
     smd_cplx u_ref;
     smd_real theta_o = s->theta, w_o = s->w; /* frame predicted for k */
-    smd_real theta_k, w_k, theta_next, w_next;
+    smd_real theta_k, w_k, theta_next, w_next, w_ref;
+    const int settled = s->phase_samples >= p->dwell;
 
     s->i_s_ab = i_s_ab;
     s->u_ab = s->u_ab_next; /* the voltage computed last time is the one applied now */
+    if (p->a_ref > SMD_R(0.0)) {
+        /* the speed reference slew-limited at a_ref */
+        smd_real dw = in->w_ref - s->w_ref_r, step = p->a_ref * T;
+        s->w_ref_r += dw > step ? step : (dw < -step ? -step : dw);
+    } else {
+        s->w_ref_r = in->w_ref;
+    }
+    w_ref = s->w_ref_r;
     if (!s->primed) {
         /* The SMDO's current starts at the first sample, so that a start
          * under load does not begin with a large sliding error. */
@@ -363,22 +438,22 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
     }
 
     /* 3. the frame of sample k+1 (forced angle, PLL), start-up transitions */
-    if (s->phase == SMD_PHASE_SOURCE && p->w_if_enter > SMD_R(0.0) &&
+    if (s->phase == SMD_PHASE_SOURCE && p->w_if_enter > SMD_R(0.0) && settled &&
         SMD_FABS(w_k) < p->w_if_enter &&
-        (SMD_FABS(in->w_ref) < p->w_handover || in->w_ref * w_k < SMD_R(0.0))) {
+        (SMD_FABS(w_ref) < p->w_handover || w_ref * w_k < SMD_R(0.0))) {
         /* sensorless below w_if_enter on the way through zero: back to the
          * forced frame, from where the source is now */
-        s->phase = SMD_PHASE_FORCED;
+        switch_phase(s, SMD_PHASE_FORCED);
         s->theta_f = theta_k;
         s->w_f = w_k;
-        s->dir_f = (in->w_ref - w_k) < SMD_R(0.0) ? -1 : 1;
+        s->dir_f = (w_ref - w_k) < SMD_R(0.0) ? -1 : 1;
     }
     if (s->phase == SMD_PHASE_FORCED) {
         if (p->start == SMD_START_IF && s->dir_f == 0) {
             s->w_f += p->a_start * T; /* the start from standstill (eq. of the I/f ramp) */
         } else {
             /* follow the reference at a_start, through zero */
-            smd_real dw = in->w_ref - s->w_f;
+            smd_real dw = w_ref - s->w_f;
             smd_real step = p->a_start * T;
             s->w_f += dw > step ? step : (dw < -step ? -step : dw);
         }
@@ -386,11 +461,12 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
         theta_next = s->theta_f;
         w_next = s->w_f;
         if ((s->dir_f == 0 && s->w_f >= p->w_handover) ||
-            (s->dir_f != 0 && SMD_FABS(s->w_f) >= p->w_handover && s->w_f * in->w_ref > SMD_R(0.0))) {
+            (s->dir_f != 0 && settled && SMD_FABS(s->w_f) >= p->w_handover &&
+             s->w_f * w_ref > SMD_R(0.0))) {
             /* handover: the PLL starts on the observer's angle (forced angle
              * plus the measured angle error) at the forced speed, the speed
              * loop on the current that was flowing */
-            s->phase = SMD_PHASE_SOURCE;
+            switch_phase(s, SMD_PHASE_SOURCE);
             smd_pll_reset(&s->pos.pll, theta_k + s->pos.theta_err + w_k * T, w_k);
             smd_pi_reset(&s->speed_pi, s->i_dq_ref.im);
             s->count = 0;
@@ -406,7 +482,7 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
         if (s->samples >= p->handover && isfinite(theta_next) && isfinite(w_next)) {
             /* (a non-finite encoder sample would stay in the PLL for good:
              * the handover waits for a finite one) */
-            s->phase = SMD_PHASE_SOURCE;
+            switch_phase(s, SMD_PHASE_SOURCE);
             smd_pll_reset(&s->pos.pll, theta_next, w_next);
         }
     } else if (lcl_src) {
@@ -431,7 +507,7 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
         s->i_dq_ref.re = in->i_dq_ref.re;
         if (p->speed_loop) {
             if (s->count == 0) {
-                s->i_dq_ref.im = smd_pi_step(&p->speed_pi, &s->speed_pi, in->w_ref - w_k);
+                s->i_dq_ref.im = smd_pi_step(&p->speed_pi, &s->speed_pi, w_ref - w_k);
             }
             s->count = (s->count + 1) % p->speed_decimation;
         } else {
@@ -509,6 +585,9 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
     s->w_k = w_k;
     s->theta = theta_next;
     s->w = w_next;
+    if (s->phase_samples < 2000000000) {
+        s->phase_samples++;
+    }
     return st;
 }
 
@@ -534,7 +613,10 @@ static uint32_t check_inputs(const smd_drive_params *p, const smd_drive_state *s
         ok = ok && in_lim(in->w_ref, W_LIM);
     }
     if (s->phase != SMD_PHASE_FORCED) {
-        ok = ok && isfinite(in->i_dq_ref.re) && (p->speed_loop || isfinite(in->i_dq_ref.im));
+        /* a current reference beyond any physical range (1e30 A) is as bad
+         * as a NaN */
+        ok = ok && in_lim(in->i_dq_ref.re, I_LIM) &&
+             (p->speed_loop || in_lim(in->i_dq_ref.im, I_LIM));
     }
     return ok ? 0u : (uint32_t)SMD_FAULT_INPUT;
 }
@@ -654,7 +736,15 @@ static void recover(const smd_drive_params *p, smd_drive_state *s, smd_real thet
     smd_drive_in last_in = s->last_in;
     uint32_t fault = s->fault;
     smd_real theta_f = s->theta_f, w_f = s->w_f;
+    smd_real w_ref_r = s->w_ref_r, chatter = s->chatter;
+    int phase_samples = s->phase_samples, forced_count = s->forced_count;
     smd_drive_reset(p, s, theta0, w0, i_q0);
+    if (isfinite(w_ref_r) && isfinite(chatter)) {
+        s->w_ref_r = w_ref_r;
+        s->chatter = chatter;
+    }
+    s->phase_samples = phase_samples;
+    s->forced_count = forced_count;
     s->phase = phase;
     s->samples = samples;
     s->count = count;
@@ -697,15 +787,120 @@ static void check_lock(const smd_drive_params *p, smd_drive_state *s)
     }
 }
 
+/* The source's EMF estimate magnitude, V (0 for the encoder). */
+static smd_real source_emf(const smd_drive_params *p, const smd_drive_state *s)
+{
+    switch (p->position) {
+    case SMD_POS_SMDO_EMF: return smd_cabs(s->smdo.u_d_hat);
+    case SMD_POS_LCL_SMO_PLL:
+        return smd_cabs(smd_c(s->pos.u.smo.e_hat[0], s->pos.u.smo.e_hat[1]));
+    case SMD_POS_LCL_LINEAR: return smd_cabs(smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3]));
+    default: return SMD_R(0.0);
+    }
+}
+
+/* Supervision after a good sample (smd_drive.h): speed tracking, the forced
+ * phase's length and its EMF, start-up chatter (latched into s->fault) and
+ * current oscillation (s->warn). Every criterion reads signals a drive has:
+ * its references, its estimates, its measured currents. */
+static void supervise(const smd_drive_params *p, smd_drive_state *s)
+{
+    const smd_real i_lim = SMD_R(0.999) * p->i_max;
+    /* speed tracking: away from the reference with the speed PI at its limit */
+    if (p->track_samples > 0 && p->speed_loop && s->phase != SMD_PHASE_FORCED &&
+        SMD_FABS(s->w_ref_r - s->w_k) > p->w_track && SMD_FABS(s->i_dq_ref.im) >= i_lim) {
+        if (++s->track_count >= p->track_samples) {
+            s->fault |= (uint32_t)SMD_FAULT_SPEED_TRACKING;
+        }
+    } else {
+        s->track_count = 0;
+    }
+    if (s->phase == SMD_PHASE_FORCED) {
+        /* the forced phase while the reference asks for the source */
+        smd_real w_chk;
+        if (SMD_FABS(s->w_ref_r) >= p->w_handover) {
+            if (p->forced_samples > 0 && ++s->forced_count >= p->forced_samples) {
+                s->fault |= (uint32_t)SMD_FAULT_FORCED;
+            }
+        }
+        /* start-up failed: the source's EMF against the forced speed, where
+         * the EMF is large enough to estimate */
+        w_chk = p->w_if_enter > SMD_R(0.0) ? p->w_if_enter : SMD_R(0.5) * p->w_handover;
+        if (p->lock_samples > 0 && p->position != SMD_POS_ENCODER && SMD_FABS(s->w_f) >= w_chk) {
+            smd_real e = source_emf(p, s), e_exp = SMD_FABS(s->w_f) * p->psi_r_hat;
+            if (e > p->lock_ratio * e_exp || e * p->lock_ratio < e_exp) {
+                if (++s->start_count >= p->lock_samples) {
+                    s->fault |= (uint32_t)SMD_FAULT_START;
+                }
+            } else {
+                s->start_count = 0;
+            }
+        } else {
+            s->start_count = 0;
+        }
+    } else {
+        s->forced_count = 0;
+        s->start_count = 0;
+    }
+    /* chatter: a leaky count of the supervisor's switches */
+    if (p->chatter_max > 0) {
+        if (s->chatter > (smd_real)p->chatter_max) {
+            s->fault |= (uint32_t)SMD_FAULT_CHATTER;
+        }
+        s->chatter -= p->chatter_decay;
+        if (s->chatter < SMD_R(0.0)) {
+            s->chatter = SMD_R(0.0);
+        }
+    }
+    /* oscillation: the filtered second difference of the measured current */
+    s->warn = 0u;
+    if (p->osc_samples > 0) {
+        if (s->osc_n >= 2) {
+            smd_cplx d2 = smd_cadd(smd_csub(s->i_s_ab, smd_cscale(s->i_prev1, SMD_R(2.0))),
+                                   s->i_prev2);
+            smd_real lim = p->osc_i + p->osc_rel * smd_cabs(s->i_dq_ref);
+            s->osc_ms += (d2.re * d2.re + d2.im * d2.im - s->osc_ms) / (smd_real)p->osc_samples;
+            /* ripple = sqrt(osc_ms) / 4 beyond lim */
+            if (s->osc_ms > SMD_R(16.0) * lim * lim) {
+                if (s->osc_count < p->osc_samples) {
+                    s->osc_count++;
+                }
+            } else {
+                s->osc_count = 0;
+            }
+            if (s->osc_count >= p->osc_samples) {
+                s->warn |= (uint32_t)SMD_FAULT_OSCILLATION;
+            }
+        } else {
+            s->osc_n++;
+        }
+        s->i_prev2 = s->i_prev1;
+        s->i_prev1 = s->i_s_ab;
+    }
+}
+
 smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
                           smd_drive_out *out)
 {
-    const smd_real T = p->T_sp;
-    smd_real theta0 = s->theta_k, w0 = s->w_k, i_q0 = s->i_dq_ref.im;
-    uint32_t now = check_inputs(p, s, in);
-    smd_drive_in use = *in;
+    smd_real T, theta0, w0, i_q0;
+    uint32_t now;
+    smd_drive_in use;
     smd_status st;
     int k;
+    if (p == 0 || s == 0 || in == 0 || out == 0) {
+        if (out != 0) {
+            out->d_abc[0] = out->d_abc[1] = out->d_abc[2] = SMD_R(0.5);
+            out->fault = 0u;
+            out->pwm_off = 0;
+        }
+        return SMD_ERR_NULL;
+    }
+    T = p->T_sp;
+    theta0 = s->theta_k;
+    w0 = s->w_k;
+    i_q0 = s->i_dq_ref.im;
+    now = check_inputs(p, s, in);
+    use = *in;
     out->fault = 0u;
     out->pwm_off = 0;
     if (now == 0u) {
@@ -742,9 +937,11 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
         return apply_safe(p, s, out, now);
     }
     check_lock(p, s);
+    supervise(p, s);
     if (s->fault != 0u) {
         return apply_safe(p, s, out, 0u);
     }
+    out->fault = s->warn;
     return st;
 }
 
@@ -752,6 +949,10 @@ void smd_drive_clear_faults(smd_drive_state *s)
 {
     s->fault &= ~(uint32_t)SMD_FAULT_LATCHED;
     s->lock_count = 0;
+    s->track_count = 0;
+    s->forced_count = 0;
+    s->start_count = 0;
+    s->chatter = SMD_R(0.0);
 }
 
 smd_drive_view smd_drive_get_view(const smd_drive_params *p, const smd_drive_state *s)

@@ -76,6 +76,16 @@ static void smd_rd_smd_drive_config(smd_reader *r, smd_drive_config *x)
     smd_rd_reals(r, (smd_real *)&x->lock_ratio, sizeof x->lock_ratio / sizeof(smd_real));
     smd_rd_reals(r, (smd_real *)&x->w_lock_min, sizeof x->w_lock_min / sizeof(smd_real));
     smd_rd_reals(r, (smd_real *)&x->w_if_enter, sizeof x->w_if_enter / sizeof(smd_real));
+    smd_rd_reals(r, (smd_real *)&x->a_ref, sizeof x->a_ref / sizeof(smd_real));
+    smd_rd_ints(r, (int *)&x->dwell, sizeof x->dwell / sizeof(int));
+    smd_rd_ints(r, (int *)&x->chatter_max, sizeof x->chatter_max / sizeof(int));
+    smd_rd_ints(r, (int *)&x->chatter_window, sizeof x->chatter_window / sizeof(int));
+    smd_rd_ints(r, (int *)&x->track_samples, sizeof x->track_samples / sizeof(int));
+    smd_rd_reals(r, (smd_real *)&x->w_track, sizeof x->w_track / sizeof(smd_real));
+    smd_rd_ints(r, (int *)&x->forced_samples, sizeof x->forced_samples / sizeof(int));
+    smd_rd_reals(r, (smd_real *)&x->osc_i, sizeof x->osc_i / sizeof(smd_real));
+    smd_rd_reals(r, (smd_real *)&x->osc_rel, sizeof x->osc_rel / sizeof(smd_real));
+    smd_rd_ints(r, (int *)&x->osc_samples, sizeof x->osc_samples / sizeof(int));
 }
 
 #endif

@@ -78,7 +78,16 @@ int smd_engine_init(smd_engine *e, const smd_plant_config *plant, const smd_driv
     e->prof = *prof;
     smd_drive_reset(&e->ctrl_p, &e->ctrl_s, (smd_real)start->theta0, (smd_real)start->w0,
                     (smd_real)start->i_q0);
-    e->d_abc[0] = e->d_abc[1] = e->d_abc[2] = 0.5;
+    {
+        /* the period before the first sample applies the steady state of
+         * the initial condition (a warm or flying start; the zero vector
+         * from standstill) */
+        smd_real d[3];
+        smd_drive_start_duties(&e->ctrl_p, &e->ctrl_s, (smd_real)plant->u_dc, d);
+        e->d_abc[0] = (double)d[0];
+        e->d_abc[1] = (double)d[1];
+        e->d_abc[2] = (double)d[2];
+    }
     e->k = 0;
     e->seg[0] = e->seg[1] = e->seg[2] = e->seg[3] = e->seg[4] = 0;
     e->T_sp = plant->T_sw;

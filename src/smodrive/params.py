@@ -163,20 +163,74 @@ class _Validated:
                 )
 
 
+#: yang2018 Table I (the motor of MotorPars() with no field given), with the
+#: mechanical values the paper does not give (J, B: docs/assumptions.md)
+TABLE1_MOTOR: dict[str, float] = {
+    "R_s": 2.25, "L_s": 23.45e-3, "psi_r": 0.4, "n_p": 4, "J": 0.012, "B": 0.002,
+    "P_N": 2400.0, "w_M_N": 1500.0 * RPM}
+#: the fields of a motor's data sheet that MotorPars never fills in for another machine
+MOTOR_REQUIRED = ("R_s", "L_s", "psi_r", "n_p", "J", "P_N", "w_M_N")
+#: B left out: viscous friction taking this fraction of the rated torque at rated speed
+B_REL = 0.01
+
+
 @dataclass(frozen=True)
 class MotorPars(_Validated):
-    """True machine (the plant). Defaults: yang2018 Table I, with the
-    mechanical values the paper does not give (see docs/assumptions.md)."""
+    """True machine (the plant). ``MotorPars()`` with no field given is
+    yang2018 Table I, with the mechanical values the paper does not give (see
+    docs/assumptions.md). Any other machine gives every field of its data
+    sheet (``R_s``, ``L_s``, ``psi_r``, ``n_p``, ``J``, ``P_N``, ``w_M_N``):
+    a field left out is refused, never filled in from Table I, except ``B``
+    (viscous friction, rarely on a data sheet), which is then derived as
+    ``B_REL T_N / w_M_N`` (1 % of the rated torque at rated speed) and
+    recorded in ``derived`` (docs/design_from_motor.md)."""
 
     _section = "motor"
-    R_s: float = num(2.25, 1e-6, 1e3, "ohm", "stator resistance", lo_open=True)
-    L_s: float = num(23.45e-3, 1e-8, 10.0, "H", "stator inductance")
-    psi_r: float = num(0.4, 0.0, 100.0, "Wb", "PM flux linkage")
-    n_p: int = num(4, 1, 100, "", "pole pairs", integer=True)
-    J: float = num(0.012, 1e-9, 1e4, "kg m^2", "inertia of motor and load (assumed)")
-    B: float = num(0.002, 0.0, 1e3, "N m s/rad", "viscous friction (assumed)")
-    P_N: float = num(2400.0, 0.0, 1e8, "W", "rated power")
-    w_M_N: float = num(1500.0 * RPM, 0.1, 1e5, "rad/s", "rated speed (mechanical)")
+    R_s: float = num(None, 1e-6, 1e3, "ohm", "stator resistance", lo_open=True)
+    L_s: float = num(None, 1e-8, 10.0, "H", "stator inductance")
+    psi_r: float = num(None, 0.0, 100.0, "Wb", "PM flux linkage")
+    n_p: int = num(None, 1, 100, "", "pole pairs", integer=True)
+    J: float = num(None, 1e-9, 1e4, "kg m^2",
+                   "inertia of motor and load (Table I: 0.012, assumed; any other motor: "
+                   "required)")
+    B: float = num(None, 0.0, 1e3, "N m s/rad",
+                   "viscous friction (Table I: 0.002, assumed; left out: 0.01 T_N / w_M_N)")
+    P_N: float = num(None, 0.0, 1e8, "W", "rated power")
+    w_M_N: float = num(None, 0.1, 1e5, "rad/s", "rated speed (mechanical)")
+    # record of the values derived by a rule (not a parameter): (name, value, rule)
+    derived: tuple = field(default=(), compare=False, repr=False, metadata={"internal": True})
+
+    def __post_init__(self) -> None:
+        rating = ("R_s", "L_s", "psi_r", "n_p", "P_N", "w_M_N")
+        given = {n for n in TABLE1_MOTOR if getattr(self, n) is not None}
+        table1 = not (given & set(rating)) or all(
+            getattr(self, n) is not None and _plain(getattr(self, n)) == TABLE1_MOTOR[n]
+            for n in rating)
+        if table1:
+            for n, v in TABLE1_MOTOR.items():
+                if getattr(self, n) is None:
+                    object.__setattr__(self, n, v)
+        else:
+            missing = [n for n in MOTOR_REQUIRED if getattr(self, n) is None]
+            if missing:
+                names = ", ".join(f"motor.{n}" for n in missing)
+                what = {"J": "J (inertia of rotor and load, kg m^2: the data sheet's rotor "
+                             "inertia plus the load's)"}
+                detail = "; ".join(what.get(n, n) for n in missing if n in what)
+                raise ParameterError(
+                    f"{names} {'is' if len(missing) == 1 else 'are'} not given: a motor other "
+                    "than yang2018 Table I gives every data-sheet field (R_s, L_s, psi_r, n_p, J, "
+                    "P_N, w_M_N; B may be left out), smodrive never fills one in from Table I"
+                    + (f"; give {detail}" if detail else ""))
+        super().__post_init__()
+        if self.B is None:
+            b = min(B_REL * self.T_N / self.w_M_N, 1e3)
+            object.__setattr__(self, "B", b)
+            object.__setattr__(self, "derived", (("B", b, f"{B_REL:g} T_N / w_M_N: friction "
+                                                 f"{B_REL:.0%} of the rated torque at rated "
+                                                 "speed"),))
+        elif self.derived and not _same_b(self.derived, self.B):
+            object.__setattr__(self, "derived", ())  # B set since: the user's
 
     @property
     def T_N(self) -> float:
@@ -187,6 +241,10 @@ class MotorPars(_Validated):
     def k_t(self) -> float:
         """Torque constant 1.5 n_p psi_r, N m/A."""
         return 1.5 * self.n_p * self.psi_r
+
+
+def _same_b(derived: tuple, b: Any) -> bool:
+    return any(n == "B" and v == b for n, v, _ in derived)
 
 
 @dataclass(frozen=True)
@@ -226,13 +284,19 @@ class AdcCfg(_Validated):
                                               "per-phase gain of the i_1 channels (LCL)")
     offset_i1: tuple[float, float, float] = num((0.0, 0.0, 0.0), -1e3, 1e3, "A",
                                                 "per-phase offset of the i_1 channels (LCL)")
-    noise: float = num(0.02, 0.0, 1e3, "A", "white-noise standard deviation (assumed)")
+    noise: float | None = num(None, 0.0, 1e3, "A",
+                              "white-noise standard deviation (assumed; None: 0.08 % of "
+                              "full_scale, 0.02 A at Table I)")
     bits: int = num(12, 0, 24, "", "resolution (0: none)", integer=True)
-    full_scale: float = num(25.0, 1e-6, 1e6, "A", "+- input range (assumed)")
+    full_scale: float | None = num(None, 1e-6, 1e6, "A",
+                                   "+- input range (assumed; None: sized for the motor, 25 A x "
+                                   "I_N / I_N of Table I, 3.9 I_N)")
     seed: int = num(1, 0, 2**63 - 1, "", "noise seed", integer=True)
     n_oversample: int = num(1, 1, 64, "",
                             "conversions averaged a sample (oversampling burst at the carrier "
                             "peak, its duration neglected) (assumed)", integer=True)
+    # record of the values derived from the motor (not a parameter): (name, value, rule)
+    derived: tuple = field(default=(), compare=False, repr=False, metadata={"internal": True})
 
 
 CURRENT_CONTROL = ("pi", "dbpc", "robust_dbpc")
@@ -275,8 +339,9 @@ class ControllerCfg(_Validated):
                             "the same ratio, so lambda_min / rho stays 4000 1/s)", lo_open=True)
     smdo_euler: bool = flag(False, "eq. (36) as printed (forward-Euler rotation)")
     # position from the disturbance, eq. (44)-(45)
-    w_lpf: float = num(100.0, 0.0, 1e6, "rad/s", "sensorless speed LPF bandwidth (assumed)",
-                       lo_open=True)
+    w_lpf: float | None = num(None, 0.0, 1e6, "rad/s",
+                              "sensorless speed LPF bandwidth (assumed; None: 100 rad/s x the "
+                              "speed_bw ratio, docs/design_from_motor.md)", lo_open=True)
     w_hys: float = num(5.0, 0.0, 1e5, "rad/s", "direction hysteresis (electrical)")
     w_M_max: float | None = num(None, 0.0, 1e5, "rad/s",
                                 "sensorless speed-estimate limit (mechanical; None: 2 w_M_N, "
@@ -295,7 +360,9 @@ class ControllerCfg(_Validated):
     emf_ff: bool = flag(True, "feed the position source's EMF estimate forward (PI)")
     # speed loop
     speed_loop: bool = flag(True, "i_q reference from the speed PI (else from i_q_ref)")
-    speed_bw: float = num(60.0, 0.0, 1e4, "rad/s", "speed-loop bandwidth (assumed)", lo_open=True)
+    speed_bw: float | None = num(None, 0.0, 1e4, "rad/s",
+                                 "speed-loop bandwidth (assumed; None: 60 rad/s x T_N / (J w_M_N) "
+                                 "over Table I's, the same load-step dip)", lo_open=True)
     J_hat: float | None = num(None, 1e-9, 1e4, "kg m^2",
                               "inertia used to tune the speed PI (None: motor.J)")
     psi_r_pi: float | None = num(None, 0.0, 100.0, "Wb",
@@ -326,7 +393,8 @@ class ControllerCfg(_Validated):
     w_M_handover: float | None = num(None, 0.0, 1e6, "rad/s",
                                      "I/f: speed of the handover (mechanical; None: 0.1 w_M_N)")
     # modulator
-    t_dead_comp: float = num(2e-6, 0.0, 1e-3, "s", "dead time compensated by the modulator")
+    t_dead_comp: float | None = num(None, 0.0, 1e-3, "s", "dead time compensated by the "
+                                    "modulator (None: inverter.t_dead)")
     i_dtc: float | None = num(None, 0.0, 1e5, "A", "linear zone of the compensation (None: "
                               "0.3 A x I_N / (I_N of Table I))", lo_open=True)
     # protection, loss of lock, zero-speed crossing (smd_drive.h; assumed values)
@@ -344,9 +412,37 @@ class ControllerCfg(_Validated):
                             lo_open=True)
     w_M_lock_min: float = num(300.0 * RPM, 0.0, 1e6, "rad/s",
                               "no EMF plausibility check below this speed (mechanical)")
-    w_M_if_enter: float = num(0.0, 0.0, 1e6, "rad/s",
-                              "sensorless below this speed returns to I/f, through zero "
-                              "(mechanical; 0: never; below w_M_handover)")
+    w_M_if_enter: float | None = num(None, 0.0, 1e6, "rad/s",
+                                     "sensorless below this speed returns to I/f, through zero "
+                                     "(mechanical; 0: never; below w_M_handover; None: derived "
+                                     "from the back EMF the source needs, docs/"
+                                     "design_from_motor.md)")
+    # reference shaping and supervision (smd_drive.h; None: derived, 0: off)
+    a_M_ref: float | None = num(None, 0.0, 1e8, "rad/s^2",
+                                "speed-reference slew-rate limit (mechanical; None: derived "
+                                "from the torque and the speed estimate's lag; 0: off)")
+    t_dwell: float | None = num(None, 0.0, 100.0, "s",
+                                "least time between two start-up switches (handover, return "
+                                "to I/f; None: 4 / w_lpf sensorless, 0 with the encoder)")
+    chatter_max: int = num(4, 0, 1000, "", "chatter fault: more start-up switches than this "
+                           "within t_chatter (0: off)", integer=True)
+    t_chatter: float | None = num(None, 0.0, 1e3, "s",
+                                  "window of the chatter count (None: 20 t_dwell, at least "
+                                  "0.5 s)")
+    w_M_track: float | None = num(None, 0.0, 1e6, "rad/s",
+                                  "speed-tracking fault: farther than this from the reference "
+                                  "(mechanical; None: 0.1 w_M_N) ...")
+    t_track: float | None = num(None, 0.0, 1e3, "s",
+                                "... at the current limit for this long (None: derived from "
+                                "the inertia; 0: off)")
+    t_forced: float | None = num(None, 0.0, 1e3, "s",
+                                 "forced-phase fault: I/f for this long while the reference "
+                                 "asks for the source (None: derived from the I/f ramp; 0: off)")
+    osc_i: float | None = num(None, 0.0, 1e5, "A",
+                              "oscillation warning: current ripple beyond osc_i + osc_rel "
+                              "|i_ref| (None: derived from the ADC noise and I_N) ...")
+    osc_rel: float = num(0.1, 0.0, 100.0, "", "... (the part relative to the reference) ...")
+    t_osc: float = num(0.02, 0.0, 100.0, "s", "... for this long (0: off)")
     # record of the design from the motor (not a parameter)
     derived: tuple = field(default=(), compare=False, repr=False, metadata={"internal": True})
 
@@ -490,9 +586,10 @@ class Scenario(_Validated):
         # from the motor (smodrive.design.from_motor; the record: controller.derived)
         from .design import from_motor
 
+        object.__setattr__(self, "adc", from_motor.resolve_adc(self.adc, self.motor))
         object.__setattr__(self, "controller", from_motor.resolve(
             self.controller, self.motor, T_sp=self.T_sp, lcl=self.lcl,
-            adc_full_scale=self.adc.full_scale))
+            adc_full_scale=self.adc.full_scale, plant=from_motor.plant_of(self)))
         # plant limits that depend on more than one field
         if self.inverter.t_dead > 0.25 * self.T_sp:
             raise ParameterError(
@@ -518,7 +615,8 @@ class Scenario(_Validated):
         from .design import from_motor
 
         for msg in from_motor.override_warnings(c, self.motor, T_sp=T, lcl=self.lcl,
-                                                adc_full_scale=self.adc.full_scale):
+                                                adc_full_scale=self.adc.full_scale,
+                                                plant=from_motor.plant_of(self)):
             warnings.warn(f"{self.name}: {msg}", UserWarning, stacklevel=2)
         lcl_src = c.position in ("lcl_smo_pll", "lcl_linear")
         if lcl_src and self.lcl is None:

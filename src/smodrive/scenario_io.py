@@ -271,7 +271,8 @@ def _scenario_from_dict(data: dict[str, Any]) -> Scenario:
         data = _from_legacy_lcl(data)
     elif kind not in (None, "pmsm"):
         raise ParameterError(f"kind = {kind!r} is not one of pmsm, lcl (and no longer needed)")
-    base = _base(data.pop("base")) if "base" in data else Scenario()
+    has_base = "base" in data
+    base = _base(data.pop("base")) if has_base else Scenario()
     top: dict[str, Any] = {}
     sections: dict[str, Any] = {}
     for key, value in data.items():
@@ -284,6 +285,11 @@ def _scenario_from_dict(data: dict[str, Any]) -> Scenario:
     built: dict[str, Any] = {}
     for key, value in sections.items():
         if key == "controller":
+            continue
+        if key == "motor" and not has_base:
+            # a machine of the user's: every field from the file (MotorPars
+            # refuses one left out, derives B), never the Table I defaults
+            built[key] = MotorPars(**_kwargs(MotorPars, key, value))
             continue
         current = getattr(base, key)
         if current is None:  # the filter section of a base without one

@@ -207,7 +207,7 @@ def lcl_observer_tables(s: Scenario, design=None):
                 f"{label} = {value!r} is outside its valid range {'(' if lo_open else '['}"
                 f"{lo:g}, {hi:g}] {cls.__dataclass_fields__[name].metadata['unit']} of the "
                 "LCL observers' design (their model is the controller's estimates)")
-    est_motor = MotorPars(R_s=c.R_s_hat, L_s=c.L_s_hat, psi_r=c.psi_r_hat, n_p=s.motor.n_p)
+    est_motor = dataclasses.replace(s.motor, R_s=c.R_s_hat, L_s=c.L_s_hat, psi_r=c.psi_r_hat)
     est_lcl = dataclasses.replace(s.lcl, C1=s.lcl.C1 * c.C1_hat_ratio)
     design = design or dz.ObserverDesignPars(Q=tuple(c.Q))
     try:
@@ -266,6 +266,16 @@ def drive_config(s: Scenario, tables=None) -> _ffi.DriveConfig:
     c.lock_ratio = k.lock_ratio
     c.w_lock_min = k.w_M_lock_min * n_p
     c.w_if_enter = k.w_M_if_enter * n_p
+    c.a_ref = k.a_M_ref * n_p
+    c.dwell = int(round(k.t_dwell / T))
+    c.chatter_max = k.chatter_max
+    c.chatter_window = max(1, int(round(k.t_chatter / T)))
+    c.track_samples = int(round(k.t_track / T)) if k.speed_loop else 0
+    c.w_track = k.w_M_track * n_p
+    c.forced_samples = int(round(k.t_forced / T)) if (k.start == "if" or k.w_M_if_enter > 0) \
+        else 0
+    c.osc_i, c.osc_rel = k.osc_i, k.osc_rel
+    c.osc_samples = int(round(k.t_osc / T)) if k.osc_i > 0 else 0
     return c
 
 
@@ -285,9 +295,13 @@ def profiles(s: Scenario) -> _ffi.Profiles:
 
 #: bits of the controller's fault word (core/include/smodrive/smd_drive.h)
 FAULT_BITS = {"input": 1, "internal": 2, "overcurrent": 4, "undervoltage": 8,
-              "overvoltage": 16, "lost_lock": 32}
+              "overvoltage": 16, "lost_lock": 32, "speed_tracking": 64, "forced": 128,
+              "chatter": 256, "oscillation": 512, "start_failed": 1024}
 #: the latched ones: the drive stays in its safe state until cleared
-LATCHED_FAULTS = ("overcurrent", "undervoltage", "overvoltage", "lost_lock")
+LATCHED_FAULTS = ("overcurrent", "undervoltage", "overvoltage", "lost_lock", "speed_tracking",
+                  "forced", "chatter", "start_failed")
+#: warnings: reported while their condition holds, the drive runs on
+WARNING_FAULTS = ("oscillation",)
 
 
 def fault_names(word: int) -> list[str]:
@@ -335,7 +349,12 @@ class Result:
             self.samples = self.scenario.n_steps
 
     def __getitem__(self, name: str) -> np.ndarray:
-        return self.data[:, CHANNELS.index(name)]
+        """The logged channel `name` (:data:`CHANNELS`); an unknown name is
+        a KeyError naming it and the channels."""
+        try:
+            return self.data[:, CHANNELS.index(name)]
+        except ValueError:
+            raise Result._no_channel(name) from None
 
     @staticmethod
     def unit(name: str) -> str:
@@ -344,7 +363,10 @@ class Result:
         >>> Result.unit("T_e")
         'N m'
         """
-        return CHANNEL_INFO[name][0]
+        try:
+            return CHANNEL_INFO[name][0]
+        except (KeyError, TypeError):
+            raise Result._no_channel(name) from None
 
     @staticmethod
     def description(name: str) -> str:
@@ -353,7 +375,26 @@ class Result:
         >>> Result.description("w_M")
         'true mechanical speed'
         """
-        return CHANNEL_INFO[name][1]
+        try:
+            return CHANNEL_INFO[name][1]
+        except (KeyError, TypeError):
+            raise Result._no_channel(name) from None
+
+    @staticmethod
+    def _no_channel(name) -> KeyError:
+        """The KeyError for a name that is not a channel: the closest
+        channels, a derived quantity's property, and every channel."""
+        import difflib
+
+        hint = ""
+        if isinstance(name, str) and isinstance(getattr(Result, name, None), property):
+            hint = f" ({name} is derived: Result.{name})"
+        elif isinstance(name, str):
+            close = difflib.get_close_matches(name, CHANNELS, n=3, cutoff=0.6)
+            if close:
+                hint = f" (closest: {', '.join(close)})"
+        return KeyError(f"{name!r} is not a logged channel{hint}; the channels are "
+                        f"{', '.join(CHANNELS)} (smodrive.simulate.CHANNELS, CHANNEL_INFO)")
 
     def to_dataframe(self):
         """The log as a pandas DataFrame (needs pandas: the extra
@@ -578,7 +619,43 @@ def simulate(
     chunk. `design` overrides the LCL observer's design choices
     (:class:`smodrive.design.yao2022.ObserverDesignPars`). The log takes at
     most `log_budget` bytes: a longer one logs every k-th sample instead
-    (:func:`log_plan`; the stride is ``Result.log_stride``)."""
+    (:func:`log_plan`; the stride is ``Result.log_stride``).
+
+    A wrong argument is a ParameterError naming it and what it must be:
+
+    >>> simulate("yang2018.fig7a")
+    Traceback (most recent call last):
+    ...
+    smodrive.params.ParameterError: s = 'yang2018.fig7a' (str) is not a Scenario: a catalogue name is smodrive.scenarios.catalogue()['yang2018.fig7a'](), a TOML file smodrive.scenario_io.load_scenario('yang2018.fig7a')
+    """
+    if not isinstance(s, Scenario):
+        if isinstance(s, str):
+            how = (f"a catalogue name is smodrive.scenarios.catalogue()[{s!r}](), a TOML file "
+                   f"smodrive.scenario_io.load_scenario({s!r})")
+        elif isinstance(s, dict):
+            how = ("a dict of TOML keys is smodrive.scenario_io.scenario_from_dict(d), a "
+                   "catalogue entry smodrive.scenarios.catalogue()[name]()")
+        else:
+            how = ("build one with smodrive.params.Scenario(...), take one of the catalogue "
+                   "(smodrive.scenarios.catalogue()[name]()) or read a TOML file "
+                   "(smodrive.scenario_io.load_scenario(path))")
+        shown = repr(s) if len(repr(s)) <= 60 else repr(s)[:57] + "..."
+        raise ParameterError(f"s = {shown} ({type(s).__name__}) is not a Scenario: {how}")
+    if progress is not None and not callable(progress):
+        raise ParameterError(f"progress = {progress!r} must be None or a function of the "
+                             "fraction done")
+    if (isinstance(chunk_seconds, bool)
+            or not isinstance(chunk_seconds, (int, float, np.integer, np.floating))
+            or not (math.isfinite(chunk_seconds) and chunk_seconds > 0)):
+        raise ParameterError(f"chunk_seconds = {chunk_seconds!r} is outside its valid range "
+                             "(0, inf) s (simulated time per call into C)")
+    if design is not None:
+        from .design.yao2022 import ObserverDesignPars
+
+        if not isinstance(design, ObserverDesignPars):
+            raise ParameterError(f"design = {design!r} ({type(design).__name__}) must be None "
+                                 "(the design from the scenario's controller.Q) or a "
+                                 "smodrive.design.yao2022.ObserverDesignPars")
     eng = Engine(s, design)
     plan = log_plan(s, log_budget)
     n, stride = s.n_steps, plan.stride

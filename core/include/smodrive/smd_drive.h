@@ -62,8 +62,41 @@
  *                            lock_ratio] above w_lock_min, or its speed at
  *                            the limit it can estimate (w_max of smdo_emf,
  *                            the end of the LCL observers' table)
- * The step returns SMD_ERR_FAULT while any bit is set (SMD_ERR_NONFINITE for
- * an INTERNAL one).
+ *     SMD_FAULT_SPEED_TRACKING  the speed the drive uses stays farther than
+ *                            w_track from its (slew-limited) reference while
+ *                            the speed PI is at its current limit, for
+ *                            track_samples samples in a row (a stall, an
+ *                            overload, a rotor the estimate has lost)
+ *     SMD_FAULT_FORCED       the forced (I/f) phase lasts forced_samples
+ *                            samples while the reference asks for at least
+ *                            w_handover (the source never took over)
+ *     SMD_FAULT_CHATTER      the start-up supervisor switched between the
+ *                            forced angle and the source more than
+ *                            chatter_max times within about chatter_window
+ *                            samples (a leaky count: +1 a switch, -chatter_max
+ *                            / chatter_window a sample)
+ *     SMD_FAULT_START        start-up failed (a locked or pulled-out rotor):
+ *                            in the forced phase above w_if_enter (else
+ *                            w_handover / 2) the source's EMF estimate
+ *                            disagrees with |w_f| psi_r_hat by more than
+ *                            lock_ratio for lock_samples samples in a row
+ *   warning (reported in the fault word while the condition holds; the drive
+ *   runs on; the step returns SMD_OK)
+ *     SMD_FAULT_OSCILLATION  the ripple of the measured current, the RMS of
+ *                            its second difference over osc_samples samples
+ *                            divided by 4 (the amplitude of a limit cycle at
+ *                            half the sampling rate that has it), exceeds
+ *                            osc_i + osc_rel |i_ref| for osc_samples samples
+ *                            in a row (a deadbeat limit cycle from L_hat >
+ *                            1.5 L, a diverging observer)
+ * The step returns SMD_ERR_FAULT while any latched bit is set (SMD_ERR_NONFINITE
+ * for an INTERNAL one).
+ *
+ * Speed reference: with a_ref > 0 the speed loop, the forced speed and the
+ * return to I/f follow the reference slew-limited at a_ref (rad/s^2),
+ * starting from the speed of smd_drive_reset.
+ * Start-up switches (handover and return to I/f) wait at least dwell
+ * samples after the previous one.
  *
  * Through zero speed (sensorless): with w_if_enter > 0, a drive running on
  * a sensorless source whose speed falls below w_if_enter while the speed
@@ -178,6 +211,17 @@ typedef struct smd_drive_config {
     smd_real lock_ratio;  /* EMF plausibility band [1/r, r], r > 1 */
     smd_real w_lock_min;  /* no EMF check below this |w_hat|, rad/s */
     smd_real w_if_enter;  /* sensorless below this |w| returns to I/f, rad/s (0: never) */
+    /* reference shaping and supervision (the header comment; each 0: off) */
+    smd_real a_ref;       /* speed-reference slew-rate limit, rad/s^2 */
+    int dwell;            /* least samples in a start-up phase before the next switch */
+    int chatter_max;      /* SMD_FAULT_CHATTER: more switches than this ... */
+    int chatter_window;   /* ... within (about) this many samples */
+    int track_samples;    /* SMD_FAULT_SPEED_TRACKING after this many samples ... */
+    smd_real w_track;     /* ... farther than this from the reference at the current limit, rad/s */
+    int forced_samples;   /* SMD_FAULT_FORCED: forced phase longer than this with |w_ref| >= w_handover */
+    smd_real osc_i;       /* SMD_FAULT_OSCILLATION: ripple beyond osc_i ... , A */
+    smd_real osc_rel;     /* ... + osc_rel |i_ref| ... */
+    int osc_samples;      /* ... over this many samples (the filter's time constant) */
 } smd_drive_config;
 
 typedef enum smd_safe_state {
@@ -192,10 +236,19 @@ enum {
     SMD_FAULT_OVERCURRENT = 1u << 2,
     SMD_FAULT_UNDERVOLTAGE = 1u << 3,
     SMD_FAULT_OVERVOLTAGE = 1u << 4,
-    SMD_FAULT_LOST_LOCK = 1u << 5
+    SMD_FAULT_LOST_LOCK = 1u << 5,
+    SMD_FAULT_SPEED_TRACKING = 1u << 6,
+    SMD_FAULT_FORCED = 1u << 7,
+    SMD_FAULT_CHATTER = 1u << 8,
+    SMD_FAULT_OSCILLATION = 1u << 9,
+    SMD_FAULT_START = 1u << 10
 };
 #define SMD_FAULT_LATCHED (SMD_FAULT_OVERCURRENT | SMD_FAULT_UNDERVOLTAGE | \
-                           SMD_FAULT_OVERVOLTAGE | SMD_FAULT_LOST_LOCK)
+                           SMD_FAULT_OVERVOLTAGE | SMD_FAULT_LOST_LOCK | \
+                           SMD_FAULT_SPEED_TRACKING | SMD_FAULT_FORCED | SMD_FAULT_CHATTER | \
+                           SMD_FAULT_START)
+/* warnings: reported while their condition holds, the drive runs on */
+#define SMD_FAULT_WARNINGS (SMD_FAULT_OSCILLATION)
 
 typedef struct smd_drive_params {
     int current, position, start, lcl;
@@ -209,6 +262,10 @@ typedef struct smd_drive_params {
     smd_real i_trip, u_dc_min, u_dc_max, lock_ratio, w_lock_min, w_if_enter;
     int safe_state, lock_samples;
     smd_real w_src_max;   /* largest |w| the sensorless source can estimate */
+    smd_real R_hat, L_hat; /* the steady state of a (warm) start: R_s_hat, L_dec or L_s_hat */
+    smd_real a_ref, w_track, osc_i, osc_rel;
+    smd_real chatter_decay; /* chatter_max / chatter_window */
+    int dwell, chatter_max, track_samples, forced_samples, osc_samples;
     smd_dbpc_params dbpc;
     smd_smdo_params smdo;
     smd_emf_pos_params emf;
@@ -274,6 +331,18 @@ typedef struct smd_drive_state {
     smd_pi_state speed_pi;
     smd_smdo_state smdo;
     smd_pos_state pos;
+    /* reference shaping and supervision */
+    smd_real w_ref_r;     /* the slew-limited speed reference, rad/s */
+    int phase_samples;    /* samples since the last start-up phase switch */
+    smd_real chatter;     /* leaky count of phase switches */
+    int track_count;      /* consecutive samples away from the reference at the limit */
+    int forced_count;     /* samples forced with |w_ref| >= w_handover */
+    int start_count;      /* consecutive forced samples whose EMF disagrees with w_f */
+    int osc_count;        /* consecutive samples with the ripple beyond its bound */
+    int osc_n;            /* measured currents seen (the second difference needs 3) */
+    smd_real osc_ms;      /* filtered |second difference of the current|^2, A^2 */
+    smd_cplx i_prev1, i_prev2; /* measured currents of k-1, k-2 */
+    uint32_t warn;        /* warning bits of the last sample (SMD_FAULT_WARNINGS) */
 } smd_drive_state;
 
 /* Read-only view of the controller's internals for logging. */
@@ -304,6 +373,17 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *cfg);
  * forced angle starts at theta0 with speed w0. */
 void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real theta0,
                      smd_real w0, smd_real i_q0);
+/* The duties of the period before the first sample, [t_0, t_1): the
+ * steady-state voltage of the initial condition smd_drive_reset was given
+ * (model estimates: (R_hat + j w L_hat) j i_q0 + j w psi_r_hat in the frame
+ * of theta0, at the middle of the period), limited by the modulator at u_dc;
+ * the state records it as the voltage applied then (a warm or flying start
+ * applies it from t_0 instead of the zero vector; at standstill without
+ * current it is the zero vector, duties 0.5). */
+void smd_drive_start_duties(const smd_drive_params *p, smd_drive_state *s, smd_real u_dc,
+                            smd_real d_abc[3]);
+/* One sample. A NULL argument returns SMD_ERR_NULL (a non-NULL out then
+ * holds the safe state's duties). */
 smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
                           smd_drive_out *out);
 smd_drive_view smd_drive_get_view(const smd_drive_params *p, const smd_drive_state *s);

@@ -47,10 +47,82 @@ REFERENCE: dict[str, float] = {
     "lambda_min": 800.0, "rho": 0.2, "w_M_max": 3000.0 * RPM, "i_max": 15.0,
     "i_start": 10.0, "a_M_start": 3000.0 * RPM, "w_M_handover": 150.0 * RPM, "i_dtc": 0.3,
 }
-#: fields derived from the motor (and the filter), in the order they are resolved
+#: fields derived from the motor (and the filter and inverter), in the order they are resolved
 DERIVED_FIELDS: tuple[str, ...] = (
-    "L_s_hat", "R_s_hat", "psi_r_hat", "J_hat", "psi_r_pi", "lambda_min", "rho", "w_M_max",
-    "i_max", "i_start", "a_M_start", "w_M_handover", "i_dtc", "k_p_i", "k_i_i")
+    "L_s_hat", "R_s_hat", "psi_r_hat", "J_hat", "psi_r_pi", "speed_bw", "w_lpf",
+    "lambda_min", "rho", "w_M_max",
+    "i_max", "i_start", "a_M_start", "w_M_if_enter", "w_M_handover", "t_dead_comp", "i_dtc",
+    "k_p_i", "k_i_i", "a_M_ref", "t_dwell", "t_chatter", "w_M_track", "t_track", "t_forced",
+    "osc_i")
+#: the speed loop's bandwidth (and the SMDO speed filter's) scales with the inverse
+#: mechanical time constant T_N / (J w_M_N) over Table I's, at most this factor ...
+SPEED_BW_MAX_RATIO = 5.0
+#: ... and never below this one (a slower loop only lengthens the transients)
+SPEED_BW_MIN_RATIO = 1.0
+#: the derived ADC: full scale 25 A x I_N / I_N(Table I), noise this fraction of it
+ADC_NOISE_FS = 0.02 / 25.0
+#: the speed reference's slew limit takes this fraction of the torque at the current limit
+A_REF_TORQUE = 0.5
+#: ... and lets the SMDO's speed estimate (low-pass w_lpf) lag by this fraction of w_M_N
+A_REF_LAG = 0.05
+#: speed-tracking fault: this fraction of rated speed away from the reference
+TRACK_REL = 0.1
+#: oscillation warning: this fraction of the rated current, plus OSC_NOISE x the ADC noise
+OSC_REL_N = 0.05
+OSC_NOISE = 4.0
+#: the sensorless sources' back EMF must exceed the voltage error of their
+#: input (dead time, ADC noise) by this factor for the return to I/f ...
+EMF_MARGIN_ENTER = 2.0
+#: ... and by this one for the handover to the source (the hysteresis)
+HANDOVER_RATIO = 2.0
+#: least return-to-I/f speed, fraction of rated speed (docs/design_from_motor.md)
+IF_ENTER_MIN = 0.05
+#: the plant quantities the design reads when the Scenario gives none (Table I's drive)
+DEFAULT_PLANT = {"t_dead": 2e-6, "u_dc": 540.0, "noise": 0.02}
+
+
+def resolve_adc(a: Any, m: MotorPars) -> Any:
+    """`a` (an AdcCfg) with full_scale and noise derived from the motor where
+    unset (or still at a derived value): current sensors sized for the machine,
+    25 A x I_N / I_N(Table I) (3.9 I_N, Table I's assumed +-25 A), and a noise
+    of ADC_NOISE_FS of that range (0.02 A at Table I)."""
+    before = {n: v for n, v, _ in a.derived}
+    out: dict[str, Any] = {}
+    record = []
+    fs = a.full_scale
+    if fs is None or ("full_scale" in before and before["full_scale"] == fs):
+        k = _ratio(rated_current(m), rated_current(REF_MOTOR))
+        fs = 25.0 * k if k is not None else 25.0
+        out["full_scale"] = fs
+        record.append(("full_scale", fs, "25 A x I_N / I_N of Table I (sensors sized for the "
+                       "machine)" if k is not None else "25 A (no rated current)"))
+    if a.noise is None or ("noise" in before and before["noise"] == a.noise):
+        out["noise"] = ADC_NOISE_FS * fs
+        record.append(("noise", out["noise"], f"{ADC_NOISE_FS:g} x full_scale"))
+    if not out:
+        return a if not a.derived else dataclasses.replace(a, derived=())
+    return dataclasses.replace(a, **out, derived=tuple(record))
+
+
+def plant_of(s: Any) -> dict[str, float]:
+    """The plant quantities (inverter and ADC) the design from the motor reads."""
+    return {"t_dead": s.inverter.t_dead, "u_dc": s.inverter.u_dc, "noise": s.adc.noise}
+
+
+def source_voltage_error(m: MotorPars, c: ControllerCfg, *, T_sp: float,
+                         plant: dict[str, float]) -> tuple[float, float, float]:
+    """(total, dead time, noise): the voltage error, V, of the back EMF a
+    sensorless source estimates near zero current. Dead time: the
+    fundamental of the uncompensated per-leg error t_dead / T_sp u_dc, a
+    square wave, (4 / pi) t_dead / T_sp u_dc (the compensation removes it
+    only outside its linear zone, which a lightly loaded machine at low
+    speed sits in). ADC noise: the SMDO's disturbance estimate reads the
+    current noise sigma through L_s / T_sp and filters it to its bandwidth
+    w_c: sigma L_s / T_sp sqrt(w_c T_sp / 2) (one standard deviation),
+    counted three times."""
+    u_dt = 4.0 / math.pi * plant["t_dead"] / T_sp * plant["u_dc"]
+    u_n = 3.0 * plant["noise"] * m.L_s / T_sp * math.sqrt(min(c.w_c * T_sp, 2.0) / 2.0)
+    return u_dt + u_n, u_dt, u_n
 #: an override whose ratio to the motor's value lies outside this band warns
 WARN_BAND = (0.2, 5.0)
 #: the fields that have a motor's value to compare an override with: the
@@ -81,13 +153,20 @@ def _ratio(q: float, q_ref: float) -> float | None:
     return 1.0 if q == q_ref else q / q_ref
 
 
-def _uses(c: ControllerCfg) -> dict[str, str | None]:
-    """For each derived field: None if the composition uses it, else why not."""
+def _uses(c: ControllerCfg, get: Any = None) -> dict[str, str | None]:
+    """For each derived field: None if the composition uses it, else why not
+    (`get(name)`: a field's value as resolved so far)."""
+    get = get or (lambda n: getattr(c, n))
     smdo = c.current == "robust_dbpc" or c.position == "smdo_emf"
-    if_ = c.start == "if" or c.w_M_if_enter > 0.0
+    sensorless = c.position != "encoder"
+    if_enter = get("w_M_if_enter")
+    if_ = c.start == "if" or (sensorless and (if_enter is None or if_enter > 0.0))
+    t_dc = get("t_dead_comp")
     no_smdo = None if smdo else "no SMDO (current and position do not use it)"
     return {
         "L_s_hat": None, "R_s_hat": None, "psi_r_hat": None, "i_max": None,
+        "speed_bw": None if c.speed_loop else "speed_loop = false",
+        "w_lpf": None if c.position == "smdo_emf" else "position is not smdo_emf",
         "J_hat": None if c.speed_loop else "speed_loop = false",
         "psi_r_pi": None if c.speed_loop else "speed_loop = false",
         "lambda_min": no_smdo, "rho": no_smdo,
@@ -95,13 +174,22 @@ def _uses(c: ControllerCfg) -> dict[str, str | None]:
         "i_start": None if if_ else "no I/f (start and w_M_if_enter)",
         "a_M_start": None if if_ else "no I/f (start and w_M_if_enter)",
         "w_M_handover": None if if_ else "no I/f (start and w_M_if_enter)",
-        "i_dtc": None if c.t_dead_comp > 0.0 else "t_dead_comp = 0",
+        "w_M_if_enter": None if sensorless else "position is the encoder",
+        "t_dead_comp": None,
+        "i_dtc": None if (t_dc is None or t_dc > 0.0) else "t_dead_comp = 0",
+        "a_M_ref": None if c.speed_loop else "speed_loop = false",
+        "t_dwell": None if (sensorless and if_) else "no return to I/f and handover",
+        "t_chatter": None if (sensorless and if_) else "no return to I/f and handover",
+        "w_M_track": None if c.speed_loop else "speed_loop = false",
+        "t_track": None if c.speed_loop else "speed_loop = false",
+        "t_forced": None if if_ else "no I/f (start and w_M_if_enter)",
+        "osc_i": None,
     }
 
 
 def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any = None,
-           adc_full_scale: float = math.inf, resolved: dict[str, Any] | None = None
-           ) -> tuple[Any, str]:
+           adc_full_scale: float = math.inf, resolved: dict[str, Any] | None = None,
+           plant: dict[str, float] | None = None) -> tuple[Any, str]:
     """(value, source) of field `name` derived from motor `m` for controller
     `c` (whose other derived fields are in `resolved`, by name)."""
     r = resolved or {}
@@ -115,6 +203,18 @@ def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any =
             return REFERENCE_MODEL["psi_r_pi"], ("reference: motor.psi_r = 0 gives no speed-loop "
                                                  "gain to tune for")
         return v, f"motor.{src}"
+    if name in ("speed_bw", "w_lpf"):
+        ref_v = {"speed_bw": 60.0, "w_lpf": 100.0}[name]
+        k = _ratio(m.T_N / (m.J * m.w_M_N), ref.T_N / (ref.J * ref.w_M_N))
+        if k is None:
+            return ref_v, "reference: no rated torque"
+        k_c = min(max(k, SPEED_BW_MIN_RATIO), SPEED_BW_MAX_RATIO)
+        # the speed filter stays below a third of the SMDO's filter w_c
+        k_c = min(k_c, c.w_c / (3.0 * 100.0)) if c.w_c > 0 else k_c
+        k_c = 1.0 if k_c == 1.0 else k_c
+        return ref_v * k_c, (f"{ref_v:g} rad/s x T_N / (J w_M_N) over Table I's (the same "
+                             f"load-step dip), within [{SPEED_BW_MIN_RATIO:g}, "
+                             f"{SPEED_BW_MAX_RATIO:g}] and w_lpf <= w_c / 3")
     if name in ("lambda_min", "rho"):
         k = _ratio(rated_emf(m) / m.L_s, rated_emf(ref) / ref.L_s)
         if k is None:
@@ -150,9 +250,64 @@ def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any =
             return REFERENCE[name] * k_w, ("scaled by w_M_N (the handover speed in 50 ms), "
                                            "below the T_N / J scaling")
         return REFERENCE[name] * k, "scaled by T_N / J (rated torque over inertia)"
-    if name == "w_M_handover":
-        k = _ratio(m.w_M_N, ref.w_M_N)
-        return REFERENCE[name] * k, "0.1 w_M_N (a tenth of rated speed)"  # type: ignore[operator]
+    plant = plant or DEFAULT_PLANT
+    if name == "t_dead_comp":
+        return plant["t_dead"], "inverter.t_dead (the inverter's dead time)"
+    if name in ("w_M_if_enter", "w_M_handover"):
+        if m.psi_r <= 0.0:
+            return REFERENCE_UNUSED[name], "reference: motor.psi_r = 0 (no back EMF)"
+        u_err, u_dt, u_n = source_voltage_error(m, c, T_sp=T_sp, plant=plant)
+        w_emf = EMF_MARGIN_ENTER * u_err / (m.n_p * m.psi_r)
+        w_floor = IF_ENTER_MIN * m.w_M_N
+        enter = max(w_emf, w_floor)
+        why = (f"{EMF_MARGIN_ENTER:g} x the voltage error of the source's EMF "
+               f"({u_dt:.3g} V dead time + {u_n:.3g} V ADC noise) over n_p psi_r"
+               if w_emf >= w_floor else f"{IF_ENTER_MIN:g} w_M_N (above the "
+               f"{EMF_MARGIN_ENTER:g} x {u_err:.3g} V of the source's voltage error)")
+        if name == "w_M_if_enter":
+            return enter, why
+        hand = max(HANDOVER_RATIO * (get("w_M_if_enter") or enter),
+                   REFERENCE[name] * _ratio(m.w_M_N, ref.w_M_N))  # type: ignore[operator]
+        return hand, (f"the larger of 0.1 w_M_N and {HANDOVER_RATIO:g} x w_M_if_enter "
+                      "(the return to I/f's hysteresis)")
+    if name == "a_M_ref":
+        a_t = A_REF_TORQUE * m.k_t * get("i_max") / m.J
+        if c.position == "smdo_emf":
+            a_l = A_REF_LAG * m.w_M_N * get("w_lpf")
+            if a_l < a_t:
+                return a_l, (f"{A_REF_LAG:g} w_M_N w_lpf: the SMDO's speed estimate lags by "
+                             f"{A_REF_LAG:.0%} of rated speed (below {A_REF_TORQUE:g} k_t "
+                             "i_max / J)")
+        return a_t, f"{A_REF_TORQUE:g} k_t i_max / J (half the acceleration of the current limit)"
+    if name == "t_dwell":
+        if c.position == "smdo_emf":
+            return 4.0 / get("w_lpf"), "4 / w_lpf (the settling of the SMDO's speed estimate)"
+        return 0.02, "20 ms (7 time constants of the PLL of eq. (50) at 351 Hz)"
+    if name == "t_chatter":
+        return max(0.5, 20.0 * get("t_dwell")), "20 t_dwell, at least 0.5 s"
+    if name == "w_M_track":
+        return TRACK_REL * m.w_M_N, f"{TRACK_REL:g} w_M_N"
+    if name == "t_track":
+        if m.k_t <= 0.0:
+            return 0.0, "off: motor.psi_r = 0 (no torque constant)"
+        if get("a_M_ref") and get("a_M_ref") > 0.0:
+            t_c = m.J * get("w_M_track") / (m.k_t * get("i_max"))
+            return 0.1 + 4.0 * t_c, ("0.1 s + 4 J w_M_track / (k_t i_max) (the reference is "
+                                     "slew-limited: the PI saturates only to recover a lag)")
+        t_rev = 2.0 * m.J * m.w_M_N / (m.k_t * get("i_max"))
+        return 0.1 + 2.0 * t_rev, ("0.1 s + twice the time a reversal from +w_M_N to -w_M_N "
+                                   "takes at the current limit (2 J w_M_N / (k_t i_max))")
+    if name == "t_forced":
+        a = get("a_M_start")
+        t_ramp = 2.0 * get("w_M_handover") / a if a and a > 0 else 0.0
+        return 2.0 * t_ramp + 2.0 * get("t_dwell") + 0.1, (
+            "twice the I/f ramp from -w_M_handover to +w_M_handover at a_M_start, plus 2 "
+            "t_dwell + 0.1 s")
+    if name == "osc_i":
+        i_n = rated_current(m)
+        i_n = i_n if math.isfinite(i_n) else 1.0
+        return OSC_REL_N * i_n + OSC_NOISE * plant["noise"], (
+            f"{OSC_REL_N:g} I_N + {OSC_NOISE:g} adc.noise")
     if name == "k_p_i":
         return c.current_bw * (lcl.L1 + lcl.L2o + get("L_s_hat")), \
             "current_bw (lcl.L1 + lcl.L2o + L_s_hat)"
@@ -164,11 +319,16 @@ def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any =
 # the model values standing in where the motor gives none (Table I)
 REFERENCE_MODEL = {"psi_r_pi": REF_MOTOR.psi_r}
 #: the value a field the composition does not use keeps (the yang2018 drive's)
-REFERENCE_UNUSED = {**REFERENCE, "J_hat": REF_MOTOR.J, "psi_r_pi": REF_MOTOR.psi_r}
+REFERENCE_UNUSED = {**REFERENCE, "J_hat": REF_MOTOR.J, "psi_r_pi": REF_MOTOR.psi_r,
+                    "speed_bw": 60.0, "w_lpf": 100.0,
+                    "w_M_if_enter": 0.0, "t_dead_comp": DEFAULT_PLANT["t_dead"],
+                    "a_M_ref": 0.0, "t_dwell": 0.0, "t_chatter": 1.0,
+                    "w_M_track": 0.1 * REF_MOTOR.w_M_N, "t_track": 0.0, "t_forced": 0.0}
 
 
 def resolve(c: ControllerCfg, m: MotorPars, *, T_sp: float, lcl: Any = None,
-            adc_full_scale: float = math.inf) -> ControllerCfg:
+            adc_full_scale: float = math.inf,
+            plant: dict[str, float] | None = None) -> ControllerCfg:
     """`c` with every motor-derived field that is unset (None), or still at
     the value an earlier resolution derived, derived from motor `m` (and the
     filter `lcl`); the others kept. The result's ``derived`` lists the
@@ -178,10 +338,10 @@ def resolve(c: ControllerCfg, m: MotorPars, *, T_sp: float, lcl: Any = None,
         raise ParameterError(f"controller.derived = {c.derived!r}: the record of the values "
                              "derived from the motor is kept by the code; leave it out")
     before = {n: (v, src) for n, v, src in c.derived}
-    uses = _uses(c)
     out: dict[str, Any] = {}
     record = []
     for name in DERIVED_FIELDS:
+        uses = _uses(c, lambda n: out.get(n, getattr(c, n)))
         v = getattr(c, name)
         was_derived = name in before and _same(before[name][0], v)
         if not (v is None or was_derived):
@@ -197,10 +357,18 @@ def resolve(c: ControllerCfg, m: MotorPars, *, T_sp: float, lcl: Any = None,
             new, src = REFERENCE_UNUSED[name], f"reference, unused: {why_not}"
         else:
             new, src = derive(name, m, c, T_sp=T_sp, lcl=lcl, adc_full_scale=adc_full_scale,
-                              resolved=out)
+                              resolved=out, plant=plant)
             new, src = _within_range(name, new, src)
         out[name] = new
         record.append((name, new, src))
+    hand = out.get("w_M_handover", c.w_M_handover)
+    if_enter = out.get("w_M_if_enter")
+    if "w_M_handover" not in out and if_enter and hand is not None and if_enter >= hand:
+        # the user's handover speed: the derived return to I/f stays below it
+        out["w_M_if_enter"] = hand / HANDOVER_RATIO
+        record = [(n, hand / HANDOVER_RATIO, f"w_M_handover / {HANDOVER_RATIO:g} (the "
+                   "hysteresis below the handover set in [controller])") if n == "w_M_if_enter"
+                  else (n, v, src) for n, v, src in record]
     try:
         return dataclasses.replace(c, **out, derived=tuple(record))
     except ParameterError as exc:
@@ -236,7 +404,8 @@ _MOTOR_VALUE = {"L_s_hat": "L_s", "R_s_hat": "R_s", "psi_r_hat": "psi_r", "J_hat
 
 
 def override_warnings(c: ControllerCfg, m: MotorPars, *, T_sp: float, lcl: Any = None,
-                      adc_full_scale: float = math.inf) -> list[str]:
+                      adc_full_scale: float = math.inf,
+                      plant: dict[str, float] | None = None) -> list[str]:
     """Messages for the user-set fields the composition uses whose value is
     outside WARN_BAND times the value derived from the motor, each naming
     both values."""
@@ -250,7 +419,8 @@ def override_warnings(c: ControllerCfg, m: MotorPars, *, T_sp: float, lcl: Any =
             continue
         if name not in WARNED:
             continue
-        ref, src = derive(name, m, c, T_sp=T_sp, lcl=lcl, adc_full_scale=adc_full_scale)
+        ref, src = derive(name, m, c, T_sp=T_sp, lcl=lcl, adc_full_scale=adc_full_scale,
+                          plant=plant)
         if src.startswith("reference") or not (ref > 0.0 and math.isfinite(ref)):
             continue
         ratio = v / ref
@@ -414,7 +584,7 @@ def drive_header(s: Any, name: str = "SMD") -> str:
         from . import yao2022 as dz
 
         c = s.controller
-        est = MotorPars(R_s=c.R_s_hat, L_s=c.L_s_hat, psi_r=c.psi_r_hat, n_p=s.motor.n_p)
+        est = dataclasses.replace(s.motor, R_s=c.R_s_hat, L_s=c.L_s_hat, psi_r=c.psi_r_hat)
         plant = dz.DesignPlant(est, dataclasses.replace(s.lcl, C1=s.lcl.C1 * c.C1_hat_ratio),
                                s.T_sp)
         lcl_design(s, build=False)  # the checks, with the fields named

@@ -35,7 +35,8 @@ BASE = Scenario(
     name="yang2018.base",
     T_sp=100e-6,
     motor=MOTOR,
-    controller=ControllerCfg(),
+    # the paper's drives never return to I/f and follow their references unshaped
+    controller=ControllerCfg(w_M_if_enter=0.0, a_M_ref=0.0),
     inverter=InverterCfg(),
     adc=AdcCfg(),
 )

@@ -54,6 +54,7 @@ CONTROLLER = ControllerCfg(
     k_p_i=0.35, k_i_i=600.0, R_v=0.0, emf_ff=True,
     speed_bw=60.0, J_hat=MOTOR.J, psi_r_pi=MOTOR.psi_r, i_max=45.0,
     i_start=15.0, a_M_start=5e3 * RPM, w_M_handover=5e3 * RPM, t_dead_comp=0.0,
+    w_M_if_enter=0.0, a_M_ref=0.0,  # the paper's drive: no return to I/f, references unshaped
 )
 BASE = Scenario(
     name="yao2022.base", T_sp=50e-6, duration=0.5, motor=MOTOR, lcl=LclFilterPars(),
