@@ -18,7 +18,10 @@ ROOT = Path(__file__).resolve().parents[1]
 SUMMARY_KEYS = {"name", "samples", "status", "speed_rpm_mean_last_20pct",
                 "speed_estimate_rpm_mean_last_20pct", "i_d_mean_last_20pct",
                 "i_q_mean_last_20pct", "theta_error_rms_deg_last_20pct", "log",
-                "first_fault_t", "first_fault", "final_fault", "faults_expected"}
+                "first_fault_t", "first_fault", "final_fault", "faults_expected",
+                # issue 18: phase at the end, speed-tracking error, fault history
+                "phase_end", "speed_ref_rpm_mean_last_20pct", "speed_error_rpm_last_20pct",
+                "speed_error_rel_last_20pct", "final_fault_t", "ends_in_fault"}
 
 
 def _run(src: Path, out: Path) -> dict:

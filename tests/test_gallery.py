@@ -9,6 +9,7 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -20,15 +21,46 @@ EXAMPLES = ROOT / "examples"
 SCRIPTS = sorted(p.name for p in EXAMPLES.glob("plot_*.py"))
 
 
-def run_script(name: str) -> str:
+def run_script(name: str, cwd: Path | None = None) -> str:
+    """The script's stdout, run without a display (MPLBACKEND=Agg) in `cwd`
+    (default: a temporary folder, where the script keeps its figures)."""
+    return _run_script(name, cwd).stdout
+
+
+def _run_script(name: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
     env = {**os.environ, "SMODRIVE_GALLERY_QUICK": "1", "MPLBACKEND": "Agg"}
     src = str(ROOT / "src")
     if (ROOT / "src" / "smodrive" / "libsmodrive.so").is_file():  # the dev tree, as the tests
         env["PYTHONPATH"] = os.pathsep.join([src, env.get("PYTHONPATH", "")])
-    res = subprocess.run([sys.executable, str(EXAMPLES / name)], cwd=ROOT, env=env,
-                         capture_output=True, text=True, timeout=600)
+    with tempfile.TemporaryDirectory() as tmp:
+        res = subprocess.run([sys.executable, str(EXAMPLES / name)], cwd=cwd or tmp, env=env,
+                             capture_output=True, text=True, timeout=600)
     assert res.returncode == 0, res.stderr[-3000:]
-    return res.stdout
+    return res
+
+
+def test_an_example_keeps_its_figure_without_a_display(tmp_path):
+    """With a non-interactive backend (no display) plt.show() shows nothing:
+    the script keeps its figure as a PNG in the current folder and says
+    where (on stderr: stdout stays what the script prints)."""
+    res = _run_script("plot_readme_example.py", tmp_path)
+    png = tmp_path / "plot_readme_example.png"
+    assert png.stat().st_size > 10_000
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert str(png) in res.stderr
+    assert "non-interactive" not in res.stderr  # no "cannot be shown" warning
+    assert "png" not in res.stdout
+
+
+def test_every_example_with_a_figure_keeps_it_without_a_display():
+    """Every script that calls plt.show() saves its figures first when
+    there is no display (the block hidden from the gallery page)."""
+    for name in SCRIPTS:
+        text = (EXAMPLES / name).read_text()
+        if "plt.show()" in text:
+            block = text[text.index("# sphinx_gallery_start_ignore"):]
+            assert "savefig" in block or "shutil.copy2" in block, name
+            assert text.rstrip().endswith("plt.show()"), name
 
 
 def test_every_readme_python_example_is_a_gallery_script():

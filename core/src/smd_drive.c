@@ -442,11 +442,21 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
         SMD_FABS(w_k) < p->w_if_enter &&
         (SMD_FABS(w_ref) < p->w_handover || w_ref * w_k < SMD_R(0.0))) {
         /* sensorless below w_if_enter on the way through zero: back to the
-         * forced frame, from where the source is now */
+         * forced frame, from where the source is now, driven toward the
+         * reference's target; the forced current i_start (q axis of the
+         * forced frame, sign dir_f) is placed so that its q component in the
+         * source's frame is the current that was flowing, on the stable side
+         * (dir_f sin(theta_f - theta) < 0): the torque does not step, and
+         * the rotor does not swing about the forced angle */
+        smd_real c, sn;
         switch_phase(s, SMD_PHASE_FORCED);
-        s->theta_f = theta_k;
+        s->dir_f = (in->w_ref - w_k) < SMD_R(0.0) ? -1 : 1;
+        c = p->i_start > SMD_R(0.0) ? (smd_real)s->dir_f * s->i_dq_ref.im / p->i_start
+                                    : SMD_R(1.0);
+        c = c > SMD_R(1.0) ? SMD_R(1.0) : (c < SMD_R(-1.0) ? SMD_R(-1.0) : c);
+        sn = SMD_SQRT(SMD_R(1.0) - c * c);
+        s->theta_f = smd_wrap_pi(theta_k - (smd_real)s->dir_f * SMD_ATAN2(sn, c));
         s->w_f = w_k;
-        s->dir_f = (w_ref - w_k) < SMD_R(0.0) ? -1 : 1;
     }
     if (s->phase == SMD_PHASE_FORCED) {
         if (p->start == SMD_START_IF && s->dir_f == 0) {
@@ -465,10 +475,15 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
              s->w_f * w_ref > SMD_R(0.0))) {
             /* handover: the PLL starts on the observer's angle (forced angle
              * plus the measured angle error) at the forced speed, the speed
-             * loop on the current that was flowing */
+             * loop on the current that was flowing, seen in the source's
+             * frame (the forced current's q component there) */
+            smd_real d_src = lcl_src ? -s->pos.theta_err
+                             : (p->position == SMD_POS_SMDO_EMF
+                                    ? smd_wrap_pi(theta_k - s->pos.u.emf.theta_r_hat)
+                                    : SMD_R(0.0));
             switch_phase(s, SMD_PHASE_SOURCE);
             smd_pll_reset(&s->pos.pll, theta_k + s->pos.theta_err + w_k * T, w_k);
-            smd_pi_reset(&s->speed_pi, s->i_dq_ref.im);
+            smd_pi_reset(&s->speed_pi, s->i_dq_ref.im * SMD_COS(d_src));
             s->count = 0;
             if (lcl_src) {
                 theta_next = s->pos.pll.theta;

@@ -5,6 +5,13 @@ Whatever the input, the user sees one ``error: ...`` line (exit 2 for bad
 input, 1 for a failed run), never a Python traceback (set SMODRIVE_DEBUG=1
 to get one). User text (names, values) is printed as it is: rich markup in
 it is not interpreted.
+
+What a command prints for a program to read (the summary JSON of
+``smodrive run``, the lists of ``scenarios`` and ``show``) goes to stdout;
+progress, notes, warnings and errors go to stderr, so that
+``smodrive run x.toml --out d | jq .status`` works. Every file is written
+under a temporary name and renamed onto its own (:func:`smodrive.export.atomic_path`):
+a killed run never leaves a truncated file under its final name.
 """
 
 from __future__ import annotations
@@ -14,11 +21,12 @@ import json
 import math
 import os
 import re
+import shutil
 import sys
 import tempfile
 import warnings
 from pathlib import Path
-from typing import Any, Callable, NoReturn
+from typing import Any, Callable, Iterable, NoReturn
 
 import click
 import numpy as np
@@ -28,7 +36,8 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 from rich.text import Text
 
-from .params import ParameterError
+from . import export
+from .params import RPM, ParameterError
 from .scenario_io import load_scenario, scenario_to_toml
 from .scenarios import PAPERS, catalogue
 
@@ -124,6 +133,76 @@ def _prepare_out(out: Path) -> None:
             pass
     except OSError as exc:
         _fail(f"--out {out}: cannot write there ({exc.strerror or exc})", 2)
+
+
+#: the files every `smodrive run` may write into OUT (beside its figures,
+#: named after the scenario): the log in each --format, summary.json,
+#: scenario.toml, and with --pil pil.json
+RUN_FILES = (*export.FORMATS.values(), "signals.csv.json", "summary.json", "scenario.toml",
+             "pil.json")
+
+
+def _earlier_run(out: Path, figures: Iterable[str]) -> tuple[str | None, list[str]]:
+    """The scenario name of an earlier run in OUT (from its summary.json or
+    pil.json; None if neither says) and the files of it OUT holds: those of
+    :data:`RUN_FILES`, the `figures` this run would write, and the earlier
+    run's own figures."""
+    old = None
+    for f in ("summary.json", "pil.json"):
+        try:
+            name = json.loads((out / f).read_text(encoding="utf-8")).get("name")
+        except (OSError, ValueError, AttributeError):
+            continue
+        if isinstance(name, str):
+            old = name
+            break
+    names = [*RUN_FILES, *figures]
+    if old is not None:
+        names += [f"{_file_stem(old)}.png", f"{_file_stem(old)}_pil.png"]
+    return old, [n for n in dict.fromkeys(names) if (out / n).is_file()]
+
+
+def _claim_out(out: Path, figures: Iterable[str], force: bool) -> list[str]:
+    """Refuse (exit 2) an OUT that holds an earlier run's files, unless
+    `force`; returns those files (with `force`: replaced by this run's, or
+    removed once it has written its own)."""
+    old, found = _earlier_run(out, figures)
+    if not found:
+        return []
+    who = "" if old is None else f" (scenario {old!r})"
+    if not force:
+        _fail(f"--out {out} holds the files of an earlier run{who}: {', '.join(found)}; "
+              "choose another --out, or pass --force to replace them", 2)
+    _say(f"note: --force: this run replaces the files of the earlier run{who} in {out}: "
+         f"{', '.join(found)}", "yellow")
+    return found
+
+
+def _remove_stale(out: Path, earlier: Iterable[str], written: Iterable[str]) -> None:
+    """Remove the files of the earlier run that this run did not write
+    (after it wrote its own: a failed run leaves the earlier one whole)."""
+    keep = set(written)
+    for name in earlier:
+        if name not in keep:
+            try:
+                (out / name).unlink()
+            except FileNotFoundError:
+                pass
+
+
+def _save_figure(axes, out: Path, stem: str) -> Path:
+    """plots.save into a temporary folder of OUT, then renamed onto
+    OUT/stem.png (atomic: never a truncated figure under its name)."""
+    from . import plots
+
+    tmp = Path(tempfile.mkdtemp(dir=out, prefix=".figure-"))
+    try:
+        made = plots.save(axes, tmp, stem)
+        path = out / made.name
+        os.replace(made, path)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return path
 
 
 def _file_stem(name: str) -> str:
@@ -235,12 +314,19 @@ def _load(scenario: str):
               help="the log's formats, comma-separated: npz, mat (MATLAB, with the structs "
                    "units and descriptions), csv (units in signals.csv.json), parquet (units "
                    "in the column metadata)")
+@click.option("--force", is_flag=True,
+              help="replace the files of an earlier run in OUT (without it a run refuses an "
+                   "OUT that holds any: summary.json, scenario.toml, signals.*, pil.json or "
+                   "a run's figure)")
 def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
-        math: str, formats: str) -> None:
+        math: str, formats: str, force: bool) -> None:
     """Simulate one SCENARIO (a TOML file or a catalogue name); write
     signals.npz (or the --format files), summary.json and a figure (with
-    --pil: pil.json and the comparison figure)."""
-    from . import export, plots
+    --pil: pil.json and the comparison figure) into OUT, which must not hold
+    an earlier run's files (unless --force). The summary JSON is printed on
+    stdout, progress and notes on stderr; the exit code is 1 when the run
+    ends in a fault (unless the scenario sets faults_expected)."""
+    from . import plots
     from .simulate import SimulationError, log_plan, simulate
 
     fmts = export.parse_formats(formats)
@@ -254,13 +340,17 @@ def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
         if not 0.0 < seconds <= 10.0:
             _fail(f"--seconds {seconds}: must be in (0, 10] s", 2)
         _prepare_out(out)
-        _run_pil(s, out, seconds, math)
+        earlier = _claim_out(out, [f"{_file_stem(s.name)}_pil.png"], force)
+        written = _run_pil(s, out, seconds, math)
+        _remove_stale(out, earlier, written)
         return
     try:
         plan = log_plan(s, log_budget)
     except ParameterError as exc:
         _fail(f"--log-budget: {exc}", 2)
     _prepare_out(out)
+    stem = _file_stem(s.name)
+    earlier = _claim_out(out, [f"{stem}.png"], force)
     if plan.decimated:
         full = s.n_steps / s.log_stride * plan.bytes / plan.rows
         _say(f"log: {s.n_steps:,} samples would take {_size(full)}, above the budget of "
@@ -276,10 +366,12 @@ def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
                          log_budget=log_budget)
         except SimulationError as exc:
             _fail(str(exc), 1)
-        export.write(r, out, fmts, lambda f: prog.update(t_npz, completed=f))
+        written = [p.name for p in export.write(r, out, fmts,
+                                                lambda f: prog.update(t_npz, completed=f))]
         summary = run_summary(s, r, plan)
-        (out / "scenario.toml").write_text(scenario_to_toml(s), encoding="utf-8")
-        (out / "summary.json").write_text(_json(summary), encoding="utf-8")
+        export.write_text(out / "scenario.toml", scenario_to_toml(s))
+        export.write_text(out / "summary.json", _json(summary))
+        written += ["scenario.toml", "summary.json"]
         axes = plots.time_panels(
             [r], [s.name], s.name,
             [("speed (r/min)", [("n_ref_rpm", "reference"), ("n_rpm", "true"),
@@ -287,9 +379,10 @@ def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
              ("motor current (A)", [("i_d", "d"), ("i_q", "q")]),
              ("position error (rad)", [("theta_error", "true")])])
         prog.update(t_fig, completed=1)
-        plots.save(axes, out, _file_stem(s.name))
+        written.append(_save_figure(axes, out, stem).name)
         prog.update(t_fig, completed=2)
-    _say(_json(summary).rstrip())
+    _remove_stale(out, earlier, written)
+    click.echo(_json(summary), nl=False)  # stdout: the one thing a program reads
     f = r.faults
     if f.t_first is not None:
         what = ", ".join(summary["first_fault"])
@@ -308,12 +401,53 @@ def write_signals(path: Path, r, progress: Callable[[float], None] | None = None
     write_npz(r, path, progress)
 
 
+def _phase_end(s, r) -> str:
+    """The start-up phase of the last logged row: "forced" (I/f), "encoder"
+    (the encoder hand-over, or an encoder position source) or "observer"
+    (a sensorless position source)."""
+    k = int(r["phase"][-1])
+    source = "encoder" if s.controller.position == "encoder" else "observer"
+    return {0: "forced", 1: "encoder", 2: source}.get(k, str(k))
+
+
+def _final_fault_t(r) -> float | None:
+    """When the final fault (its latched bits, or the whole final word if
+    none is latched) was set for the last time, from the logged ``fault``
+    channel: the time of the first row of the last stretch of rows that
+    hold those bits (to the log stride); None without a final fault, or
+    when the log's last row does not hold it."""
+    from .simulate import FAULT_BITS, LATCHED_FAULTS
+
+    final = int(r.faults.final)
+    if not final:
+        return None
+    latched = sum(FAULT_BITS[n] for n in LATCHED_FAULTS if n in FAULT_BITS)
+    bits = (final & latched) or final
+    on = (r["fault"].astype(np.int64) & bits) == bits
+    if not on[-1]:
+        return None
+    off = np.flatnonzero(~on)
+    return float(r.t[int(off[-1]) + 1 if off.size else 0])
+
+
 def run_summary(s, r, plan) -> dict[str, Any]:
     """summary.json of a run: means over the last 20 % of the run (at least
     the last logged row), the control samples simulated and how the log was
-    kept."""
+    kept; the start-up phase at the end (``phase_end``: forced, encoder or
+    observer); the speed-tracking error over the last 20 % (mean true speed
+    minus mean reference, r/min, and that over the final reference's
+    magnitude; null without the speed loop, the relative one also for a
+    final reference of 0); the faults: the first (``first_fault``, its
+    time ``first_fault_t``), the final (``final_fault``, ``ends_in_fault``)
+    and when the final one was set (``final_fault_t``, from the log)."""
     i0 = min(int(np.searchsorted(r.t, 0.8 * s.duration)), r.data.shape[0] - 1)
     last = dataclasses.replace(r, data=r.data[i0:])  # a view of those rows
+    n_ref = last["w_M_ref"] / RPM
+    err = rel = None
+    if s.controller.speed_loop:
+        err = float(np.mean(last.n_rpm) - np.mean(n_ref))
+        ref_end = float(r["w_M_ref"][-1] / RPM)
+        rel = err / abs(ref_end) if ref_end != 0.0 else None
     return {
         "name": s.name,
         "samples": int(r.samples),
@@ -324,13 +458,20 @@ def run_summary(s, r, plan) -> dict[str, Any]:
         "i_q_mean_last_20pct": float(np.mean(last["i_q"])),
         "theta_error_rms_deg_last_20pct": float(np.degrees(np.sqrt(np.mean(
             last.theta_error ** 2)))),
+        "speed_ref_rpm_mean_last_20pct": float(np.mean(n_ref)),
+        "speed_error_rpm_last_20pct": err,
+        "speed_error_rel_last_20pct": rel,
+        "phase_end": _phase_end(s, r),
         **r.faults.as_dict(),
+        "final_fault_t": _final_fault_t(r),
+        "ends_in_fault": bool(r.faults.ends_in_fault),
         "faults_expected": bool(s.faults_expected),
         "log": plan.as_dict(),
     }
 
 
-def _run_pil(s, out: Path, seconds: float, math: str) -> None:
+def _run_pil(s, out: Path, seconds: float, math: str) -> list[str]:
+    """The PIL run: pil.json and the comparison figure; returns their names."""
     from . import plots
     from .target import TargetError, pil
 
@@ -346,9 +487,10 @@ def _run_pil(s, out: Path, seconds: float, math: str) -> None:
         "max_theta_hat_diff_rad": r.max_theta_diff_rad,
         "max_w_hat_diff_rad_s": r.max_w_diff, "max_word_diff_ulp": r.max_view_ulp,
     }
-    (out / "pil.json").write_text(_json(summary), encoding="utf-8")
-    plots.save(plots.pil_panels(r), out, _file_stem(s.name) + "_pil")
-    _say(_json(summary).rstrip())
+    export.write_text(out / "pil.json", _json(summary))
+    fig = _save_figure(plots.pil_panels(r), out, _file_stem(s.name) + "_pil")
+    click.echo(_json(summary), nl=False)
+    return ["pil.json", fig.name]
 
 
 @main.command()
@@ -401,7 +543,7 @@ def design(scenario: str, header: Path | None, name: str) -> None:
                    f"from {lo:g} to {hi:g} r/min")
     if header is not None:
         text = from_motor.drive_header(s, name)
-        header.write_text(text, encoding="utf-8")
+        export.write_text(header, text)
         _say(f"wrote {header}")
 
 

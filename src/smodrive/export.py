@@ -25,6 +25,11 @@ Every format holds one column per channel of :data:`smodrive.simulate.CHANNELS`
 
 An empty unit means a dimensionless code (``phase``, ``status``, ``fault``).
 
+Every file is written atomically (:func:`atomic_path`): under a temporary
+name in the same folder, then renamed onto its name, so that a run killed
+while writing never leaves a truncated file under the final name (an earlier
+file of that name stays whole until the new one replaces it).
+
 >>> parse_formats("npz, mat")
 ('npz', 'mat')
 >>> parse_formats("xls")
@@ -35,10 +40,13 @@ smodrive.params.ParameterError: --format: unknown format 'xls'; the formats are 
 
 from __future__ import annotations
 
+import contextlib
 import json
+import os
+import secrets
 import zipfile
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Iterator
 
 import numpy as np
 
@@ -49,6 +57,43 @@ FORMATS: dict[str, str] = {"npz": "signals.npz", "mat": "signals.mat", "csv": "s
                            "parquet": "signals.parquet"}
 
 Progress = Callable[[float], None]
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | Path) -> Iterator[Path]:
+    """A temporary name beside `path` to write the file to: when the block
+    ends normally the file is renamed onto `path` (``os.replace``, atomic
+    within a folder), when it raises the temporary file is removed and
+    `path` is left as it was. The temporary name is hidden
+    (``.NAME.RANDOM.tmp``); a process killed in the block may leave it, never
+    a partial `path`.
+
+    >>> import tempfile
+    >>> d = Path(tempfile.mkdtemp())
+    >>> with atomic_path(d / "a.txt") as tmp:
+    ...     _ = tmp.write_text("whole")
+    ...     (d / "a.txt").exists()
+    False
+    >>> (d / "a.txt").read_text(), sorted(p.name for p in d.iterdir())
+    ('whole', ['a.txt'])
+    """
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{secrets.token_hex(4)}.tmp")
+    try:
+        yield tmp
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            tmp.unlink()
+        raise
+
+
+def write_text(path: str | Path, text: str) -> Path:
+    """`text` written to `path` (UTF-8) atomically (:func:`atomic_path`)."""
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+    return path
 
 
 def parse_formats(text: str) -> tuple[str, ...]:
@@ -107,7 +152,8 @@ def write_npz(r, path: Path, progress: Progress | None = None) -> list[Path]:
     table = channel_table()
     extra = {"_units": np.array([c["unit"] for c in table]),
              "_descriptions": np.array([c["description"] for c in table])}
-    with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED, allowZip64=True) as zf:
+    with atomic_path(path) as tmp, zipfile.ZipFile(tmp, "w", compression=zipfile.ZIP_DEFLATED,
+                                                   allowZip64=True) as zf:
         for k, c in enumerate(CHANNELS):
             with zf.open(f"{c}.npy", "w", force_zip64=True) as f:
                 np.lib.format.write_array(f, r[c], allow_pickle=False)
@@ -116,7 +162,7 @@ def write_npz(r, path: Path, progress: Progress | None = None) -> list[Path]:
         for name, arr in extra.items():
             with zf.open(f"{name}.npy", "w") as f:
                 np.lib.format.write_array(f, arr, allow_pickle=False)
-    return [path]
+    return [Path(path)]
 
 
 def write_mat(r, path: Path, progress: Progress | None = None) -> list[Path]:
@@ -130,10 +176,11 @@ def write_mat(r, path: Path, progress: Progress | None = None) -> list[Path]:
     data["units"] = {c["name"]: c["unit"] for c in table}
     data["descriptions"] = {c["name"]: c["description"] for c in table}
     data["info"] = run_info(r)
-    savemat(path, data, do_compression=True, oned_as="column")
+    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+        savemat(f, data, do_compression=True, oned_as="column")
     if progress is not None:
         progress(1.0)
-    return [path]
+    return [Path(path)]
 
 
 def write_csv(r, path: Path, progress: Progress | None = None,
@@ -143,16 +190,17 @@ def write_csv(r, path: Path, progress: Progress | None = None,
     `chunk_rows` rows at a time."""
     from .simulate import CHANNELS
 
+    path = Path(path)
     n = r.data.shape[0]
-    with open(path, "w", encoding="utf-8", newline="") as f:
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="") as f:
         f.write(",".join(CHANNELS) + "\n")
         for i in range(0, n, chunk_rows):
             np.savetxt(f, r.data[i:i + chunk_rows], fmt="%.17g", delimiter=",")
             if progress is not None:
                 progress(min(1.0, (i + chunk_rows) / max(n, 1)))
-    side = path.with_name(path.name + ".json")
-    side.write_text(json.dumps({"file": path.name, **run_info(r), "columns": channel_table()},
-                               indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
+    side = write_text(path.with_name(path.name + ".json"), json.dumps(
+        {"file": path.name, **run_info(r), "columns": channel_table()}, indent=2,
+        ensure_ascii=False) + "\n")
     return [path, side]
 
 
@@ -171,10 +219,11 @@ def write_parquet(r, path: Path, progress: Progress | None = None) -> list[Path]
               for c in table]
     schema = pa.schema(fields, metadata={"smodrive": json.dumps(run_info(r))})
     arrays = [pa.array(np.ascontiguousarray(r[c["name"]])) for c in table]
-    pq.write_table(pa.Table.from_arrays(arrays, schema=schema), path)
+    with atomic_path(path) as tmp:
+        pq.write_table(pa.Table.from_arrays(arrays, schema=schema), str(tmp))
     if progress is not None:
         progress(1.0)
-    return [path]
+    return [Path(path)]
 
 
 def to_dataframe(r):

@@ -70,6 +70,10 @@ DESIGN_FIELDS = {"controller.C1_hat_ratio", "controller.L_s_hat", "controller.R_
                  "controller.psi_r_hat", "controller.Q", "T_sp", "lcl.L1", "lcl.L2o", "lcl.C1",
                  "motor.n_p"}
 DESIGN_SECONDS = 3.0  # estimated wall time of one LCL observer design
+#: the most runs a sweep may have: the runs are expanded in memory (about
+#: 1.2 kB each, some 1.2 GB at the bound) before the first one is sent;
+#: a spec beyond it is refused before anything is allocated
+MAX_RUNS = 1_000_000
 STEPS_PER_S = {False: 2.0e6, True: 0.8e6}  # estimated engine rate without / with the LCL
 
 
@@ -392,6 +396,36 @@ def _seeds(d: Any) -> tuple[str | None, tuple[int, ...]]:
     return key, tuple(range(first, first + n))
 
 
+def run_count(spec: SweepSpec) -> tuple[int, str]:
+    """How many runs `spec` has, from its axes' sizes alone (nothing is
+    expanded), and those sizes as text (``L_ratio 8 x R_ratio 5 x 4
+    seeds``)."""
+    if spec.sample == "lhs":
+        sizes = [(a.name, len(a.values)) for a in spec.axes if a.marginal is None]
+        sizes.append((f"{spec.samples} lhs samples", None))
+        n = math.prod(k for _, k in sizes if k is not None) * spec.samples
+    else:
+        sizes = [(a.name, len(a.values)) for a in spec.axes]
+        n = math.prod(k for _, k in sizes)
+    if spec.seeds:
+        sizes.append((f"{len(spec.seeds)} seeds", None))
+        n *= len(spec.seeds)
+    text = " x ".join(name if k is None else f"{name} {k}" for name, k in sizes) or "one run"
+    return n, text
+
+
+def check_run_count(spec: SweepSpec) -> int:
+    """The run count of `spec` (:func:`run_count`); a ParameterError naming
+    it, the axes' sizes and :data:`MAX_RUNS` when it exceeds that bound."""
+    n, sizes = run_count(spec)
+    if n > MAX_RUNS:
+        raise ParameterError(
+            f"sweep {spec.name}: {n:,} runs ({sizes}) exceed the bound of {MAX_RUNS:,} runs a "
+            "sweep may have; use fewer values (n) on an axis, fewer seeds, sample = 'lhs' with "
+            "fewer samples, or several sweeps")
+    return n
+
+
 def parse_sweep(data: dict, name: str = "sweep", ctx_dir: Path | None = None) -> SweepSpec:
     """A SweepSpec from a parsed sweep file (see the module docstring and
     docs/sweeps.md); every field is checked, a wrong one is named with its
@@ -460,6 +494,7 @@ def parse_sweep(data: dict, name: str = "sweep", ctx_dir: Path | None = None) ->
     spec = SweepSpec(name, title, base, base_toml, tuple(metrics),
                      (float(w[0]), float(min(w[1], dur))), sample, samples, seed, axes,
                      seed_key, seeds, plots, bs, raw)
+    check_run_count(spec)  # before anything the size of the run list is made
     from .sweep_plot import check_plots
 
     check_plots(spec)
@@ -532,9 +567,11 @@ def _lhs_points(spec: SweepSpec) -> list[dict[str, Any]]:
 
 def expand(spec: SweepSpec) -> list[Run]:
     """Every run of the sweep, in a fixed order (the first axis varies
-    slowest, the seed fastest)."""
+    slowest, the seed fastest); a sweep of more than :data:`MAX_RUNS` runs
+    is refused before any is made."""
     import itertools
 
+    check_run_count(spec)
     if spec.sample == "lhs":
         discrete = [a for a in spec.axes if a.marginal is None]
         pts = _lhs_points(spec)
