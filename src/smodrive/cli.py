@@ -17,6 +17,7 @@ a killed run never leaves a truncated file under its final name.
 from __future__ import annotations
 
 import dataclasses
+import glob
 import json
 import math
 import os
@@ -167,15 +168,30 @@ def _claim_out(out: Path, figures: Iterable[str], force: bool) -> list[str]:
     `force`; returns those files (with `force`: replaced by this run's, or
     removed once it has written its own)."""
     old, found = _earlier_run(out, figures)
-    if not found:
-        return []
     who = "" if old is None else f" (scenario {old!r})"
-    if not force:
+    if found and not force:
         _fail(f"--out {out} holds the files of an earlier run{who}: {', '.join(found)}; "
               "choose another --out, or pass --force to replace them", 2)
-    _say(f"note: --force: this run replaces the files of the earlier run{who} in {out}: "
-         f"{', '.join(found)}", "yellow")
+    _remove_leftovers(out)
+    if found:
+        _say(f"note: --force: this run replaces the files of the earlier run{who} in {out}: "
+             f"{', '.join(found)}", "yellow")
     return found
+
+
+def _remove_leftovers(out: Path) -> None:
+    """Remove the temporary files a killed run left in OUT (hidden:
+    ``.signals.npz.RANDOM.tmp``, ``.figure-RANDOM/``), and say so."""
+    left = [p for n in RUN_FILES for p in out.glob(f".{glob.escape(n)}.*.tmp")]
+    left += [p for p in out.glob(".figure-*") if p.is_dir()]
+    for p in left:
+        if p.is_dir():
+            shutil.rmtree(p, ignore_errors=True)
+        else:
+            p.unlink(missing_ok=True)
+    if left:
+        _say(f"note: removed {', '.join(p.name for p in left)} in {out}, left by a killed run",
+             "yellow")
 
 
 def _remove_stale(out: Path, earlier: Iterable[str], written: Iterable[str]) -> None:
