@@ -264,6 +264,16 @@ void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real the
     s->w_k = w0;
     s->theta_f = s->theta;
     s->w_f = w0;
+    if (p->start == SMD_START_IF && w0 == SMD_R(0.0) && i_q0 == SMD_R(0.0)) {
+        /* an I/f start from rest: the forced current (q axis of the forced
+         * frame) starts on the rotor's d axis, a quarter turn behind theta0,
+         * where it gives no torque, the edge of the stable side the rotor
+         * settles on as the forced angle accelerates (smd_drive.h): the
+         * torque does not step, and the rotor does not swing */
+        s->theta_f = smd_wrap_pi(s->theta - SMD_R(0.5) * SMD_PI);
+        s->theta = s->theta_f;
+        s->theta_k = s->theta_f;
+    }
     s->fault = 0u;
     s->lock_count = 0;
     s->dir_f = 0; /* the start ramps up; a return to I/f follows the reference */
