@@ -393,11 +393,22 @@ def test_the_sweep_command_refuses_a_huge_spec_in_one_line(tmp_path):
                    '[[axes]]\nname = "a"\nkey = "controller.L_s_hat"\nrange = [1e-3, 2e-3]\n'
                    'n = 100000\n[[axes]]\nname = "b"\nkey = "controller.R_s_hat"\n'
                    "range = [0.5, 1.0]\nn = 100000\n")
-    res = _cli("sweep", src, "--out", tmp_path / "o")
-    assert res.exit_code == 2
-    assert res.output.startswith("error:") and res.output.count("\n") == 1
-    assert "10,000,000,000 runs" in res.output and "a 100000 x b 100000" in res.output
+    # in a process of at most 3 GiB of address space: a sweep that lists its
+    # runs first ends in a MemoryError there, not in the machine's swap
+    res = subprocess.run([sys.executable, "-m", "smodrive.cli", "sweep", str(src), "--out",
+                          str(tmp_path / "o")], cwd=tmp_path, env=_env(), capture_output=True,
+                         text=True, timeout=300, preexec_fn=_limit_memory)
+    assert res.returncode == 2, res.stderr
+    assert res.stderr.startswith("error:") and res.stderr.count("\n") == 1, res.stderr
+    assert "10,000,000,000 runs" in res.stderr and "a 100000 x b 100000" in res.stderr
+    assert res.stdout == ""
     assert not (tmp_path / "o").exists()
+
+
+def _limit_memory() -> None:
+    import resource
+
+    resource.setrlimit(resource.RLIMIT_AS, (3 * 2**30, 3 * 2**30))
 
 
 # ------------------------------------------------ the API's arguments -----
