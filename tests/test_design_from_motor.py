@@ -79,10 +79,18 @@ def test_motor_from_toml_runs_sensorless_within_2_deg(stem):
     assert r.faults.final == 0 and r.status == 0
 
 
+# Table I's I/f thresholds from the voltage error of the SMDO's EMF (issue 18):
+# dead time (4/pi)(2 us / 100 us) 540 V = 13.75 V, ADC noise 3 x 0.02 A x 23.45 mH /
+# 100 us x sqrt(1500 x 100 us / 2) = 3.85 V; twice their sum over n_p psi_r = 1.6 V s
+# is the return to I/f (22.0 rad/s, 210 r/min), twice that the handover (420 r/min;
+# before issue 18 a flat 0.1 w_M_N = 150 r/min, below which the 13.75 V of dead
+# time is more than a third of the EMF)
+_U_ERR = 4.0 / math.pi * 2e-6 / 100e-6 * 540.0 + 3 * 0.02 * 23.45e-3 / 100e-6 * math.sqrt(0.075)
 TODAY = {  # the values the yang2018 drive used before they were derived
     "L_s_hat": 23.45e-3, "R_s_hat": 2.25, "psi_r_hat": 0.4, "J_hat": 0.012, "psi_r_pi": 0.4,
     "lambda_min": 800.0, "rho": 0.2, "w_M_max": 3000.0 * RPM, "i_max": 15.0, "i_start": 10.0,
-    "a_M_start": 3000.0 * RPM, "w_M_handover": 150.0 * RPM, "i_dtc": 0.3}
+    "a_M_start": 3000.0 * RPM, "i_dtc": 0.3, "speed_bw": 60.0, "w_lpf": 100.0,
+    "t_dead_comp": 2e-6}
 
 
 def test_table1_motor_derives_exactly_todays_values():
@@ -93,10 +101,12 @@ def test_table1_motor_derives_exactly_todays_values():
         current="robust_dbpc", position="smdo_emf", start="if"))
     c = s.controller
     assert {n: getattr(c, n) for n in TODAY} == TODAY
+    assert c.w_M_if_enter == pytest.approx(2.0 * _U_ERR / 1.6, rel=1e-12)
+    assert c.w_M_handover == pytest.approx(4.0 * _U_ERR / 1.6, rel=1e-12)
     assert all(not src.startswith("reference, unused") for _, _, src in c.derived)
     explicit = s.replace(controller=ControllerCfg(current="robust_dbpc", position="smdo_emf",
                                                   start="if", **TODAY))
-    assert explicit.controller.derived == ()
+    assert not {n for n, _, _ in explicit.controller.derived} & set(TODAY)
     a, b = drive_config(s), drive_config(explicit)
     for f, _ in a._fields_:
         if f not in ("smo", "lin"):
@@ -106,7 +116,10 @@ def test_table1_motor_derives_exactly_todays_values():
     assert {n: getattr(t.controller, n) for n in ("L_s_hat", "lambda_min", "rho", "w_M_max",
                                                   "i_max")} == \
         {n: TODAY[n] for n in ("L_s_hat", "lambda_min", "rho", "w_M_max", "i_max")}
-    assert yang2018.BASE.controller == Scenario().controller
+    # the paper's drive: the defaults, without the return to I/f and the
+    # reference's slew limit, which yang2018 does not have
+    assert yang2018.BASE.controller == Scenario(controller=ControllerCfg(
+        w_M_if_enter=0.0, a_M_ref=0.0)).controller
 
 
 SERVO = MotorPars(R_s=0.25, L_s=0.5e-3, psi_r=0.0175, n_p=4, J=4e-5, B=2e-5, P_N=200.0,
@@ -124,8 +137,9 @@ def test_override_is_kept_and_the_rest_follows_the_motor():
     assert (t.controller.L_s_hat, t.controller.i_max) == (0.6e-3, 12.0)
     assert t.controller.R_s_hat == 2.25 and t.controller.lambda_min == 800.0
     # in TOML: a [controller] key is kept, the rest derived from [motor]
-    u = scenario_from_dict({"motor": {"L_s": 0.5e-3, "R_s": 0.25},
-                            "controller": {"R_s_hat": 0.3}})
+    servo = {"R_s": 0.25, "L_s": 0.5e-3, "psi_r": 0.0175, "n_p": 4, "J": 4e-5, "B": 2e-5,
+             "P_N": 200.0, "w_M_N_rpm": 3000.0}
+    u = scenario_from_dict({"motor": servo, "controller": {"R_s_hat": 0.3}})
     assert (u.controller.L_s_hat, u.controller.R_s_hat) == (0.5e-3, 0.3)
     # written back, the derived values are left out (derived again on load)
     text = scenario_to_toml(u)

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -27,11 +28,16 @@ def run_script(name: str, cwd: Path | None = None) -> str:
     return _run_script(name, cwd).stdout
 
 
-def _run_script(name: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
+def _env() -> dict[str, str]:
     env = {**os.environ, "SMODRIVE_GALLERY_QUICK": "1", "MPLBACKEND": "Agg"}
     src = str(ROOT / "src")
     if (ROOT / "src" / "smodrive" / "libsmodrive.so").is_file():  # the dev tree, as the tests
         env["PYTHONPATH"] = os.pathsep.join([src, env.get("PYTHONPATH", "")])
+    return env
+
+
+def _run_script(name: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
+    env = _env()
     with tempfile.TemporaryDirectory() as tmp:
         res = subprocess.run([sys.executable, str(EXAMPLES / name)], cwd=cwd or tmp, env=env,
                              capture_output=True, text=True, timeout=600)
@@ -132,3 +138,20 @@ def test_reproduction_script_short_version(paper):
     verdicts = [ln.split()[0] for ln in out if ln.split()]
     assert verdicts and set(verdicts) <= {"pass", "fail", "not"}
     assert verdicts.count("pass") >= len(verdicts) // 2
+
+
+def test_the_documentation_builds_without_warnings(tmp_path):
+    """`make docs` runs Sphinx with -W: a warning fails it. The same build
+    of a copy of docs/ (without running the gallery, whose scripts run
+    above); needs the extra `docs` (`make docs` installs it)."""
+    for mod in ("sphinx", "sphinx_gallery", "myst_parser"):
+        pytest.importorskip(mod)
+    src = tmp_path / "src"
+    shutil.copytree(ROOT / "docs", src)
+    res = subprocess.run([sys.executable, "-m", "sphinx", "-b", "html", "-q", "-W", "--keep-going",
+                          "-D", "plot_gallery=0", str(src), str(tmp_path / "html")],
+                         env={**_env(), "SMODRIVE_ROOT": str(ROOT)}, capture_output=True,
+                         text=True, timeout=600)
+    assert res.returncode == 0, res.stderr[-5000:]
+    assert "WARNING" not in res.stderr, res.stderr[-5000:]
+    assert (tmp_path / "html" / "sweeps.html").is_file()  # every note is in the site

@@ -27,7 +27,9 @@ from hypothesis import strategies as st
 
 from smodrive import _ffi as F
 from smodrive.params import RPM, AdcCfg, ControllerCfg, InverterCfg, LclFilterPars, LoadCfg
-from smodrive.params import MotorPars, ParameterError, Profile, Scenario, yang2018_mode
+from smodrive.design.from_motor import DERIVED_FIELDS
+from smodrive.params import (TABLE1_MOTOR, MotorPars, ParameterError, Profile, Scenario,
+                             yang2018_mode)
 from smodrive.scenario_io import SECTIONS as IO_SECTIONS
 from smodrive.scenario_io import load_scenario, scenario_from_dict, scenario_to_toml
 from smodrive.scenarios import catalogue, yang2018, yao2022
@@ -66,9 +68,15 @@ def _is_tuple(f: dataclasses.Field) -> bool:
     return isinstance(f.default, tuple)
 
 
+def _is_motor(f: dataclasses.Field) -> bool:
+    return f.name in TABLE1_MOTOR and f in dataclasses.fields(MotorPars)
+
+
 def _is_optional(f: dataclasses.Field) -> bool:
-    """A numeric field whose None means "derived" (k_p_i, k_i_i, L_dec)."""
-    return "range" in f.metadata and f.default is None
+    """A numeric field whose None means "derived" (k_p_i, k_i_i, L_dec; not
+    the motor's, which a data sheet gives: left out, they are refused, B
+    excepted)."""
+    return "range" in f.metadata and f.default is None and not _is_motor(f)
 
 
 def _just_outside(f: dataclasses.Field) -> list:
@@ -86,6 +94,10 @@ def _with(f: dataclasses.Field, v):
 
 
 def _build(cls, f, v):
+    if cls is MotorPars:
+        # a motor gives every data-sheet field: a machine other than Table I
+        # (which fills in its own J and B) with f changed
+        return MotorPars(**{**TABLE1_MOTOR, "P_N": 2000.0, f.name: _with(f, v)})
     extra = {}
     if cls is Scenario and f.name == "T_sp":
         # a dead time must fit a quarter of the period (cross-field rule,
@@ -97,9 +109,9 @@ def _build(cls, f, v):
 def test_every_section_has_numeric_fields_and_valid_defaults():
     # guards the parametrisation below against silently covering nothing
     assert len(NUMERIC) >= 40
-    # k_p_i, k_i_i, L_dec, i_trip and the 13 derived from the motor
-    # (smodrive.design.from_motor.DERIVED_FIELDS less k_p_i, k_i_i)
-    assert len([f for _, _, f in NUMERIC if _is_optional(f)]) == 17
+    # the fields derived from the motor (smodrive.design.from_motor.DERIVED_FIELDS,
+    # k_p_i and k_i_i among them), L_dec, i_trip, and the ADC's full_scale and noise
+    assert len([f for _, _, f in NUMERIC if _is_optional(f)]) == len(DERIVED_FIELDS) + 4
     for sec, cls in CLASSES.items():
         assert any(s == sec for s, _, _ in NUMERIC)
         cls()  # the defaults are valid
@@ -133,6 +145,11 @@ def test_non_numbers_and_non_finite_are_rejected(sec, cls, f, bad):
     if bad is None and _is_optional(f):
         # None is the value of an optional field: "derived" (see below)
         assert getattr(_build(cls, f, None), f.name) is None
+        return
+    if bad is None and cls is MotorPars and f.name == "B":
+        # friction left out of a data sheet: derived, 1 % of T_N at w_M_N
+        m = _build(cls, f, None)
+        assert m.B == pytest.approx(0.01 * m.T_N / m.w_M_N, rel=1e-12)
         return
     with pytest.raises(ParameterError, match=rf"{sec}\.{f.name}\b"):
         _build(cls, f, bad)
@@ -474,15 +491,45 @@ def test_scenario_name_round_trip(name, tmp_path):
 
 
 def test_scenario_from_dict_matches_constructor():
-    d = {"duration": 0.5, "motor": {"L_s": 0.01, "n_p": 2},
+    motor = {**TABLE1_MOTOR, "L_s": 0.01, "n_p": 2}
+    d = {"duration": 0.5, "motor": motor,
          "adc": {"gain": [1.0, 1.1, 0.9]}, "controller": {"mode": "conventional"},
          "lcl": {"C1": 20e-6}}
     s = scenario_from_dict(d)
-    assert s == Scenario(duration=0.5, motor=MotorPars(L_s=0.01, n_p=2),
+    assert s == Scenario(duration=0.5, motor=MotorPars(**motor),
                          adc=AdcCfg(gain=(1.0, 1.1, 0.9)),
                          controller=ControllerCfg(current="dbpc", position="encoder",
                                                   start="running"),
                          lcl=LclFilterPars(C1=20e-6))
+
+
+def test_a_motor_of_ones_own_never_takes_table1_values():
+    """Issue 18: a [motor] that is not Table I's gives every data-sheet field;
+    one left out is refused by name (J with what to give), never filled in
+    from the 2.4 kW motor (whose J = 0.012 kg m^2 is 600 x a 100 W rotor's);
+    B left out is derived (1 % of T_N at w_M_N) and recorded; a file with a
+    base varies the base's motor."""
+    servo = {"R_s": 0.3, "L_s": 0.5e-3, "psi_r": 0.006, "n_p": 4, "P_N": 100.0,
+             "w_M_N_rpm": 3000.0}
+    with pytest.raises(ParameterError, match=r"^motor\.J is not given.*rotor inertia"):
+        scenario_from_dict({"motor": servo})
+    with pytest.raises(ParameterError, match=r"motor\.psi_r, motor\.J, motor\.P_N"):
+        scenario_from_dict({"motor": {"R_s": 0.3, "L_s": 0.5e-3, "n_p": 4}})
+    s = scenario_from_dict({"motor": {**servo, "J": 1.5e-5}})
+    m = s.motor
+    assert m.J == 1.5e-5 and m.B == pytest.approx(0.01 * m.T_N / m.w_M_N, rel=1e-12)
+    assert [n for n, _, _ in m.derived] == ["B"]
+    assert "B = " not in scenario_to_toml(s).split("[motor]")[1].split("[")[0]  # derived again
+    # the ADC sized for the machine: 25 A x I_N / I_N(Table I), noise 0.08 % of it
+    i_n = m.T_N / m.k_t
+    assert s.adc.full_scale == pytest.approx(25.0 * i_n / (MotorPars().T_N / MotorPars().k_t))
+    assert s.adc.noise == pytest.approx(0.0008 * s.adc.full_scale)
+    # Table I: its own assumed values, exactly as before
+    t = Scenario()
+    assert (t.motor.J, t.motor.B, t.adc.full_scale, t.adc.noise) == (0.012, 0.002, 25.0, 0.02)
+    # a base: the file varies the base's motor
+    v = scenario_from_dict({"base": "yang2018.base", "motor": {"L_s": 0.03}})
+    assert (v.motor.L_s, v.motor.J) == (0.03, 0.012)
 
 
 # ------------------------------------------------------ cross-field -------

@@ -201,6 +201,7 @@ class MotorPars(_Validated):
     derived: tuple = field(default=(), compare=False, repr=False, metadata={"internal": True})
 
     def __post_init__(self) -> None:
+        super().__post_init__()  # the ranges of the fields given (None: not given)
         rating = ("R_s", "L_s", "psi_r", "n_p", "P_N", "w_M_N")
         given = {n for n in TABLE1_MOTOR if getattr(self, n) is not None}
         table1 = not (given & set(rating)) or all(
@@ -222,7 +223,6 @@ class MotorPars(_Validated):
                     "than yang2018 Table I gives every data-sheet field (R_s, L_s, psi_r, n_p, J, "
                     "P_N, w_M_N; B may be left out), smodrive never fills one in from Table I"
                     + (f"; give {detail}" if detail else ""))
-        super().__post_init__()
         if self.B is None:
             b = min(B_REL * self.T_N / self.w_M_N, 1e3)
             object.__setattr__(self, "B", b)

@@ -150,7 +150,11 @@ def _controller(data: dict[str, Any], base: ControllerCfg) -> ControllerCfg:
             raise ParameterError(
                 f"controller.mode sets {', '.join(parts)}; do not set {', '.join(clash)} too")
         data.update(parts)
-    return dataclasses.replace(base, **_kwargs(ControllerCfg, "controller", data))
+    kw = _kwargs(ControllerCfg, "controller", data)
+    # a value the file sets is the user's, even where it equals what the
+    # base derived (an explicit 0: off)
+    derived = tuple(t for t in base.derived if t[0] not in kw)
+    return dataclasses.replace(base, **kw, derived=derived)
 
 
 def _base(name: Any) -> Scenario:
@@ -294,7 +298,12 @@ def _scenario_from_dict(data: dict[str, Any]) -> Scenario:
         current = getattr(base, key)
         if current is None:  # the filter section of a base without one
             current = SECTIONS[key]()
-        built[key] = dataclasses.replace(current, **_kwargs(SECTIONS[key], key, value))
+        kw = _kwargs(SECTIONS[key], key, value)
+        if getattr(current, "derived", ()):
+            # a value the file sets is the user's, even where it equals
+            # what the base derived
+            kw["derived"] = tuple(t for t in current.derived if t[0] not in kw)
+        built[key] = dataclasses.replace(current, **kw)
     base_ctrl = base.controller
     if kind != "lcl" and "motor" in built and built["motor"] != base.motor:
         # another machine than the base's: the base's motor-specific

@@ -25,7 +25,8 @@ motor's value.
 Example
 -------
 >>> from smodrive.params import MotorPars, Scenario
->>> s = Scenario(motor=MotorPars(L_s=2e-3, R_s=0.3, psi_r=0.05, P_N=500.0))
+>>> s = Scenario(motor=MotorPars(L_s=2e-3, R_s=0.3, psi_r=0.05, n_p=4, J=2e-4, P_N=500.0,
+...                                w_M_N=314.0))
 >>> s.controller.L_s_hat, s.controller.R_s_hat
 (0.002, 0.3)
 >>> dict((n, src) for n, _, src in s.controller.derived)["L_s_hat"]
@@ -93,6 +94,7 @@ def resolve_adc(a: Any, m: MotorPars) -> Any:
     if fs is None or ("full_scale" in before and before["full_scale"] == fs):
         k = _ratio(rated_current(m), rated_current(REF_MOTOR))
         fs = 25.0 * k if k is not None else 25.0
+        fs = min(max(fs, 1e-6), 1e6)  # within the field's range (a machine at its ends)
         out["full_scale"] = fs
         record.append(("full_scale", fs, "25 A x I_N / I_N of Table I (sensors sized for the "
                        "machine)" if k is not None else "25 A (no rated current)"))
@@ -288,8 +290,9 @@ def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any =
     if name == "w_M_track":
         return TRACK_REL * m.w_M_N, f"{TRACK_REL:g} w_M_N"
     if name == "t_track":
-        if m.k_t <= 0.0:
-            return 0.0, "off: motor.psi_r = 0 (no torque constant)"
+        torque = m.k_t * get("i_max")
+        if not (torque > 0.0 and math.isfinite(torque)):
+            return 0.0, "off: no torque at the current limit (motor.psi_r or i_max)"
         if get("a_M_ref") and get("a_M_ref") > 0.0:
             t_c = m.J * get("w_M_track") / (m.k_t * get("i_max"))
             return 0.1 + 4.0 * t_c, ("0.1 s + 4 J w_M_track / (k_t i_max) (the reference is "
