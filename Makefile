@@ -75,11 +75,12 @@ $(DOCS_STAMP): $(STAMP)
 	@touch $(DOCS_STAMP)
 
 # built from a copy (build/docs-src): the generated API stubs and gallery
-# stay out of docs/
+# stay out of docs/; a warning fails the build (-W), after all of them are
+# listed (--keep-going)
 .PHONY: docs
 docs: $(DOCS_STAMP)
 	rm -rf build/docs-src && mkdir -p build && cp -r docs build/docs-src
-	$(BIN)/python -m sphinx -b html -q build/docs-src build/docs
+	$(BIN)/python -m sphinx -b html -q -W --keep-going build/docs-src build/docs
 	@echo "documentation: build/docs/index.html"
 
 bench: $(STAMP) toolchain

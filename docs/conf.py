@@ -12,14 +12,18 @@ in the environment (`make docs` installs it with the extra `docs`).
 from __future__ import annotations
 
 import os
+import re
 import sys
 from pathlib import Path
 
 
 def _root() -> Path:
-    """The repository: the first parent of this file with pyproject.toml."""
+    """The repository: $SMODRIVE_ROOT if set (a copy of docs/ built outside
+    the checkout, as tests/test_gallery.py does), else the first parent of
+    this file with pyproject.toml and examples/."""
     here = Path(__file__).resolve().parent
-    for p in (here, *here.parents):
+    env = os.environ.get("SMODRIVE_ROOT")
+    for p in ([Path(env)] if env else [here, *here.parents]):
         if (p / "pyproject.toml").is_file() and (p / "examples").is_dir():
             return p
     raise RuntimeError(f"no smodrive checkout above {here}")
@@ -88,10 +92,14 @@ html_title = "smodrive"
 html_static_path: list[str] = []
 
 
+_GLOB_STAR = re.compile(r"(?<=/)\*")
+
+
 def _escape_bars(app, what, name, obj, options, lines) -> None:
     """The docstrings are plain text: ``|x|`` is a magnitude there, not a
-    reStructuredText substitution; escape it outside doctest blocks and
-    literal code."""
+    reStructuredText substitution, and the ``*`` of a file pattern
+    (``scenarios/*.toml``) is not the start of an emphasis; escape them
+    outside doctest blocks and literal code."""
     in_doctest = False
     for k, line in enumerate(lines):
         s = line.strip()
@@ -99,8 +107,8 @@ def _escape_bars(app, what, name, obj, options, lines) -> None:
             in_doctest = True
         elif not s:
             in_doctest = False
-        if not in_doctest and "|" in line and "``" not in line:
-            lines[k] = line.replace("|", "\\|")
+        if not in_doctest and "``" not in line:
+            lines[k] = _GLOB_STAR.sub(r"\\*", line.replace("|", "\\|"))
 
 
 def setup(app) -> None:
