@@ -467,3 +467,33 @@ def test_atomic_path_replaces_only_a_whole_file(tmp_path):
     assert p.read_text() == "old" and [q.name for q in tmp_path.iterdir()] == ["f.txt"]
     smodrive.export.write_text(p, "new")
     assert p.read_text() == "new" and [q.name for q in tmp_path.iterdir()] == ["f.txt"]
+
+
+def test_a_sweeps_spec_and_maps_are_written_atomically(tmp_path, monkeypatch):
+    """sweep.json, sweep.toml and the maps reach their names by os.replace
+    of a temporary file (the Parquet parts already were)."""
+    from smodrive.sweep_plot import plot_all
+
+    src = tmp_path / "small.toml"
+    src.write_text('[sweep]\nbase = "drive.pi_encoder"\nmetrics = ["ripple"]\n'
+                   'window = [0.01, 0.02]\n[set]\nduration = 0.02\n'
+                   '[[axes]]\nname = "L_ratio"\nkey = "controller.L_s_hat"\n'
+                   'relative_to = "motor.L_s"\nvalues = [0.5, 1.0]\n'
+                   '[[plots]]\nkind = "lines"\nfile = "lines"\nx = "L_ratio"\n'
+                   'metric = "ripple"\n')
+    spec = sweep.load_sweep(src)
+    out = tmp_path / "o"
+    replaced: list[str] = []
+    real = os.replace
+
+    def spy(a, b):
+        replaced.append(Path(b).name)
+        return real(a, b)
+
+    monkeypatch.setattr(os, "replace", spy)
+    sweep.prepare_out(spec, out, src.read_text())
+    sweep._write_part(out, spec, sweep.run_local(spec))
+    paths = plot_all(spec, out)
+    assert [p.name for p in paths] == ["lines.png"] and paths[0].stat().st_size > 1000
+    assert {"sweep.json", "sweep.toml", "lines.png"} <= set(replaced)
+    assert sorted(p.name for p in (out / "maps").iterdir()) == ["lines.png"]

@@ -921,11 +921,13 @@ def start_client(scheduler: str | None = None, workers: int | None = None):
 
 def prepare_out(spec: SweepSpec, out: Path, sweep_text: str | None = None) -> None:
     out = Path(out)
+    from .export import write_text  # atomic: a killed sweep never leaves half a sweep.json
+
     runs_dir(out).mkdir(parents=True, exist_ok=True)
-    (out / "sweep.json").write_text(json.dumps(
-        {"name": spec.name, "spec": spec.raw}, indent=1, default=repr) + "\n", encoding="utf-8")
+    write_text(out / "sweep.json", json.dumps(
+        {"name": spec.name, "spec": spec.raw}, indent=1, default=repr) + "\n")
     if sweep_text is not None:
-        (out / "sweep.toml").write_text(sweep_text, encoding="utf-8")
+        write_text(out / "sweep.toml", sweep_text)
 
 
 def load_out_spec(out: Path) -> SweepSpec:

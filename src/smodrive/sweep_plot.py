@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from .analysis.metrics import METRICS
+from .export import atomic_path
 from .params import ParameterError
 
 PLOT_KEYS = {"kind", "file", "title", "metric", "x", "y", "facet", "hue", "fixed", "rows",
@@ -418,7 +419,8 @@ def plot_all(spec, out: Path, cols: dict | None = None) -> list[Path]:
                     ax.set_title(f"{r['facet']} = {fv}", fontsize=8)
         fig.suptitle(textwrap.fill(p.get("title", spec.title), int(width * 14)), fontsize=9)
         path = out / "maps" / f"{p.get('file', f'map{i}')}.png"
-        fig.savefig(path, dpi=int(p.get("dpi", 90)))
+        with atomic_path(path) as tmp:  # never a truncated map under its name
+            fig.savefig(tmp, format="png", dpi=int(p.get("dpi", 90)))
         plt.close(fig)
         paths.append(path)
     return paths
