@@ -69,7 +69,7 @@ def test_generated_tables_are_current():
 
 
 def test_check_finds_a_stale_table_and_rewrite_keeps_the_prose(tmp_path):
-    row = "| `R_s` | ohm | 2.25 |"
+    row = "| `R_s` | ohm | 2.25 (Table I; else required) |"
     assert TEXT.count(row) == 1
     edited = TEXT.replace(row, "| `R_s` | ohm | 2.5 |")
     assert gen.stale(edited) == ["motor"]
@@ -115,8 +115,10 @@ def test_every_section_class_has_a_generated_block():
 
 
 def test_yang2018_base_is_the_defaults():
-    # the doc's default column is yang2018's drive
-    assert yang2018.BASE.replace(name=Scenario().name) == Scenario()
+    # the doc's default column is yang2018's drive, which does not return to
+    # I/f nor slew-limit its reference (the paper's drive)
+    assert yang2018.BASE.replace(name=Scenario().name) == Scenario().with_controller(
+        w_M_if_enter=0.0, a_M_ref=0.0)
 
 
 # --------------------------------------------------------------- examples --

@@ -232,7 +232,11 @@ def table(cls: type) -> str:
             f = fields[n]
             unit, rng, doc = _describe(section, f)
             dflt = getattr(default_obj, n)
-            if "range" in f.metadata and f.default is None:
+            if "range" in f.metadata and f.default is None and section == "motor":
+                # a motor gives its data sheet; MotorPars() alone is Table I
+                dtext = fmt_value(dflt) + (" (Table I; else 0.01 T_N / w_M_N)" if n == "B"
+                                           else " (Table I; else required)")
+            elif "range" in f.metadata and f.default is None:
                 dtext = "None: derived"
             elif _is_section(dflt):
                 dtext = f"`{type(dflt).__name__}()`"
