@@ -313,7 +313,7 @@ def _load(scenario: str):
 @main.command()
 @click.argument("scenario")
 @click.option("--out", type=click.Path(path_type=Path), default=Path("results"),
-              show_default=True)
+              show_default=True, help="results folder: this run's files alone (see --force)")
 @click.option("--log-budget", type=ByteSize(), default="2GiB", show_default=True,
               help="memory the signal log may take; a longer log keeps every k-th sample "
                    "(the stride is stated in summary.json)")
