@@ -270,7 +270,7 @@ void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real the
          * where it gives no torque, the edge of the stable side the rotor
          * settles on as the forced angle accelerates (smd_drive.h): the
          * torque does not step, and the rotor does not swing */
-        s->theta_f = smd_wrap_pi(s->theta - SMD_R(0.5) * SMD_PI);
+        s->theta_f = smd_wrap_pi(s->theta - SMD_PI / SMD_R(3.0));
         s->theta = s->theta_f;
         s->theta_k = s->theta_f;
     }
@@ -307,7 +307,6 @@ void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real the
     s->osc_n = 0;
     s->osc_ms = SMD_R(0.0);
     s->i_prev1 = zero;
-    s->i_prev2 = zero;
     s->warn = 0u;
 }
 
@@ -480,9 +479,22 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
         s->theta_f = smd_wrap_pi(s->theta_f + s->w_f * T);
         theta_next = s->theta_f;
         w_next = s->w_f;
-        if ((s->dir_f == 0 && s->w_f >= p->w_handover) ||
-            (s->dir_f != 0 && settled && SMD_FABS(s->w_f) >= p->w_handover &&
-             s->w_f * w_ref > SMD_R(0.0))) {
+        /* the source must agree before it takes over: its angle on the
+         * stable side of the forced one (the rotor ahead of the forced
+         * frame in the direction of motion, by less than half a turn, 30 deg
+         * behind allowed for a swing) and, for the SMDO, its speed of the
+         * forced speed's sign (a low-speed estimate whose direction has
+         * flipped puts the angle half a turn off) */
+        const smd_real sg = s->w_f < SMD_R(0.0) ? SMD_R(-1.0) : SMD_R(1.0);
+        const smd_real th_src = p->position == SMD_POS_SMDO_EMF ? s->pos.u.emf.theta_r_hat
+                                                                 : theta_k + s->pos.theta_err;
+        const smd_real lead = sg * smd_wrap_pi(th_src - theta_k);
+        const int agree = lead > -SMD_PI / SMD_R(6.0) && lead < SMD_PI &&
+                          (p->position != SMD_POS_SMDO_EMF ||
+                           s->pos.u.emf.w_r_hat * s->w_f > SMD_R(0.0));
+        if (agree && ((s->dir_f == 0 && s->w_f >= p->w_handover) ||
+                      (s->dir_f != 0 && settled && SMD_FABS(s->w_f) >= p->w_handover &&
+                       s->w_f * w_ref > SMD_R(0.0)))) {
             /* handover: the PLL starts on the observer's angle (forced angle
              * plus the measured angle error) at the forced speed, the speed
              * loop on the current that was flowing, seen in the source's
@@ -877,16 +889,22 @@ static void supervise(const smd_drive_params *p, smd_drive_state *s)
             s->chatter = SMD_R(0.0);
         }
     }
-    /* oscillation: the filtered second difference of the measured current */
+    /* oscillation: the filtered difference of the measured current from
+     * one sample to the next in the frame turning at the drive's speed (the
+     * last current turned by w_k T, e^{jx} to third order: a steady state
+     * gives 0, white noise of sigma a phase about sigma) */
     s->warn = 0u;
     if (p->osc_samples > 0) {
-        if (s->osc_n >= 2) {
-            smd_cplx d2 = smd_cadd(smd_csub(s->i_s_ab, smd_cscale(s->i_prev1, SMD_R(2.0))),
-                                   s->i_prev2);
-            smd_real lim = p->osc_i + p->osc_rel * smd_cabs(s->i_dq_ref);
-            s->osc_ms += (d2.re * d2.re + d2.im * d2.im - s->osc_ms) / (smd_real)p->osc_samples;
-            /* ripple = sqrt(osc_ms) / 4 beyond lim */
-            if (s->osc_ms > SMD_R(16.0) * lim * lim) {
+        if (s->osc_n >= 1) {
+            const smd_real x = s->w_k * p->T_sp, x2 = x * x;
+            const smd_cplx rot = smd_c(SMD_R(1.0) - SMD_R(0.5) * x2,
+                                       x * (SMD_R(1.0) - x2 / SMD_R(6.0)));
+            const smd_cplx d1 = smd_csub(s->i_s_ab, smd_cmul(s->i_prev1, rot));
+            const smd_real lim = p->osc_i + p->osc_rel * smd_cabs(s->i_dq_ref);
+            s->osc_ms += (d1.re * d1.re + d1.im * d1.im - s->osc_ms) / (smd_real)p->osc_samples;
+            /* ripple = sqrt(osc_ms) / 2 (the amplitude of a limit cycle at
+             * half the sampling rate) beyond lim */
+            if (s->osc_ms > SMD_R(4.0) * lim * lim) {
                 if (s->osc_count < p->osc_samples) {
                     s->osc_count++;
                 }
@@ -899,7 +917,6 @@ static void supervise(const smd_drive_params *p, smd_drive_state *s)
         } else {
             s->osc_n++;
         }
-        s->i_prev2 = s->i_prev1;
         s->i_prev1 = s->i_s_ab;
     }
 }

@@ -83,9 +83,12 @@
  *   warning (reported in the fault word while the condition holds; the drive
  *   runs on; the step returns SMD_OK)
  *     SMD_FAULT_OSCILLATION  the ripple of the measured current, the RMS of
- *                            its second difference over osc_samples samples
- *                            divided by 4 (the amplitude of a limit cycle at
- *                            half the sampling rate that has it), exceeds
+ *                            its change from one sample to the next in the
+ *                            frame turning at the drive's speed, over
+ *                            osc_samples samples, halved (the amplitude of a
+ *                            limit cycle at half the sampling rate that has
+ *                            it; white ADC noise of sigma a phase gives
+ *                            about sigma), exceeds
  *                            osc_i + osc_rel |i_ref| for osc_samples samples
  *                            in a row (a deadbeat limit cycle from L_hat >
  *                            1.5 L, a diverging observer)
@@ -339,9 +342,9 @@ typedef struct smd_drive_state {
     int forced_count;     /* samples forced with |w_ref| >= w_handover */
     int start_count;      /* consecutive forced samples whose EMF disagrees with w_f */
     int osc_count;        /* consecutive samples with the ripple beyond its bound */
-    int osc_n;            /* measured currents seen (the second difference needs 3) */
-    smd_real osc_ms;      /* filtered |second difference of the current|^2, A^2 */
-    smd_cplx i_prev1, i_prev2; /* measured currents of k-1, k-2 */
+    int osc_n;            /* measured currents seen (the difference needs 2) */
+    smd_real osc_ms;      /* filtered |difference of the current, turning frame|^2, A^2 */
+    smd_cplx i_prev1;     /* measured current of k-1 */
     uint32_t warn;        /* warning bits of the last sample (SMD_FAULT_WARNINGS) */
 } smd_drive_state;
 

@@ -66,6 +66,8 @@ ADC_NOISE_FS = 0.02 / 25.0
 A_REF_TORQUE = 0.5
 #: ... and lets the SMDO's speed estimate (low-pass w_lpf) lag by this fraction of w_M_N
 A_REF_LAG = 0.05
+#: ... and by this fraction of w_M_if_enter, where the return to I/f is on
+A_REF_LAG_IF = 0.25
 #: speed-tracking fault: this fraction of rated speed away from the reference
 TRACK_REL = 0.1
 #: oscillation warning: this fraction of the rated current, plus OSC_NOISE x the ADC noise
@@ -275,11 +277,17 @@ def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any =
     if name == "a_M_ref":
         a_t = A_REF_TORQUE * m.k_t * get("i_max") / m.J
         if c.position == "smdo_emf":
-            a_l = A_REF_LAG * m.w_M_N * get("w_lpf")
+            lag = A_REF_LAG * m.w_M_N
+            what = f"{A_REF_LAG:.0%} of rated speed"
+            if_enter = get("w_M_if_enter")
+            if if_enter and A_REF_LAG_IF * if_enter < lag:
+                lag = A_REF_LAG_IF * if_enter
+                what = (f"{A_REF_LAG_IF:g} w_M_if_enter (the return to I/f sees the speed "
+                        "before the rotor reaches zero)")
+            a_l = lag * get("w_lpf")
             if a_l < a_t:
-                return a_l, (f"{A_REF_LAG:g} w_M_N w_lpf: the SMDO's speed estimate lags by "
-                             f"{A_REF_LAG:.0%} of rated speed (below {A_REF_TORQUE:g} k_t "
-                             "i_max / J)")
+                return a_l, (f"the SMDO's speed estimate (low-pass w_lpf) lags by {what} "
+                             f"(below {A_REF_TORQUE:g} k_t i_max / J)")
         return a_t, f"{A_REF_TORQUE:g} k_t i_max / J (half the acceleration of the current limit)"
     if name == "t_dwell":
         if c.position == "smdo_emf":

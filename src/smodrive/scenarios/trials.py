@@ -1,0 +1,110 @@
+"""The usual profile on any motor, and whether a run is right or says why.
+
+A new user's first runs of a motor (issue 18): sensorless robust DBPC
+(yang2018's SMDO position) started by I/f from rest, speed steps to +50 %
+and +100 % of rated speed, a rated load step (brake on, then off), a
+reversal through zero to -50 % and -100 %. Every controller value is derived
+from the motor (:mod:`smodrive.design.from_motor`); the profile's segments
+scale with the motor's reference slew time (rated speed over the derived
+``a_M_ref``), so a flywheel and a servo run the same sequence.
+
+:func:`judge` classifies a run: ``reached`` (the speed within 2 % of the
+final reference over the last tenth of the last segment and the angle error
+within 10 deg RMS there), ``fault`` (it ends in a named fault), or
+``silent`` (neither: a run that ends wrong with no fault, the worst outcome
+smodrive can have; the tests require none).
+
+Example
+-------
+>>> from smodrive.scenarios import trials
+>>> from smodrive.params import Scenario
+>>> s = trials.profile_scenario(Scenario())  # Table I
+>>> [round(y / trials.RPM) for y in s.w_M_ref.y][:4]
+[0, 750, 750, 1500]
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..params import RPM, LoadCfg, Profile, Scenario
+from ..simulate import Result, fault_names
+
+#: the usual profile: (reference as a fraction of rated speed, segments it lasts)
+STEPS = ((0.5, 2), (1.0, 2), ("load on", 2), ("load off", 1), (-0.5, 2), (-1.0, 2))
+#: a run reaches its reference: speed within this fraction of it ...
+SPEED_TOL = 0.02
+#: ... and the angle error within this RMS, deg, over the end window
+ANGLE_TOL_DEG = 10.0
+
+
+def segment(s: Scenario) -> float:
+    """One segment of the profile, s: twice the time the derived reference
+    slew takes to rated speed, plus ten speed-loop time constants, at least
+    0.3 s."""
+    c = s.controller
+    t_ramp = s.motor.w_M_N / c.a_M_ref if c.a_M_ref and c.a_M_ref > 0 else 0.0
+    return max(0.3, 2.0 * t_ramp + 10.0 / c.speed_bw)
+
+
+def profile_scenario(base: Scenario, seed: int = 1, T_sp: float = 100e-6) -> Scenario:
+    """`base`'s plant (motor, inverter, ADC) under sensorless robust DBPC
+    with an I/f start, on the usual profile, ADC noise seed `seed`."""
+    s = base.replace(T_sp=T_sp, warm_start=False, w_M0=0.0, theta_r0=0.0,
+                     adc=dataclasses.replace(base.adc, seed=seed),
+                     load=LoadCfg(), name=f"{base.name}.profile")
+    s = s.with_controller(current="robust_dbpc", position="smdo_emf", start="if")
+    seg = segment(s)
+    w_n, t_n = s.motor.w_M_N, s.motor.T_N
+    t, y = [0.0, 0.0], [0.0, STEPS[0][0] * w_n]
+    tb, yb = [0.0], [0.0]
+    now = STEPS[0][1] * seg
+    for what, n in STEPS[1:]:
+        if isinstance(what, str):
+            tb += [now, now]
+            yb += [yb[-1], t_n if what == "load on" else 0.0]
+        else:
+            t += [now, now]
+            y += [y[-1], what * w_n]
+        now += n * seg
+    return s.replace(duration=now, w_M_ref=Profile(tuple(t), tuple(y)),
+                     load=LoadCfg(T_brake=Profile(tuple(tb), tuple(yb))),
+                     log_stride=max(1, int(round(now / T_sp / 20000))))
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """What one run of the profile did."""
+
+    verdict: str              # "reached", "fault" or "silent"
+    speed_error: float        # |mean speed - reference| / |reference| at the end
+    angle_rms_deg: float      # RMS angle error at the end
+    faults: tuple[str, ...]   # the final fault word's names
+    phase: int                # start-up phase at the end (0 forced, 2 source)
+
+    def __str__(self) -> str:
+        what = self.verdict if self.verdict != "fault" else "fault: " + ", ".join(self.faults)
+        return (f"{what} (speed {100 * self.speed_error:.2f} % off, angle "
+                f"{self.angle_rms_deg:.2f} deg RMS at the end)")
+
+
+def judge(r: Result) -> Outcome:
+    """Right (reached), wrong with a named fault, or wrong in silence."""
+    s = r.scenario
+    t = r.t
+    end = t >= t[-1] - 0.1 * segment(s)
+    ref = r["w_M_ref"][-1]
+    err = abs(float(np.mean(r["w_M"][end])) - ref) / max(abs(ref), 1e-9)
+    ang = math.degrees(float(np.sqrt(np.mean(r.theta_error[end] ** 2))))
+    names = tuple(fault_names(r.faults.final))
+    if names:
+        verdict = "fault"
+    elif err <= SPEED_TOL and ang <= ANGLE_TOL_DEG:
+        verdict = "reached"
+    else:
+        verdict = "silent"
+    return Outcome(verdict, err, ang, names, int(r["phase"][-1]))
