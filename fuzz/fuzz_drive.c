@@ -126,6 +126,17 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     y.w = (double)w0;
     y.w_ref = (double)w0;
     y.u_dc = 540.0;
+#if FZ_FAULT_API
+    {
+        /* the start duties (the steady state of the start): finite, in [0, 1] */
+        smd_real d0[3];
+        int j;
+        smd_drive_start_duties(&p, &s, (smd_real)y.u_dc, d0);
+        for (j = 0; j < 3; j++) {
+            FZ_CHECK(d0[j] >= SMD_R(0.0) && d0[j] <= SMD_R(1.0));
+        }
+    }
+#endif
 
     while (fz_more(&f) && steps < FZ_MAX_STEPS) {
         uint8_t op = fz_u8(&f);

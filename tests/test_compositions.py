@@ -78,8 +78,11 @@ def test_pi_with_smdo_position(s):
 def test_if_start_hands_over_to_the_smdo_and_reaches_rated_speed(s):
     """From standstill under the rated brake: step j (from 0) raises the
     forced speed to w_f = (j + 1) a_start T_sp, which reaches w_M_handover at
-    j = ceil(w_h / (a T)) - 1 (+-1 for float rounding), where the logged
-    phase must switch from forced (0) to the source (2); the drive then
+    j = ceil(w_h / (a T)) - 1 (+-1 for float rounding); the logged phase
+    switches from forced (0) to the source (2) there or, when the SMDO does
+    not agree yet (its angle half a turn off after a low-speed direction
+    flip: issue 18), later but within the forced phase's fault time t_forced,
+    and then with the source's angle within 90 deg of the rotor's; the drive
     reaches 1500 r/min (within 1 % over the last 0.3 s, the speed loop has no
     steady error) with < 1 deg RMS angle error, and no fault."""
     r = simulate(s)
@@ -88,7 +91,10 @@ def test_if_start_hands_over_to_the_smdo_and_reaches_rated_speed(s):
     j_h = math.ceil(c.w_M_handover * n_p / (a * s.T_sp)) - 1
     ph = r["phase"]
     assert np.all(ph[:j_h - 1] == 0)
-    assert abs(int(np.argmax(ph == 2)) - j_h) <= 1
+    j = int(np.argmax(ph == 2))
+    assert j_h - 1 <= j <= j_h + c.t_forced / s.T_sp
+    assert abs(r.theta_error[j]) < np.pi / 2
+    assert r.faults.final == 0
     assert r.status == 0
     m = r.window(s.duration - 0.3, s.duration)
     assert abs(np.mean(r.n_rpm[m]) / 1500.0 - 1) < 0.01

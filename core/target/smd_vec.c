@@ -239,6 +239,13 @@ static int run_drive(smd_reader *r, smd_writer *w)
             if (n < 0) break; /* PIL: the host closed the stream */
             return 0;
         }
+        if (k == 0) {
+            /* the period before the first sample applied the steady state of
+             * the start (smd_drive_start_duties, as the engine's plant did):
+             * the drive records it, from the first measured DC link */
+            smd_real d0[3];
+            smd_drive_start_duties(&g_dp, &g_ds, in.u_dc, d0);
+        }
         smd_mark_begin(1000 + g_dp.current * 100 + g_dp.position * 10 + g_dp.start);
         st = smd_drive_step(&g_dp, &g_ds, &in, &out);
         smd_mark_end();
