@@ -264,16 +264,7 @@ void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real the
     s->w_k = w0;
     s->theta_f = s->theta;
     s->w_f = w0;
-    if (p->start == SMD_START_IF && w0 == SMD_R(0.0) && i_q0 == SMD_R(0.0)) {
-        /* an I/f start from rest: the forced current (q axis of the forced
-         * frame) starts on the rotor's d axis, a quarter turn behind theta0,
-         * where it gives no torque, the edge of the stable side the rotor
-         * settles on as the forced angle accelerates (smd_drive.h): the
-         * torque does not step, and the rotor does not swing */
-        s->theta_f = smd_wrap_pi(s->theta - SMD_PI / SMD_R(3.0));
-        s->theta = s->theta_f;
-        s->theta_k = s->theta_f;
-    }
+    s->start_dir = 0; /* an I/f start's direction: the reference's at its first sample */
     s->fault = 0u;
     s->lock_count = 0;
     s->dir_f = 0; /* the start ramps up; a return to I/f follows the reference */
@@ -432,6 +423,21 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
     }
 
     /* 2. the frame of sample k */
+    if (s->phase == SMD_PHASE_FORCED && s->dir_f == 0 && s->start_dir == 0 &&
+        in->w_ref != SMD_R(0.0)) {
+        /* an I/f start begins when the reference asks for a speed (no current
+         * before), toward its sign; from rest the forced current (q axis of
+         * the forced frame) starts 60 deg behind theta0 in that direction,
+         * where it gives half its torque: loaded or not, the rotor's
+         * equilibrium on the stable side is at most 30 deg away (0.5 of the
+         * torque either way), and it swings by that at most, not by the 90
+         * deg a start at full torque gives a light rotor (smd_drive.h) */
+        s->start_dir = in->w_ref < SMD_R(0.0) ? -1 : 1;
+        if (s->w_f == SMD_R(0.0) && s->i_dq_ref.im == SMD_R(0.0)) {
+            s->theta_f = smd_wrap_pi(s->theta_f - (smd_real)s->start_dir * SMD_PI / SMD_R(3.0));
+            theta_o = s->theta_f;
+        }
+    }
     if (s->phase == SMD_PHASE_FORCED) {
         theta_k = theta_o;
         w_k = w_o;
@@ -469,7 +475,8 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
     }
     if (s->phase == SMD_PHASE_FORCED) {
         if (p->start == SMD_START_IF && s->dir_f == 0) {
-            s->w_f += p->a_start * T; /* the start from standstill (eq. of the I/f ramp) */
+            /* the start from standstill: the I/f ramp in the reference's direction */
+            s->w_f += (smd_real)s->start_dir * p->a_start * T; /* 0: waiting */
         } else {
             /* follow the reference at a_start, through zero */
             smd_real dw = w_ref - s->w_f;
@@ -479,20 +486,29 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
         s->theta_f = smd_wrap_pi(s->theta_f + s->w_f * T);
         theta_next = s->theta_f;
         w_next = s->w_f;
+        if (p->a_ref > SMD_R(0.0)) {
+            /* the slew-limited reference goes on from the forced speed: at
+             * the handover from where the rotor is, not from where a ramp
+             * that the forced phase did not follow would be */
+            s->w_ref_r = s->w_f;
+        }
         /* the source must agree before it takes over: its angle on the
-         * stable side of the forced one (the rotor ahead of the forced
-         * frame in the direction of motion, by less than half a turn, 30 deg
-         * behind allowed for a swing) and, for the SMDO, its speed of the
-         * forced speed's sign (a low-speed estimate whose direction has
-         * flipped puts the angle half a turn off) */
-        const smd_real sg = s->w_f < SMD_R(0.0) ? SMD_R(-1.0) : SMD_R(1.0);
+         * stable side of the forced one (with the forced current +-i_start
+         * on the forced q axis the torque is sg K cos(theta_f - theta),
+         * stable where the rotor is ahead of the forced frame in the
+         * current's direction, by less than half a turn; 30 deg behind
+         * allowed for a swing) and, for the SMDO, its speed of the forced
+         * speed's sign (a low-speed estimate whose direction has flipped
+         * puts the angle half a turn off) */
+        const smd_real sg = (s->dir_f != 0 ? s->dir_f : s->start_dir) < 0 ? SMD_R(-1.0)
+                                                                         : SMD_R(1.0);
         const smd_real th_src = p->position == SMD_POS_SMDO_EMF ? s->pos.u.emf.theta_r_hat
                                                                  : theta_k + s->pos.theta_err;
         const smd_real lead = sg * smd_wrap_pi(th_src - theta_k);
         const int agree = lead > -SMD_PI / SMD_R(6.0) && lead < SMD_PI &&
                           (p->position != SMD_POS_SMDO_EMF ||
                            s->pos.u.emf.w_r_hat * s->w_f > SMD_R(0.0));
-        if (agree && ((s->dir_f == 0 && s->w_f >= p->w_handover) ||
+        if (agree && ((s->dir_f == 0 && (smd_real)s->start_dir * s->w_f >= p->w_handover) ||
                       (s->dir_f != 0 && settled && SMD_FABS(s->w_f) >= p->w_handover &&
                        s->w_f * w_ref > SMD_R(0.0)))) {
             /* handover: the PLL starts on the observer's angle (forced angle
@@ -538,8 +554,12 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
     /* 4. current reference: forced, speed loop or input */
     if (s->phase == SMD_PHASE_FORCED) {
         /* on the q axis of the forced frame, in the direction the forced
-         * speed is driven (the start: positive) */
-        s->i_dq_ref = smd_c(SMD_R(0.0), s->dir_f < 0 ? -p->i_start : p->i_start);
+         * speed is driven (the start: the reference's) */
+        s->i_dq_ref = smd_c(SMD_R(0.0), (s->dir_f < 0 || (s->dir_f == 0 && s->start_dir < 0))
+                                            ? -p->i_start : p->i_start);
+        if (s->dir_f == 0 && s->start_dir == 0) {
+            s->i_dq_ref.im = SMD_R(0.0); /* a start waiting for its reference */
+        }
     } else {
         s->i_dq_ref.re = in->i_dq_ref.re;
         if (p->speed_loop) {
@@ -769,6 +789,7 @@ static void recover(const smd_drive_params *p, smd_drive_state *s, smd_real thet
                     smd_real i_q0)
 {
     int phase = s->phase, samples = s->samples, count = s->count, dir_f = s->dir_f;
+    int start_dir = s->start_dir;
     int have_last = s->have_last;
     smd_drive_in last_in = s->last_in;
     uint32_t fault = s->fault;
@@ -786,6 +807,7 @@ static void recover(const smd_drive_params *p, smd_drive_state *s, smd_real thet
     s->samples = samples;
     s->count = count;
     s->dir_f = dir_f;
+    s->start_dir = start_dir;
     s->fault = fault;
     s->have_last = have_last;
     s->last_in = last_in;
@@ -855,7 +877,8 @@ static void supervise(const smd_drive_params *p, smd_drive_state *s)
     if (s->phase == SMD_PHASE_FORCED) {
         /* the forced phase while the reference asks for the source */
         smd_real w_chk;
-        if (SMD_FABS(s->w_ref_r) >= p->w_handover) {
+        if (SMD_FABS(s->w_f) >= p->w_handover) {
+            /* at the handover speed and still forced: the source disagrees */
             if (p->forced_samples > 0 && ++s->forced_count >= p->forced_samples) {
                 s->fault |= (uint32_t)SMD_FAULT_FORCED;
             }

@@ -67,9 +67,10 @@
  *                            the speed PI is at its current limit, for
  *                            track_samples samples in a row (a stall, an
  *                            overload, a rotor the estimate has lost)
- *     SMD_FAULT_FORCED       the forced (I/f) phase lasts forced_samples
- *                            samples while the reference asks for at least
- *                            w_handover (the source never took over)
+ *     SMD_FAULT_FORCED       the forced (I/f) phase goes on for
+ *                            forced_samples samples at or beyond the
+ *                            handover speed (|w_f| >= w_handover): the
+ *                            source never agreed to take over
  *     SMD_FAULT_CHATTER      the start-up supervisor switched between the
  *                            forced angle and the source more than
  *                            chatter_max times within about chatter_window
@@ -97,7 +98,9 @@
  *
  * Speed reference: with a_ref > 0 the speed loop, the forced speed and the
  * return to I/f follow the reference slew-limited at a_ref (rad/s^2),
- * starting from the speed of smd_drive_reset.
+ * starting from the speed of smd_drive_reset; in the forced phase it is the
+ * forced speed (a handover continues from there). An I/f start waits, with
+ * no current, until the reference is not zero, and ramps toward its sign.
  * Start-up switches (handover and return to I/f) wait at least dwell
  * samples after the previous one.
  *
@@ -221,7 +224,7 @@ typedef struct smd_drive_config {
     int chatter_window;   /* ... within (about) this many samples */
     int track_samples;    /* SMD_FAULT_SPEED_TRACKING after this many samples ... */
     smd_real w_track;     /* ... farther than this from the reference at the current limit, rad/s */
-    int forced_samples;   /* SMD_FAULT_FORCED: forced phase longer than this with |w_ref| >= w_handover */
+    int forced_samples;   /* SMD_FAULT_FORCED: forced this long at |w_f| >= w_handover */
     smd_real osc_i;       /* SMD_FAULT_OSCILLATION: ripple beyond osc_i ... , A */
     smd_real osc_rel;     /* ... + osc_rel |i_ref| ... */
     int osc_samples;      /* ... over this many samples (the filter's time constant) */
@@ -322,6 +325,8 @@ typedef struct smd_drive_state {
     int lock_count;       /* consecutive implausible samples of the source */
     int dir_f;            /* forced mode: 0 the start's ramp; +-1 following the reference
                              (a return to I/f), the sign of its current */
+    int start_dir;        /* the start's ramp: +-1 the reference's sign at its first
+                             sample, 0 before it */
     int have_last;        /* 1 once a sample had good inputs */
     smd_drive_in last_in; /* the last good inputs (a bad sample runs on them) */
     smd_cplx i_s_ab;      /* last measured motor current */

@@ -71,13 +71,15 @@ A_REF_LAG_IF = 0.25
 #: speed-tracking fault: this fraction of rated speed away from the reference
 TRACK_REL = 0.1
 #: oscillation warning: this fraction of the rated current, plus OSC_NOISE x the ADC noise
-OSC_REL_N = 0.05
+OSC_REL_N = 0.02
 OSC_NOISE = 4.0
 #: the sensorless sources' back EMF must exceed the voltage error of their
 #: input (dead time, ADC noise) by this factor for the return to I/f ...
 EMF_MARGIN_ENTER = 2.0
 #: ... and by this one for the handover to the source (the hysteresis)
 HANDOVER_RATIO = 2.0
+#: the handover is at least this many times the rotor's speed swing on I/f (if_swing)
+SWING_MARGIN = 3.0
 #: least return-to-I/f speed, fraction of rated speed (docs/design_from_motor.md)
 IF_ENTER_MIN = 0.05
 #: the plant quantities the design reads when the Scenario gives none (Table I's drive)
@@ -111,6 +113,20 @@ def resolve_adc(a: Any, m: MotorPars) -> Any:
 def plant_of(s: Any) -> dict[str, float]:
     """The plant quantities (inverter and ADC) the design from the motor reads."""
     return {"t_dead": s.inverter.t_dead, "u_dc": s.inverter.u_dc, "noise": s.adc.noise}
+
+
+def if_swing(m: MotorPars, i_start: float) -> float:
+    """The amplitude of the rotor's speed swing about the forced angle on
+    I/f, mechanical rad/s: the forced current's torque K = k_t i_start holds
+    the rotor like a pendulum of stiffness K (per electrical rad) and natural
+    frequency sqrt(n_p K / J); the start places the current 30 deg from the
+    rotor's equilibrium at worst (smd_drive.h), so the rotor swings by
+    pi/6 rad electrical, pi/6 sqrt(n_p K / J) / n_p in speed (undamped: the
+    current control removes the resistance's damping)."""
+    k = m.k_t * i_start
+    if not (k > 0.0 and math.isfinite(k)):
+        return 0.0
+    return math.pi / 6.0 * math.sqrt(m.n_p * k / m.J) / m.n_p
 
 
 def source_voltage_error(m: MotorPars, c: ControllerCfg, *, T_sp: float,
@@ -272,6 +288,12 @@ def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any =
             return enter, why
         hand = max(HANDOVER_RATIO * (get("w_M_if_enter") or enter),
                    REFERENCE[name] * _ratio(m.w_M_N, ref.w_M_N))  # type: ignore[operator]
+        swing = if_swing(m, get("i_start"))
+        if SWING_MARGIN * swing > hand:
+            return SWING_MARGIN * swing, (
+                f"{SWING_MARGIN:g} x the rotor's speed swing about the forced angle on I/f "
+                f"({swing / RPM:.0f} r/min: 30 deg at sqrt(n_p k_t i_start / J)), above 0.1 "
+                f"w_M_N and {HANDOVER_RATIO:g} x w_M_if_enter")
         return hand, (f"the larger of 0.1 w_M_N and {HANDOVER_RATIO:g} x w_M_if_enter "
                       "(the return to I/f's hysteresis)")
     if name == "a_M_ref":

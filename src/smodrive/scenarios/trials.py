@@ -108,3 +108,29 @@ def judge(r: Result) -> Outcome:
     else:
         verdict = "silent"
     return Outcome(verdict, err, ang, names, int(r["phase"][-1]))
+
+
+def random_profile(base: Scenario, rng: np.random.Generator, duration: float = 60.0,
+                   n_changes: int = 20, seed: int = 1, T_sp: float = 100e-6) -> Scenario:
+    """`base`'s plant under sensorless robust DBPC with an I/f start, for
+    `duration` seconds of random operation within the rated envelope:
+    `n_changes` speed steps (uniform in [-w_M_N, w_M_N]) and as many brake
+    steps (uniform in [0, T_N]) at random times (a false-trip test: every
+    run is one the drive can do)."""
+    s = profile_scenario(base, seed, T_sp)
+    w_n, t_n = s.motor.w_M_N, s.motor.T_N
+    ts = np.sort(rng.uniform(0.5, duration, n_changes))
+    ws = rng.uniform(-1.0, 1.0, n_changes) * w_n
+    t, y = [0.0, 0.0], [0.0, float(ws[0])]
+    for tk, wk in zip(ts[1:], ws[1:]):
+        t += [float(tk), float(tk)]
+        y += [y[-1], float(wk)]
+    tl = np.sort(rng.uniform(0.5, duration, n_changes))
+    ls = rng.uniform(0.0, 1.0, n_changes) * t_n
+    tb, yb = [0.0], [0.0]
+    for tk, lk in zip(tl, ls):
+        tb += [float(tk), float(tk)]
+        yb += [yb[-1], float(lk)]
+    return s.replace(duration=duration, w_M_ref=Profile(tuple(t), tuple(y)),
+                     load=LoadCfg(T_brake=Profile(tuple(tb), tuple(yb))),
+                     log_stride=max(1, int(round(duration / T_sp / 2000))))
