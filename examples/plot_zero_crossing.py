@@ -4,8 +4,9 @@ Through zero speed, and a fault
 
 ``scenarios/sensorless_load_step.toml`` (the README's "Faults, and through
 zero speed"): sensorless robust DBPC at 1000 r/min, a 10 N m brake at 0.4 s,
-the reference ramped to -600 r/min. Below 300 r/min the drive returns to
-I/f, crosses zero and hands back to the SMDO at -450 r/min. Without the
+the reference ramped to -600 r/min. Below 210 r/min (derived from the
+motor) the drive returns to I/f, crosses zero and hands back to the SMDO at
+-420 r/min. Without the
 return to I/f the estimate runs away and the drive stops in its safe state
 with ``lost_lock`` (``Result.faults``). This is what
 ``tools/zero_crossing_figure.py`` draws for the README.
@@ -39,7 +40,7 @@ for label, r in zip(("with I/f", "without"), runs):
 
 fig, axes = plt.subplots(3, 2, figsize=(9, 6), sharex="col", layout="constrained")
 plots.time_panels(
-    runs, ["return to I/f below 300 r/min", "without it"], None,
+    runs, ["return to I/f below 210 r/min (derived)", "without it"], None,
     [("speed (r/min)", [("n_ref_rpm", "reference"), ("n_rpm", "true"),
                         ("n_hat_rpm", "estimated")]),
      ("position error (rad)", [("theta_error", "true")]),

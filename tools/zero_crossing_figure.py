@@ -21,7 +21,7 @@ def main() -> None:
     runs = [simulate(s), simulate(s.with_controller(w_M_if_enter=0.0))]
     with plots.style():
         axes = plots.time_panels(
-            runs, ["return to I/f below 300 r/min", "without it: loss of lock at %.3f s"
+            runs, ["return to I/f below 210 r/min (derived)", "without it: loss of lock at %.3f s"
                    % runs[1].faults.t_first],
             "scenarios/sensorless_load_step.toml through zero speed",
             [("speed (r/min)", [("n_ref_rpm", "reference"), ("n_rpm", "true"),

@@ -59,7 +59,7 @@ DERIVED_FIELDS: tuple[str, ...] = (
 #: mechanical time constant T_N / (J w_M_N) over Table I's, at most this factor ...
 SPEED_BW_MAX_RATIO = 5.0
 #: ... and never below this one (a slower loop only lengthens the transients)
-SPEED_BW_MIN_RATIO = 1.0
+SPEED_BW_MIN_RATIO = 0.25
 #: the derived ADC: full scale 25 A x I_N / I_N(Table I), noise this fraction of it
 ADC_NOISE_FS = 0.02 / 25.0
 #: the speed reference's slew limit takes this fraction of the torque at the current limit
