@@ -452,8 +452,9 @@ static void test_pi_smdo_feed_forward(void)
  *   sample): 0 for k < 75, 2 from k = 75 on. The frame of sample k (view
  *   theta, w) is the forced one up to and including k_h, then the source's.
  * - Current reference (0, i_start) exactly while forced (whatever the input
- *   asks); at k_h the speed PI starts from its integrator reset to i_start:
- *   i_q = i_start + (k_p_w + k_i_w T) e, x_i = i_start + k_i_w T e with
+ *   asks); at k_h the speed PI starts from its integrator reset to the forced
+ *   current seen in the source's frame, i0 = i_start cos(d) (d the source's
+ *   angle from the forced one): i_q = i0 + (k_p_w + k_i_w T) e, x_i = i0 + k_i_w T e with
  *   e = w_ref - w_f(k_h); i_d from the input again. O(10) values after 3
  *   roundings: 64 eps x 10.
  * - PLL source: at the handover the PLL restarts on the observer's angle,
@@ -532,13 +533,19 @@ static void run_if_start(int position)
         if (forced_before && v.phase == SMD_PHASE_SOURCE) {
             k_h = k;
             v_h = v;
-            /* the speed PI starts from i_start */
+            /* the speed PI starts from the forced current's q component
+             * in the source's frame, i_start cos(d), d the source's angle
+             * from the forced one (issue 18: the torque that was flowing) */
             {
                 double e = IF_WREF - (double)v.w;
-                double i_q = (double)p.i_start + (0.05 + 2.0 * T) * e;
+                double d = lcl_src ? -(double)s.pos.theta_err
+                           : position == SMD_POS_SMDO_EMF
+                               ? smdt_wrap((double)v.theta - (double)s.pos.u.emf.theta_r_hat)
+                               : 0.0;
+                double i0 = (double)p.i_start * cos(d);
+                double i_q = i0 + (0.05 + 2.0 * T) * e;
                 CHECK_CLOSE(v.i_dq_ref.im, i_q, 64 * SMDT_EPS * 10.0);
-                CHECK_CLOSE(s.speed_pi.x_i, (double)p.i_start + 2.0 * T * e,
-                            64 * SMDT_EPS * 10.0);
+                CHECK_CLOSE(s.speed_pi.x_i, i0 + 2.0 * T * e, 64 * SMDT_EPS * 10.0);
                 CHECK(fabs(e) > 40.0); /* so that the PI's terms are visible */
                 CHECK_CLOSE(v.i_dq_ref.re, -0.5, 0.0);
             }

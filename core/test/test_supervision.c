@@ -154,10 +154,13 @@ static void test_oscillation(void)
     }
 }
 
-/* The forced phase: an I/f start whose handover speed the forced ramp takes
- * 10000 samples to reach (a_start = 2 rad/s^2 ... w_handover 201 rad/s at
- * T = 100 us: 1005 s, i.e. never within the run) while the reference asks
- * for 300 rad/s: SMD_FAULT_FORCED after forced_samples = 500. */
+/* The forced phase: an I/f start (a_start = 2e4 rad/s^2, 2 rad/s a sample)
+ * reaches the handover speed 201 rad/s at sample 100 (w_f = 202), but the
+ * rotor, which the test turns backwards at -200 rad/s (an overhauling
+ * load), gives the SMDO a speed of the other sign: the source never agrees
+ * to take over, and SMD_FAULT_FORCED is latched forced_samples = 500
+ * samples later (the start-failure check off here, lock_samples = 0, so
+ * that this criterion alone answers). */
 static void test_forced_timeout(void)
 {
     smd_drive_params p;
@@ -165,14 +168,14 @@ static void test_forced_timeout(void)
     smd_drive_config c = drive_config(SMD_CC_ROBUST_DBPC, SMD_POS_SMDO_EMF, SMD_START_IF);
     int first, other;
     c.speed_loop = 1;
-    c.a_start = R(2.0);
     c.forced_samples = 500;
     CHECK_INT(smd_drive_init(&p, &c), SMD_OK);
     smd_drive_reset(&p, &s, R(1.0), R(0.0), R(0.0));
-    first = run_until(&p, &s, 0.0, 300.0, 0.0, 2000, (uint32_t)SMD_FAULT_FORCED, &other);
-    printf("    forced phase flagged at sample %d\n", first);
-    CHECK(first >= 498 && first <= 500);
+    first = run_until(&p, &s, -200.0, 300.0, 0.0, 2000, (uint32_t)SMD_FAULT_FORCED, &other);
+    printf("    forced phase flagged at sample %d (the handover speed at sample 100)\n", first);
+    CHECK(first >= 598 && first <= 601);
     CHECK_INT(other, 0);
+    CHECK_INT(s.phase, SMD_PHASE_FORCED);
 }
 
 /* A locked rotor at an I/f start: the forced speed rises at a_start = 2e4
