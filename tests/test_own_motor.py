@@ -1,0 +1,278 @@
+"""Issue 18: a motor of one's own is either run right or said to be wrong.
+
+Each case of the issue's table becomes a test (the run now reaches its
+reference, or it ends in a named fault with a non-zero exit: never status 0
+away from it); three motors written from a data sheet (tests/motors/*.toml,
+only [motor] and [inverter]) run the usual profile over 10 ADC noise seeds;
+the detection figures of the supervision are measured.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from smodrive.cli import main
+from smodrive.design import from_motor
+from smodrive.params import (RPM, ControllerCfg, InverterCfg, LoadCfg, MotorPars, ParameterError,
+                             Profile, Scenario)
+from smodrive.scenario_io import load_scenario, scenario_from_dict
+from smodrive.scenarios import drive, trials
+from smodrive.simulate import fault_names, simulate
+
+ROOT = Path(__file__).resolve().parents[1]
+DATASHEET = sorted((ROOT / "tests" / "motors").glob("*.toml"))
+REPO_MOTORS = sorted((ROOT / "scenarios" / "motors").glob("*.toml"))
+#: the issue's 24 V, 100 W motor as a new user typed it (no J, no B)
+SERVO_NO_J = {"R_s": 0.3, "L_s": 0.5e-3, "psi_r": 0.006, "n_p": 4, "P_N": 100.0,
+              "w_M_N_rpm": 3000.0}
+SERVO = load_scenario(ROOT / "tests" / "motors" / "servo_24v_100w.toml")
+
+
+def _end(r, seconds: float):
+    return r.t >= r.t[-1] - seconds
+
+
+def _right_or_named(r, seconds: float) -> str:
+    """'reached' (speed within 2 % of the final reference, angle within 10
+    deg RMS over the last `seconds`), 'fault' (a named fault at the end) or
+    'silent' (neither)."""
+    m = _end(r, seconds)
+    ref = r["w_M_ref"][-1]
+    err = abs(np.mean(r["w_M"][m]) - ref) / max(abs(ref), 1e-9)
+    ang = math.degrees(np.sqrt(np.mean(r.theta_error[m] ** 2)))
+    if r.faults.final:
+        return "fault"
+    return "reached" if err <= 0.02 and ang <= 10.0 else "silent"
+
+
+# ------------------------------------------------- the issue's table --
+
+def test_row1_a_motor_without_inertia_is_refused_by_name(tmp_path):
+    """J and B silently took the 2.4 kW motor's 0.012 kg m^2 and 0.002: now
+    J left out is refused, naming the field and what to give (exit 2, no
+    traceback), and B left out is derived by the stated rule."""
+    f = tmp_path / "servo.toml"
+    f.write_text("[motor]\n" + "".join(f"{k} = {v!r}\n" for k, v in SERVO_NO_J.items())
+                 + "\n[inverter]\nu_dc = 24.0\n")
+    res = CliRunner().invoke(main, ["run", str(f), "--out", str(tmp_path / "o")])
+    assert res.exit_code == 2 and "Traceback" not in res.output
+    assert "motor.J is not given" in res.output and "rotor inertia" in res.output
+    m = SERVO.motor
+    assert m.J == 1.5e-5 and m.B == pytest.approx(0.01 * m.T_N / m.w_M_N, rel=1e-12)
+    assert [n for n, _, _ in m.derived] == ["B"]
+
+
+def test_row2_the_same_motor_reverses_to_minus_rated():
+    """The reversal to -1500 r/min ended at -48.8 r/min in the forced phase,
+    status 0: now it reaches -1500 r/min on the SMDO (or names a fault),
+    without a hand-set I/f threshold."""
+    s = SERVO.replace(duration=1.2, w_M_ref=Profile((0.0, 0.0, 0.6, 0.6),
+                                                    (0.0, 1500 * RPM, 1500 * RPM, -1500 * RPM)),
+                      warm_start=False).with_controller(current="robust_dbpc",
+                                                        position="smdo_emf", start="if")
+    r = simulate(s)
+    assert _right_or_named(r, 0.1) == "reached"
+    assert r["phase"][-1] == 2  # on the observer, not forced
+
+
+def test_row3_a_hand_set_return_threshold_does_not_chatter():
+    """With w_M_if_enter = 200 r/min the start-up switched 12 times in 0.5 s
+    with the speed swinging -2890 ... +1518 r/min, no fault: now the start
+    either reaches 1500 r/min with at most 3 switches (start, and no more
+    than one return) or ends in a named fault (chatter among them)."""
+    s = SERVO.replace(duration=0.8, w_M_ref=Profile.const(1500 * RPM), warm_start=False
+                      ).with_controller(current="robust_dbpc", position="smdo_emf",
+                                        start="if", w_M_if_enter=200 * RPM)
+    r = simulate(s)
+    switches = int(np.count_nonzero(np.diff(r["phase"])))
+    verdict = _right_or_named(r, 0.1)
+    assert verdict != "silent"
+    if verdict == "reached":
+        assert switches <= 3
+
+
+def test_row4_table1_reversal_without_hand_set_thresholds():
+    """Table I sensorless: the return to I/f was off by default and every
+    reversal lost lock: now derived (210 and 420 r/min) and on, the
+    reversal 1000 -> -1000 r/min under a 5 N m brake reaches its reference."""
+    s = Scenario(duration=2.0, w_M0=1000 * RPM,
+                 w_M_ref=Profile((0.0, 0.5, 0.5), (1000 * RPM, 1000 * RPM, -1000 * RPM)),
+                 load=LoadCfg(T_brake=Profile.const(5.0)),
+                 controller=ControllerCfg(current="robust_dbpc", position="smdo_emf",
+                                          start="handover", t_handover=0.1))
+    assert s.controller.w_M_if_enter == pytest.approx(210.13 * RPM, rel=1e-4)
+    r = simulate(s)
+    assert _right_or_named(r, 0.2) == "reached"
+
+
+def test_row5_table1_with_L_hat_1_5_L_holds_its_speed_with_the_predicted_angle_bias():
+    """Sensorless with L_hat = 1.5 L: the speed is held (within 0.5 %), and
+    the angle error is the SMDO's model bias the issue saw (10.2 deg): the
+    disturbance estimate takes (L_hat - L) w_e i_q = 0.5 x 23.45 mH x 628
+    rad/s x 6.37 A = 47 V at right angles to the 251 V back EMF, atan(47 /
+    251) = 10.6 deg (within 1 deg), a bias, not an oscillation: the current
+    stays below the oscillation warning (0.30 A sd against its 0.84 A bound)
+    and the drive ends without a fault, holding speed and load. A run that
+    reaches its reference with a biased angle is what the model error gives
+    (docs/supervision.md); the angle is checked against that prediction."""
+    L = 23.45e-3
+    s = Scenario(duration=1.0, w_M0=1500 * RPM, w_M_ref=Profile.const(1500 * RPM),
+                 load=LoadCfg(T_brake=Profile.const(MotorPars().T_N)),
+                 controller=ControllerCfg(current="robust_dbpc", position="smdo_emf",
+                                          start="handover", t_handover=0.2, L_s_hat=1.5 * L))
+    r = simulate(s)
+    m = r.window(0.5, 1.0)
+    assert abs(np.mean(r.n_rpm[m]) / 1500 - 1) < 0.005
+    w_e = 4 * 1500 * RPM
+    i_q = MotorPars().T_N / MotorPars().k_t
+    bias = math.degrees(math.atan(0.5 * L * w_e * i_q / (w_e * 0.4)))
+    ang = math.degrees(np.sqrt(np.mean(r.theta_error[m] ** 2)))
+    assert abs(ang - bias) < 1.0
+    assert r.faults.final == 0
+
+
+def test_row6_a_deadbeat_limit_cycle_is_flagged():
+    """Robust DBPC with L_hat = 2 L, 1 A step: a limit cycle of 0.32 A sd
+    that never decays, status 0. Now the oscillation warning names it while
+    it lasts (the drive runs on): the run ends with `oscillation` in its
+    fault word, and the CLI would exit non-zero; with L_hat = L it is
+    silent."""
+    base = Scenario(duration=0.5, w_M0=1000 * RPM,
+                    i_q_ref=Profile((0.0, 0.1, 0.1), (0.0, 0.0, 1.0)),
+                    motor=dataclasses.replace(MotorPars(), J=1e4),
+                    controller=ControllerCfg(current="robust_dbpc", position="encoder",
+                                             speed_loop=False))
+    bad = simulate(base.with_controller(L_s_hat=2 * 23.45e-3))
+    m = bad.window(0.3, 0.5)
+    assert np.std(bad["i_d"][m]) > 0.2  # the limit cycle is there
+    assert fault_names(bad.faults.final) == ["oscillation"]
+    good = simulate(base)
+    assert good.faults.first == 0
+
+
+def test_row7_dead_time_compensation_follows_the_inverter(tmp_path):
+    """[inverter] t_dead = 0.5e-6 left controller.t_dead_comp at 2e-6 and
+    the C header carried 2e-6: now it is derived from the inverter (unless
+    set), and the header carries it."""
+    s = scenario_from_dict({"inverter": {"t_dead": 0.5e-6}})
+    assert s.controller.t_dead_comp == 0.5e-6
+    assert dict((n, src) for n, _, src in s.controller.derived)["t_dead_comp"].startswith(
+        "inverter.t_dead")
+    header = from_motor.drive_header(s)
+    assert "#define SMD_T_DEAD_COMP 4.99999999e-07f" in header  # the float of 0.5e-6
+    assert scenario_from_dict({"inverter": {"t_dead": 0.5e-6},
+                               "controller": {"t_dead_comp": 1e-6}}).controller.t_dead_comp \
+        == 1e-6
+
+
+@pytest.mark.parametrize("which", ["table1", "lcl"])
+def test_row8_warm_start_applies_its_steady_state_from_the_first_sample(which):
+    """A warm start applied the zero vector during the first period: i_q
+    fell 6.497 -> 5.304 A (Table I, 1000 r/min) and 10.75 -> 2.80 A (the
+    LCL drive at 60 kr/min). Now the period before the first sample applies
+    the steady-state voltage of the initial condition: on an ideal plant
+    (no dead time, exact ADC) the first sample's current is within 1 % of
+    the initial one (Table I: the first ten samples; the LCL drive: the
+    first, after which its PI and its observer, which start without an EMF
+    estimate, move it by up to 11 % within 6 samples, instead of the zero
+    vector's -74 % in one)."""
+    if which == "table1":
+        s = Scenario(duration=0.01, w_M0=1000 * RPM, w_M_ref=Profile.const(1000 * RPM),
+                     load=LoadCfg(T_brake=Profile.const(MotorPars().T_N)),
+                     inverter=InverterCfg(t_dead=0.0, pwm="averaged"))
+        s = s.replace(adc=dataclasses.replace(s.adc, noise=0.0, bits=0))
+        n, tol = 10, 0.01
+    else:
+        s = drive.lcl_encoder()
+        s = s.replace(duration=0.01, adc=dataclasses.replace(
+            s.adc, noise=0.0, bits=0, gain=(1.0, 1.0, 1.0), gain_i1=(1.0, 1.0, 1.0)),
+            inverter=dataclasses.replace(s.inverter, t_dead=0.0))
+        n, tol = 2, 0.01
+    r = simulate(s)
+    i_q = r["i_q"]
+    assert i_q[0] > 1.0
+    assert np.max(np.abs(i_q[:n] / i_q[0] - 1)) < tol
+
+
+# --------------------------------------- three motors from a data sheet --
+
+@pytest.mark.parametrize("path", DATASHEET, ids=[p.stem for p in DATASHEET])
+def test_data_sheet_motor_runs_the_usual_profile(path):
+    """I/f start, steps to +50 % and +100 % rated speed, a rated brake step
+    on and off, a reversal through zero to -50 % and -100 %, sensorless
+    robust DBPC, every controller value derived, over 10 noise seeds: no run
+    ends wrong in silence, and at least 9 of 10 reach their reference
+    (measured: 10 of 10 each, 2026-11-26)."""
+    base = load_scenario(path)
+    assert base.controller.derived  # nothing set by hand
+    outcomes = [trials.judge(simulate(trials.profile_scenario(base, seed)))
+                for seed in range(1, 11)]
+    verdicts = [o.verdict for o in outcomes]
+    print(path.stem, verdicts.count("reached"), "of 10 reached;",
+          "; ".join(str(o) for o in outcomes if o.verdict != "reached"))
+    assert "silent" not in verdicts
+    assert verdicts.count("reached") >= 9
+
+
+# ------------------------------------------------- detection figures --
+
+def test_locked_rotor_at_start_is_flagged_within_200_ms():
+    """A rotor that cannot turn (held by a 1000 N m brake, 65 x the rated
+    torque) under an I/f start of the sensorless Table I drive:
+    SMD_FAULT_START within 200 ms (the forced speed passes w_M_if_enter,
+    210 r/min, after 70 ms at 3000 r/min/s, then t_lock = 20 ms of an EMF
+    estimate below a third of |w_f| psi)."""
+    s = Scenario(duration=0.4, warm_start=False, w_M_ref=Profile.const(1500 * RPM),
+                 load=LoadCfg(T_brake=Profile.const(1000.0)),
+                 controller=ControllerCfg(current="robust_dbpc", position="smdo_emf",
+                                          start="if"))
+    r = simulate(s)
+    assert fault_names(r.faults.first) == ["start_failed"]
+    assert r.faults.t_first <= 0.2
+    res_code = 1 if r.faults.ends_in_fault else 0
+    assert res_code == 1
+
+
+@pytest.mark.parametrize("path", REPO_MOTORS, ids=[p.stem for p in REPO_MOTORS])
+def test_no_false_trip_in_random_operation(path):
+    """Random speed steps (uniform in +-w_M_N) and brake steps (uniform in
+    [0, T_N]), 20 of each a minute, I/f start, sensorless robust DBPC, every
+    value derived: no fault over 20 simulated minutes on Table I and the
+    10 kW machine. The 200 W servo's light rotor (J = 4e-5 kg m^2: a rated
+    brake step stops it in 4 ms, faster than its 300 rad/s speed loop and
+    the SMDO's 2 ms speed filter can answer) loses the rotor on some brake
+    steps at low speed: each such run ends in lost_lock, named, never in
+    silence, and the count is bounded (measured 3 of 20). `benchmarks/
+    bench_false_trips.py` prints the counts over longer runs."""
+    base = load_scenario(path)
+    rng = np.random.default_rng(7)
+    trips = []
+    for k in range(20):
+        r = simulate(trials.random_profile(base, rng, seed=k + 1))
+        if r.faults.first:
+            trips.append(fault_names(r.faults.first))
+    if "servo" in path.stem:
+        assert len(trips) <= 4 and all(t == ["lost_lock"] for t in trips)
+    else:
+        assert trips == []
+
+
+def test_cli_exits_non_zero_and_says_why_on_a_named_fault(tmp_path):
+    """The locked-rotor start as a file: `smodrive run` exits 1 with one
+    `error:` line naming the fault; the summary on stdout names it too."""
+    f = tmp_path / "locked.toml"
+    f.write_text("duration = 0.3\nwarm_start = false\nw_M_ref_rpm = 1500.0\n"
+                 "[controller]\ncurrent = \"robust_dbpc\"\nposition = \"smdo_emf\"\n"
+                 "start = \"if\"\n[load]\nT_brake = 1000.0\n")
+    res = CliRunner().invoke(main, ["run", str(f), "--out", str(tmp_path / "o")])
+    assert res.exit_code == 1
+    assert "start_failed" in res.stderr
+    summary = json.loads(res.stdout)
+    assert summary["final_fault"] == ["start_failed"]
