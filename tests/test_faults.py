@@ -94,9 +94,14 @@ def test_fault_settings_are_checked():
 
     s = load_scenario(EXAMPLE)
     with pytest.raises(ParameterError, match="w_M_if_enter"):
-        s.with_controller(w_M_if_enter=500 * RPM).check_controller()
+        s.with_controller(w_M_if_enter=500 * RPM, w_M_handover=450 * RPM).check_controller()
     with pytest.raises(ParameterError, match="w_M_if_enter"):
-        s.with_controller(position="encoder", start="running").check_controller()
+        s.with_controller(position="encoder", start="running",
+                          w_M_if_enter=100 * RPM).check_controller()
+    # left unset, the handover follows a return speed the user sets (twice it)
+    t = s.with_controller(w_M_if_enter=500 * RPM)
+    t.check_controller()
+    assert t.controller.w_M_handover == pytest.approx(1000 * RPM)
 
 
 def test_lcl_observer_reverses_through_zero_on_if():
@@ -135,7 +140,8 @@ def test_cli_exits_nonzero_on_a_run_that_ends_in_a_fault(tmp_path):
 
     from smodrive.cli import main
 
-    toml = EXAMPLE.read_text().replace("w_M_if_enter_rpm = 300.0", "w_M_if_enter_rpm = 0.0")
+    toml = EXAMPLE.read_text().replace('start = "handover"', 'start = "handover"\nw_M_if_enter = 0.0')
+    assert "w_M_if_enter = 0.0" in toml
     src = tmp_path / "lost.toml"
     src.write_text(toml)
     res = CliRunner().invoke(main, ["run", str(src), "--out", str(tmp_path / "a")])

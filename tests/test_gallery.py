@@ -88,10 +88,10 @@ def test_readme_example_prints_what_the_readme_says():
 
 
 def test_zero_crossing_example():
-    """README: the run ends at -600.1 r/min with no fault; without the
+    """README: the run ends at -600.4 r/min with no fault; without the
     return to I/f it ends in lost_lock, declared at 1.055 s."""
     out = run_script("plot_zero_crossing.py")
-    assert "with I/f: final speed -600.1 r/min, no fault" in out
+    assert "with I/f: final speed -600.4 r/min, no fault" in out
     m = re.search(r"without: .* first fault lost_lock at ([0-9.]+) s", out)
     assert m and abs(float(m.group(1)) - 1.055) <= 0.001
 
