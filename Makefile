@@ -9,6 +9,8 @@ VENV := .venv
 BIN := $(VENV)/bin
 OUT ?= results
 STAMP := $(VENV)/.installed
+# the docs extra (Sphinx): `make test` installs it too, the documentation build is a test
+DOCS_STAMP := $(VENV)/.docs-installed
 SOURCES := $(shell find core sim src -type f \( -name '*.c' -o -name '*.h' -o -name '*.py' -o -name '*.toml' \)) \
            CMakeLists.txt pyproject.toml
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
@@ -44,7 +46,7 @@ ctest: toolchain
 	cmake --build build/ctest -j 2
 	ctest --test-dir build/ctest --output-on-failure
 
-pytest: $(STAMP) toolchain
+pytest: $(STAMP) $(DOCS_STAMP) toolchain
 	$(BIN)/python -m pytest -q
 
 test: ctest pytest
@@ -69,7 +71,6 @@ dev: $(STAMP)
 # The documentation site (Sphinx: docs/, the API reference from the
 # docstrings, the parameter reference from the dataclass metadata, the
 # gallery of examples/) into build/docs; its tools are the extra `docs`.
-DOCS_STAMP := $(VENV)/.docs-installed
 $(DOCS_STAMP): $(STAMP)
 	$(BIN)/python -m pip install -q ".[docs]"
 	@touch $(DOCS_STAMP)

@@ -476,7 +476,13 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
     if (s->phase == SMD_PHASE_FORCED) {
         if (p->start == SMD_START_IF && s->dir_f == 0) {
             /* the start from standstill: the I/f ramp in the reference's direction */
-            s->w_f += (smd_real)s->start_dir * p->a_start * T; /* 0: waiting */
+            /* (0: waiting); no farther than the reference asks (below the
+             * handover speed the drive stays on I/f there) */
+            const smd_real lim = SMD_FABS(in->w_ref);
+            s->w_f += (smd_real)s->start_dir * p->a_start * T;
+            if ((smd_real)s->start_dir * s->w_f > lim) {
+                s->w_f = (smd_real)s->start_dir * lim;
+            }
         } else {
             /* follow the reference at a_start, through zero */
             smd_real dw = w_ref - s->w_f;
