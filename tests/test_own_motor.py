@@ -228,47 +228,64 @@ def test_locked_rotor_at_start_is_flagged_within_200_ms():
     torque) under an I/f start of the sensorless Table I drive:
     SMD_FAULT_START within 200 ms (the forced speed passes w_M_if_enter,
     210 r/min, after 70 ms at 3000 r/min/s, then t_lock = 20 ms of an EMF
-    estimate below a third of |w_f| psi)."""
+    estimate below a third of |w_f| psi); the drive restarts on I/f twice
+    (restart_max = 2: the sample of each restart reports start_failed with
+    restart) and then latches start_failed."""
     s = Scenario(duration=0.4, warm_start=False, w_M_ref=Profile.const(1500 * RPM),
                  load=LoadCfg(T_brake=Profile.const(1000.0)),
                  controller=ControllerCfg(current="robust_dbpc", position="smdo_emf",
                                           start="if"))
     r = simulate(s)
-    assert fault_names(r.faults.first) == ["start_failed"]
+    assert fault_names(r.faults.first) == ["start_failed", "restart"]
     assert r.faults.t_first <= 0.2
-    res_code = 1 if r.faults.ends_in_fault else 0
-    assert res_code == 1
+    assert fault_names(r.faults.final) == ["start_failed"]
+    events = r["fault"].astype(int)
+    assert np.count_nonzero(events & 2048) == 2  # two restarts, then latched
 
 
 @pytest.mark.parametrize("path", REPO_MOTORS, ids=[p.stem for p in REPO_MOTORS])
 def test_no_false_trip_in_random_operation(path):
     """Random speed steps (uniform in +-w_M_N) and brake steps (uniform in
     [0, T_N]), 20 of each a minute, I/f start, sensorless robust DBPC, every
-    value derived: no fault over 20 simulated minutes on Table I and the
-    10 kW machine. The 200 W servo's light rotor (J = 4e-5 kg m^2: a rated
-    brake step stops it in 4 ms, faster than its 300 rad/s speed loop and
-    the SMDO's 2 ms speed filter can answer) loses the rotor on some brake
-    steps at low speed: each such run ends in lost_lock, named, never in
-    silence, and the count is bounded (measured 3 of 20). `benchmarks/
-    bench_false_trips.py` prints the counts over longer runs."""
+    value derived, 20 simulated minutes: no run ends in a fault, none ends
+    away from its reference (over the last 0.3 s of each minute, when the
+    reference has not changed in its last second and is at least the
+    handover speed: within 2 %). Table I and
+    the 10 kW machine run without an event; the 200 W servo's light rotor
+    (J = 4e-5 kg m^2: a rated brake step at low speed stops it in 4 ms,
+    faster than its 300 rad/s speed loop and the SMDO's 2 ms speed filter
+    can answer) loses the rotor on some brake steps, and the drive restarts
+    it on I/f (restart_max = 2 within 2 s): each restart is reported with
+    its cause (lost_lock, restart) and the run goes on to its reference
+    (measured: 3 runs with a restart of 20). `benchmarks/bench_false_trips.py`
+    prints the counts over longer runs."""
     base = load_scenario(path)
     rng = np.random.default_rng(7)
-    trips = []
+    ended_in_fault, restarted, off = [], 0, []
     for k in range(20):
-        r = simulate(trials.random_profile(base, rng, seed=k + 1))
-        if r.faults.first:
-            trips.append(fault_names(r.faults.first))
-    if "servo" in path.stem:
-        assert len(trips) <= 4 and all(t == ["lost_lock"] for t in trips)
-    else:
-        assert trips == []
+        s = trials.random_profile(base, rng, seed=k + 1)
+        r = simulate(s)
+        if r.faults.final:
+            ended_in_fault.append(fault_names(r.faults.final))
+        restarted += bool(r.faults.first & 2048)
+        last_change = max(t for t, a, b in zip(s.w_M_ref.t[1:], s.w_M_ref.y, s.w_M_ref.y[1:])
+                          if a != b)
+        # (below the handover speed the drive is on I/f, whose rotor swings
+        # about the forced speed, undamped: not judged by its mean)
+        if s.duration - last_change > 1.0 and abs(s.w_M_ref.y[-1]) >= s.controller.w_M_handover:
+            m = r.t >= s.duration - 0.3
+            ref = s.w_M_ref.y[-1]
+            if abs(np.mean(r["w_M"][m]) - ref) > 0.02 * max(abs(ref), 0.1 * s.motor.w_M_N):
+                off.append(k)
+    assert ended_in_fault == [] and off == []
+    assert restarted <= (5 if "servo" in path.stem else 0)
 
 
 def test_cli_exits_non_zero_and_says_why_on_a_named_fault(tmp_path):
     """The locked-rotor start as a file: `smodrive run` exits 1 with one
     `error:` line naming the fault; the summary on stdout names it too."""
     f = tmp_path / "locked.toml"
-    f.write_text("duration = 0.3\nwarm_start = false\nw_M_ref_rpm = 1500.0\n"
+    f.write_text("duration = 0.5\nwarm_start = false\nw_M_ref_rpm = 1500.0\n"
                  "[controller]\ncurrent = \"robust_dbpc\"\nposition = \"smdo_emf\"\n"
                  "start = \"if\"\n[load]\nT_brake = 1000.0\n")
     res = CliRunner().invoke(main, ["run", str(f), "--out", str(tmp_path / "o")])

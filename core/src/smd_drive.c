@@ -87,7 +87,9 @@ static smd_status check_protection(const smd_drive_config *c)
         !smd_in_range(c->osc_i, SMD_R(0.0), SMD_R(1e5)) ||
         !smd_in_range(c->osc_rel, SMD_R(0.0), SMD_R(100.0)) ||
         c->osc_samples < 0 || c->osc_samples > 10000000 ||
-        (c->osc_samples > 0 && !(c->osc_i > SMD_R(0.0)))) {
+        (c->osc_samples > 0 && !(c->osc_i > SMD_R(0.0))) ||
+        c->restart_max < 0 || c->restart_max > 100 || c->restart_window < 0 ||
+        c->restart_window > 100000000 || (c->restart_max > 0 && c->restart_window < 1)) {
         return SMD_ERR_PROTECTION;
     }
     return SMD_OK;
@@ -232,6 +234,10 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
     p->osc_i = c->osc_i;
     p->osc_rel = c->osc_rel;
     p->osc_samples = c->osc_samples;
+    p->restart_max = c->restart_max;
+    p->restart_decay = c->restart_max > 0 && c->restart_window > 0
+                           ? (smd_real)c->restart_max / (smd_real)c->restart_window
+                           : SMD_R(0.0);
     p->i_start = c->i_start;
     p->a_start = c->a_start;
     p->w_handover = c->w_handover;
@@ -299,6 +305,7 @@ void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real the
     s->osc_ms = SMD_R(0.0);
     s->i_prev1 = zero;
     s->warn = 0u;
+    s->restarts = SMD_R(0.0);
 }
 
 void smd_drive_start_duties(const smd_drive_params *p, smd_drive_state *s, smd_real u_dc,
@@ -950,6 +957,45 @@ static void supervise(const smd_drive_params *p, smd_drive_state *s)
     }
 }
 
+/* An automatic restart (SMD_FAULT_RESTART): instead of latching a lost lock
+ * or a failed start, the drive starts again on I/f from rest at its last
+ * angle, the SMDO's disturbance estimate and speed estimate from zero. */
+static int try_restart(const smd_drive_params *p, smd_drive_state *s)
+{
+    const uint32_t lost = (uint32_t)(SMD_FAULT_LOST_LOCK | SMD_FAULT_START);
+    smd_cplx zero = smd_c(SMD_R(0.0), SMD_R(0.0));
+    if (p->restart_decay > SMD_R(0.0)) {
+        s->restarts -= p->restart_decay;
+        if (s->restarts < SMD_R(0.0)) {
+            s->restarts = SMD_R(0.0);
+        }
+    }
+    if (!(s->fault & lost) || (s->fault & ~lost) || p->restart_max == 0 ||
+        p->start != SMD_START_IF || p->position != SMD_POS_SMDO_EMF ||
+        s->restarts + SMD_R(1.0) > (smd_real)p->restart_max) {
+        return 0;
+    }
+    s->warn |= s->fault & lost; /* the cause, reported with the restart */
+    s->fault &= ~lost;
+    s->restarts += SMD_R(1.0);
+    switch_phase(s, SMD_PHASE_FORCED);
+    s->dir_f = 0;
+    s->start_dir = 0;
+    s->theta_f = s->theta_k;
+    s->w_f = SMD_R(0.0);
+    s->theta = s->theta_k;
+    s->w = SMD_R(0.0);
+    s->w_ref_r = SMD_R(0.0);
+    s->i_dq_ref = zero;
+    s->lock_count = 0;
+    s->start_count = 0;
+    s->forced_count = 0;
+    smd_pi_reset(&s->speed_pi, SMD_R(0.0));
+    smd_smdo_reset(&s->smdo, s->i_s_ab, zero);
+    smd_emf_pos_reset(&s->pos.u.emf, SMD_R(0.0));
+    return 1;
+}
+
 smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
                           smd_drive_out *out)
 {
@@ -1009,6 +1055,9 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
     }
     check_lock(p, s);
     supervise(p, s);
+    if (try_restart(p, s)) {
+        s->warn |= (uint32_t)SMD_FAULT_RESTART;
+    }
     if (s->fault != 0u) {
         return apply_safe(p, s, out, 0u);
     }

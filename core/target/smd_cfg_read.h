@@ -86,6 +86,8 @@ static void smd_rd_smd_drive_config(smd_reader *r, smd_drive_config *x)
     smd_rd_reals(r, (smd_real *)&x->osc_i, sizeof x->osc_i / sizeof(smd_real));
     smd_rd_reals(r, (smd_real *)&x->osc_rel, sizeof x->osc_rel / sizeof(smd_real));
     smd_rd_ints(r, (int *)&x->osc_samples, sizeof x->osc_samples / sizeof(int));
+    smd_rd_ints(r, (int *)&x->restart_max, sizeof x->restart_max / sizeof(int));
+    smd_rd_ints(r, (int *)&x->restart_window, sizeof x->restart_window / sizeof(int));
 }
 
 #endif

@@ -379,6 +379,58 @@ static void test_injected_angle_error(void)
     CHECK_INT(faults, 0);
 }
 
+/* Automatic restart: the locked-rotor start of test_locked_rotor_start with
+ * restart_max = 2 within 10000 samples. Each failed start restarts the
+ * drive on I/f from rest (the sample reports SMD_FAULT_START with
+ * SMD_FAULT_RESTART, the drive runs on, status SMD_OK); the third failure
+ * latches SMD_FAULT_START (the count spent). With restart_max = 0 the first
+ * failure latches. */
+static void test_restart(void)
+{
+    int pass;
+    for (pass = 0; pass < 2; pass++) {
+        smd_drive_params p;
+        smd_drive_state s;
+        smd_drive_config c = drive_config(SMD_CC_ROBUST_DBPC, SMD_POS_SMDO_EMF, SMD_START_IF);
+        smd_drive_in in;
+        smd_drive_out out;
+        plant pl;
+        double complex u = 0.0;
+        int k, restarts = 0, latched = -1, bad = 0;
+        c.speed_loop = 1;
+        c.w_if_enter = R(100.0);
+        c.lock_samples = 50;
+        c.lock_ratio = R(3.0);
+        c.w_lock_min = R(30.0);
+        c.restart_max = pass == 0 ? 2 : 0;
+        c.restart_window = 10000;
+        CHECK_INT(smd_drive_init(&p, &c), SMD_OK);
+        pl.i = 0.0;
+        pl.th = 1.0;
+        pl.w = 0.0;
+        smd_drive_reset(&p, &s, R(pl.th), R(0.0), R(0.0));
+        for (k = 0; k < 1500; k++) {
+            smd_status st;
+            fill_in(&in, &pl, 0.0);
+            in.w_ref = R(300.0);
+            st = smd_drive_step(&p, &s, &in, &out);
+            if (out.fault & (uint32_t)SMD_FAULT_RESTART) {
+                restarts++;
+                bad += st != SMD_OK || !(out.fault & (uint32_t)SMD_FAULT_START) ||
+                       s.phase != SMD_PHASE_FORCED;
+            }
+            if (latched < 0 && (s.fault & (uint32_t)SMD_FAULT_START)) latched = k;
+            plant_step(&pl, u);
+            u = realised(out.d_abc);
+        }
+        printf("    restart_max %d: %d restarts, start failure latched at sample %d\n",
+               c.restart_max, restarts, latched);
+        CHECK_INT(restarts, c.restart_max);
+        CHECK_INT(bad, 0);
+        CHECK(latched > 0);
+    }
+}
+
 /* The supervision settings out of range are refused (SMD_ERR_PROTECTION). */
 static void test_settings(void)
 {
@@ -414,6 +466,7 @@ int main(void)
     RUN_TEST(test_chatter);
     RUN_TEST(test_start_duties);
     RUN_TEST(test_injected_angle_error);
+    RUN_TEST(test_restart);
     RUN_TEST(test_settings);
     return smdt_summary("test_supervision");
 }

@@ -226,6 +226,8 @@ static const smd_layout_row ROWS[] = {
     F(smd_drive_config, osc_i, "smd_real"),
     F(smd_drive_config, osc_rel, "smd_real"),
     F(smd_drive_config, osc_samples, "int"),
+    F(smd_drive_config, restart_max, "int"),
+    F(smd_drive_config, restart_window, "int"),
     F(smd_drive_view, i_dq_ref, "smd_cplx"),
     F(smd_drive_view, i_dq, "smd_cplx"),
     F(smd_drive_view, u_ab, "smd_cplx"),

@@ -200,7 +200,7 @@ class DriveConfig(ct.Structure):
         ("a_ref", real), ("dwell", ct.c_int), ("chatter_max", ct.c_int),
         ("chatter_window", ct.c_int), ("track_samples", ct.c_int), ("w_track", real),
         ("forced_samples", ct.c_int), ("osc_i", real), ("osc_rel", real),
-        ("osc_samples", ct.c_int),
+        ("osc_samples", ct.c_int), ("restart_max", ct.c_int), ("restart_window", ct.c_int),
     ]
 
 

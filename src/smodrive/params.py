@@ -443,6 +443,10 @@ class ControllerCfg(_Validated):
                               "|i_ref| (None: derived from the ADC noise and I_N) ...")
     osc_rel: float = num(0.1, 0.0, 100.0, "", "... (the part relative to the reference) ...")
     t_osc: float = num(0.02, 0.0, 100.0, "s", "... for this long (0: off)")
+    restart_max: int = num(2, 0, 100, "", "SMDO position with an I/f start: automatic restarts "
+                           "from rest on I/f after a lost lock or a failed start, at most this "
+                           "many within t_restart (0: latch at once)", integer=True)
+    t_restart: float = num(2.0, 0.0, 1e3, "s", "the window of the restart count")
     # record of the design from the motor (not a parameter)
     derived: tuple = field(default=(), compare=False, repr=False, metadata={"internal": True})
 

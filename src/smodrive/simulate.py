@@ -276,6 +276,8 @@ def drive_config(s: Scenario, tables=None) -> _ffi.DriveConfig:
         else 0
     c.osc_i, c.osc_rel = k.osc_i, k.osc_rel
     c.osc_samples = int(round(k.t_osc / T)) if k.osc_i > 0 else 0
+    c.restart_max = k.restart_max if (k.start == "if" and k.position == "smdo_emf") else 0
+    c.restart_window = max(1, int(round(k.t_restart / T)))
     return c
 
 
@@ -296,12 +298,12 @@ def profiles(s: Scenario) -> _ffi.Profiles:
 #: bits of the controller's fault word (core/include/smodrive/smd_drive.h)
 FAULT_BITS = {"input": 1, "internal": 2, "overcurrent": 4, "undervoltage": 8,
               "overvoltage": 16, "lost_lock": 32, "speed_tracking": 64, "forced": 128,
-              "chatter": 256, "oscillation": 512, "start_failed": 1024}
+              "chatter": 256, "oscillation": 512, "start_failed": 1024, "restart": 2048}
 #: the latched ones: the drive stays in its safe state until cleared
 LATCHED_FAULTS = ("overcurrent", "undervoltage", "overvoltage", "lost_lock", "speed_tracking",
                   "forced", "chatter", "start_failed")
 #: warnings: reported while their condition holds, the drive runs on
-WARNING_FAULTS = ("oscillation",)
+WARNING_FAULTS = ("oscillation", "restart")
 
 
 def fault_names(word: int) -> list[str]:

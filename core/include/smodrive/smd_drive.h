@@ -83,6 +83,16 @@
  *                            lock_ratio for lock_samples samples in a row
  *   warning (reported in the fault word while the condition holds; the drive
  *   runs on; the step returns SMD_OK)
+ *     SMD_FAULT_RESTART      (the sample of) an automatic restart: with the
+ *                            SMDO's position and an I/f start, a lost lock
+ *                            or a failed start does not latch while fewer
+ *                            than restart_max restarts were made within
+ *                            about restart_window samples (a leaky count);
+ *                            the drive restarts on I/f from rest at its last
+ *                            angle (a stalled rotor, or one the brake
+ *                            stopped, is started again), and latches the
+ *                            fault when the count is spent; the sample of a
+ *                            restart reports its cause's bit with it
  *     SMD_FAULT_OSCILLATION  the ripple of the measured current, the RMS of
  *                            its change from one sample to the next in the
  *                            frame turning at the drive's speed, over
@@ -228,6 +238,9 @@ typedef struct smd_drive_config {
     smd_real osc_i;       /* SMD_FAULT_OSCILLATION: ripple beyond osc_i ... , A */
     smd_real osc_rel;     /* ... + osc_rel |i_ref| ... */
     int osc_samples;      /* ... over this many samples (the filter's time constant) */
+    int restart_max;      /* SMDO source with an I/f start: restart from rest on I/f after
+                             a lost lock or a failed start, at most this many times ... */
+    int restart_window;   /* ... within (about) this many samples (0: no restart) */
 } smd_drive_config;
 
 typedef enum smd_safe_state {
@@ -247,14 +260,15 @@ enum {
     SMD_FAULT_FORCED = 1u << 7,
     SMD_FAULT_CHATTER = 1u << 8,
     SMD_FAULT_OSCILLATION = 1u << 9,
-    SMD_FAULT_START = 1u << 10
+    SMD_FAULT_START = 1u << 10,
+    SMD_FAULT_RESTART = 1u << 11
 };
 #define SMD_FAULT_LATCHED (SMD_FAULT_OVERCURRENT | SMD_FAULT_UNDERVOLTAGE | \
                            SMD_FAULT_OVERVOLTAGE | SMD_FAULT_LOST_LOCK | \
                            SMD_FAULT_SPEED_TRACKING | SMD_FAULT_FORCED | SMD_FAULT_CHATTER | \
                            SMD_FAULT_START)
 /* warnings: reported while their condition holds, the drive runs on */
-#define SMD_FAULT_WARNINGS (SMD_FAULT_OSCILLATION)
+#define SMD_FAULT_WARNINGS (SMD_FAULT_OSCILLATION | SMD_FAULT_RESTART)
 
 typedef struct smd_drive_params {
     int current, position, start, lcl;
@@ -271,7 +285,8 @@ typedef struct smd_drive_params {
     smd_real R_hat, L_hat; /* the steady state of a (warm) start: R_s_hat, L_dec or L_s_hat */
     smd_real a_ref, w_track, osc_i, osc_rel;
     smd_real chatter_decay; /* chatter_max / chatter_window */
-    int dwell, chatter_max, track_samples, forced_samples, osc_samples;
+    int dwell, chatter_max, track_samples, forced_samples, osc_samples, restart_max;
+    smd_real restart_decay; /* restart_max / restart_window */
     smd_dbpc_params dbpc;
     smd_smdo_params smdo;
     smd_emf_pos_params emf;
@@ -351,6 +366,7 @@ typedef struct smd_drive_state {
     smd_real osc_ms;      /* filtered |difference of the current, turning frame|^2, A^2 */
     smd_cplx i_prev1;     /* measured current of k-1 */
     uint32_t warn;        /* warning bits of the last sample (SMD_FAULT_WARNINGS) */
+    smd_real restarts;    /* leaky count of automatic restarts */
 } smd_drive_state;
 
 /* Read-only view of the controller's internals for logging. */
