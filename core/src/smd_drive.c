@@ -306,6 +306,7 @@ void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real the
     s->i_prev1 = zero;
     s->warn = 0u;
     s->restarts = SMD_R(0.0);
+    s->jumped = 0;
 }
 
 void smd_drive_start_duties(const smd_drive_params *p, smd_drive_state *s, smd_real u_dc,
@@ -651,6 +652,17 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
         smd_svm_deadtime_comp(out->d_abc, i_abc, p->dtc_ratio, p->i_dtc);
     }
 
+    /* a jump of the SMDO's angle (SMD_FAULT_ANGLE_JUMP): on the source for
+     * more than lock_samples, above w_lock_min, the angle used moved by more
+     * than 45 deg from the last one turned at the last speed (the LCL
+     * sources' PLL filters their observer's angle: no jump to see there) */
+    s->jumped = 0;
+    if (s->phase == SMD_PHASE_SOURCE && p->position == SMD_POS_SMDO_EMF &&
+        p->lock_samples > 0 && s->phase_samples > p->lock_samples &&
+        SMD_FABS(w_k) >= p->w_lock_min) {
+        const smd_real d = smd_wrap_pi(theta_k - s->theta_k - s->w_k * T);
+        s->jumped = SMD_FABS(d) > SMD_PI / SMD_R(4.0);
+    }
     s->theta_k = theta_k;
     s->w_k = w_k;
     s->theta = theta_next;
@@ -929,7 +941,7 @@ static void supervise(const smd_drive_params *p, smd_drive_state *s)
      * one sample to the next in the frame turning at the drive's speed (the
      * last current turned by w_k T, e^{jx} to third order: a steady state
      * gives 0, white noise of sigma a phase about sigma) */
-    s->warn = 0u;
+    s->warn = s->jumped ? (uint32_t)SMD_FAULT_ANGLE_JUMP : 0u;
     if (p->osc_samples > 0) {
         if (s->osc_n >= 1) {
             const smd_real x = s->w_k * p->T_sp, x2 = x * x;

@@ -298,12 +298,13 @@ def profiles(s: Scenario) -> _ffi.Profiles:
 #: bits of the controller's fault word (core/include/smodrive/smd_drive.h)
 FAULT_BITS = {"input": 1, "internal": 2, "overcurrent": 4, "undervoltage": 8,
               "overvoltage": 16, "lost_lock": 32, "speed_tracking": 64, "forced": 128,
-              "chatter": 256, "oscillation": 512, "start_failed": 1024, "restart": 2048}
+              "chatter": 256, "oscillation": 512, "start_failed": 1024, "restart": 2048,
+              "angle_jump": 4096}
 #: the latched ones: the drive stays in its safe state until cleared
 LATCHED_FAULTS = ("overcurrent", "undervoltage", "overvoltage", "lost_lock", "speed_tracking",
                   "forced", "chatter", "start_failed")
 #: warnings: reported while their condition holds, the drive runs on
-WARNING_FAULTS = ("oscillation", "restart")
+WARNING_FAULTS = ("oscillation", "restart", "angle_jump")
 
 
 def fault_names(word: int) -> list[str]:

@@ -93,6 +93,14 @@
  *                            stopped, is started again), and latches the
  *                            fault when the count is spent; the sample of a
  *                            restart reports its cause's bit with it
+ *     SMD_FAULT_ANGLE_JUMP   (the sample of) a jump of the SMDO's angle
+ *                            (smdo_emf): on the source for more than
+ *                            lock_samples, above w_lock_min (with the lock
+ *                            check on), the angle moved by more than 45 deg
+ *                            from the last one turned at the last speed; a
+ *                            rotor cannot, an estimate that lost or flipped
+ *                            its direction can (the LCL sources' PLL filters
+ *                            their observer's angle: nothing jumps there)
  *     SMD_FAULT_OSCILLATION  the ripple of the measured current, the RMS of
  *                            its change from one sample to the next in the
  *                            frame turning at the drive's speed, over
@@ -261,14 +269,15 @@ enum {
     SMD_FAULT_CHATTER = 1u << 8,
     SMD_FAULT_OSCILLATION = 1u << 9,
     SMD_FAULT_START = 1u << 10,
-    SMD_FAULT_RESTART = 1u << 11
+    SMD_FAULT_RESTART = 1u << 11,
+    SMD_FAULT_ANGLE_JUMP = 1u << 12
 };
 #define SMD_FAULT_LATCHED (SMD_FAULT_OVERCURRENT | SMD_FAULT_UNDERVOLTAGE | \
                            SMD_FAULT_OVERVOLTAGE | SMD_FAULT_LOST_LOCK | \
                            SMD_FAULT_SPEED_TRACKING | SMD_FAULT_FORCED | SMD_FAULT_CHATTER | \
                            SMD_FAULT_START)
 /* warnings: reported while their condition holds, the drive runs on */
-#define SMD_FAULT_WARNINGS (SMD_FAULT_OSCILLATION | SMD_FAULT_RESTART)
+#define SMD_FAULT_WARNINGS (SMD_FAULT_OSCILLATION | SMD_FAULT_RESTART | SMD_FAULT_ANGLE_JUMP)
 
 typedef struct smd_drive_params {
     int current, position, start, lcl;
@@ -367,6 +376,7 @@ typedef struct smd_drive_state {
     smd_cplx i_prev1;     /* measured current of k-1 */
     uint32_t warn;        /* warning bits of the last sample (SMD_FAULT_WARNINGS) */
     smd_real restarts;    /* leaky count of automatic restarts */
+    int jumped;           /* 1: the source's angle jumped this sample */
 } smd_drive_state;
 
 /* Read-only view of the controller's internals for logging. */
