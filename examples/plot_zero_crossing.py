@@ -15,6 +15,7 @@ with ``lost_lock`` (``Result.faults``). This is what
 from pathlib import Path
 
 import matplotlib.pyplot as plt
+import numpy as np
 
 from smodrive import plots
 from smodrive.scenario_io import load_scenario
@@ -34,9 +35,13 @@ s = load_scenario(repo_file("scenarios/sensorless_load_step.toml"))
 runs = [simulate(s), simulate(s.with_controller(w_M_if_enter=0.0))]
 for label, r in zip(("with I/f", "without"), runs):
     f = r.faults
+    ends = "" if not f.final else (
+        f", ends in {', '.join(f.as_dict()['final_fault'])} (latched at "
+        f"{r.t[np.nonzero(r['fault'].astype(int) & f.final)[0][0]]:.3f} s)")
     print(f"{label}: final speed {r.n_rpm[-1]:.1f} r/min, "
           + ("no fault" if f.t_first is None else
-             f"first fault {', '.join(f.as_dict()['first_fault'])} at {f.t_first:.3f} s"))
+             f"first fault {', '.join(f.as_dict()['first_fault'])} at {f.t_first:.3f} s")
+          + ends)
 
 fig, axes = plt.subplots(3, 2, figsize=(9, 6), sharex="col", layout="constrained")
 plots.time_panels(

@@ -64,15 +64,19 @@ def test_readme_example_crossing_on_if_and_relock(example):
 def test_without_the_return_to_if_the_loss_of_lock_is_reported():
     """The same run without the return to I/f (w_M_if_enter = 0) loses the
     angle at the reversal (before this issue it ended at +26 r/min against
-    -600, with status 0): now the drive declares SMD_FAULT_LOST_LOCK while
+    -600, with status 0): now the SMDO's angle jump is flagged first
+    (angle_jump, an event) and the drive declares SMD_FAULT_LOST_LOCK while
     the speed passes zero (0.85-1.1 s), latches it, and the run ends in the
     fault with the outputs in the safe state."""
     s = load_scenario(EXAMPLE).with_controller(w_M_if_enter=0.0)
     r = simulate(s)
     assert r.faults.t_first is not None and 0.85 <= r.faults.t_first <= 1.1
-    assert fault_names(r.faults.first) == ["lost_lock"]
+    assert fault_names(r.faults.first) == ["angle_jump"]
+    lost = np.nonzero(r["fault"].astype(int) & FAULT_BITS["lost_lock"])[0]
+    t_lost = r.t[lost[0]]
+    assert r.faults.t_first <= t_lost <= 1.1
     assert r.faults.ends_in_fault and r.faults.as_dict()["final_fault"] == ["lost_lock"]
-    after = r.t > r.faults.t_first
+    after = r.t >= t_lost
     assert np.all(r["fault"][after] == FAULT_BITS["lost_lock"])
     assert np.all(r["u_cmd_alpha"][after] == 0.0) and np.all(r["u_cmd_beta"][after] == 0.0)
 
@@ -152,7 +156,7 @@ def test_cli_exits_nonzero_on_a_run_that_ends_in_a_fault(tmp_path):
                                 'name = "example.sensorless_load_step"\nfaults_expected = true'))
     res = CliRunner().invoke(main, ["run", str(src), "--out", str(tmp_path / "b")])
     assert res.exit_code == 0, res.output
-    assert "faults: first lost_lock" in res.output
+    assert "faults: first angle_jump" in res.output
     res = CliRunner().invoke(main, ["run", str(EXAMPLE), "--out", str(tmp_path / "c")])
     assert res.exit_code == 0, res.output
     s = json.loads((tmp_path / "c" / "summary.json").read_text())

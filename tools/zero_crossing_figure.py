@@ -9,9 +9,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from smodrive import plots
 from smodrive.scenario_io import load_scenario
-from smodrive.simulate import simulate
+from smodrive.simulate import FAULT_BITS, simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -19,10 +21,13 @@ ROOT = Path(__file__).resolve().parents[1]
 def main() -> None:
     s = load_scenario(ROOT / "scenarios" / "sensorless_load_step.toml")
     runs = [simulate(s), simulate(s.with_controller(w_M_if_enter=0.0))]
+    r = runs[1]
+    t_lost = r.t[np.nonzero(r["fault"].astype(int) & FAULT_BITS["lost_lock"])[0][0]]
     with plots.style():
         axes = plots.time_panels(
-            runs, ["return to I/f below 210 r/min (derived)", "without it: loss of lock at %.3f s"
-                   % runs[1].faults.t_first],
+            runs, ["return to I/f below 210 r/min (derived)",
+                   "without it: angle jump at %.3f s, loss of lock at %.3f s"
+                   % (r.faults.t_first, t_lost)],
             "scenarios/sensorless_load_step.toml through zero speed",
             [("speed (r/min)", [("n_ref_rpm", "reference"), ("n_rpm", "true"),
                                 ("n_hat_rpm", "estimated")]),
