@@ -255,9 +255,9 @@ def test_no_false_trip_in_random_operation(path):
     (J = 4e-5 kg m^2: a rated brake step at low speed stops it in 4 ms,
     faster than its 300 rad/s speed loop and the SMDO's 2 ms speed filter
     can answer) loses the rotor on some brake steps, and the drive restarts
-    it on I/f (restart_max = 2 within 2 s): each restart is reported with
-    its cause (lost_lock, restart) and the run goes on to its reference
-    (measured: 3 runs with a restart of 20). `benchmarks/bench_false_trips.py`
+    it on I/f (restart_max = 2 within 2 s): the events are reported (the
+    angle jump, the restart with its cause) and the run goes on to its
+    reference (measured: 3 runs with an event of 20). `benchmarks/bench_false_trips.py`
     prints the counts over longer runs."""
     base = load_scenario(path)
     rng = np.random.default_rng(7)
@@ -267,7 +267,7 @@ def test_no_false_trip_in_random_operation(path):
         r = simulate(s)
         if r.faults.final:
             ended_in_fault.append(fault_names(r.faults.final))
-        restarted += bool(r.faults.first & 2048)
+        restarted += bool(r.faults.first)  # an event the run went on from
         last_change = max(t for t, a, b in zip(s.w_M_ref.t[1:], s.w_M_ref.y, s.w_M_ref.y[1:])
                           if a != b)
         # (below the handover speed the drive is on I/f, whose rotor swings
