@@ -2,6 +2,16 @@
 
 #include "smodrive/smd_transforms.h"
 
+/* the supervision's functions out of line (GCC, Clang): it runs every
+ * sample but is not the control law's hot path, and inlined it made the
+ * step's code too large for the host engine's loop (the logged simulation
+ * ran 6 % slower); elsewhere a plain static function */
+#if defined(__GNUC__)
+#define SMD_COLD __attribute__((noinline))
+#else
+#define SMD_COLD
+#endif
+
 static int is_flag(int x) { return x == 0 || x == 1; }
 
 static int lcl_source(int position)
@@ -234,6 +244,7 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
     p->osc_i = c->osc_i;
     p->osc_rel = c->osc_rel;
     p->osc_samples = c->osc_samples;
+    p->osc_k = c->osc_samples > 0 ? SMD_R(1.0) / (smd_real)c->osc_samples : SMD_R(0.0);
     p->restart_max = c->restart_max;
     p->restart_decay = c->restart_max > 0 && c->restart_window > 0
                            ? (smd_real)c->restart_max / (smd_real)c->restart_window
@@ -887,7 +898,7 @@ static smd_real source_emf(const smd_drive_params *p, const smd_drive_state *s)
  * phase's length and its EMF, start-up chatter (latched into s->fault) and
  * current oscillation (s->warn). Every criterion reads signals a drive has:
  * its references, its estimates, its measured currents. */
-static void supervise(const smd_drive_params *p, smd_drive_state *s)
+SMD_COLD static void supervise(const smd_drive_params *p, smd_drive_state *s)
 {
     const smd_real i_lim = SMD_R(0.999) * p->i_max;
     /* speed tracking: away from the reference with the speed PI at its limit */
@@ -949,7 +960,7 @@ static void supervise(const smd_drive_params *p, smd_drive_state *s)
                                        x * (SMD_R(1.0) - x2 / SMD_R(6.0)));
             const smd_cplx d1 = smd_csub(s->i_s_ab, smd_cmul(s->i_prev1, rot));
             const smd_real lim = p->osc_i + p->osc_rel * smd_cabs(s->i_dq_ref);
-            s->osc_ms += (d1.re * d1.re + d1.im * d1.im - s->osc_ms) / (smd_real)p->osc_samples;
+            s->osc_ms += (d1.re * d1.re + d1.im * d1.im - s->osc_ms) * p->osc_k;
             /* ripple = sqrt(osc_ms) / 2 (the amplitude of a limit cycle at
              * half the sampling rate) beyond lim */
             if (s->osc_ms > SMD_R(4.0) * lim * lim) {
@@ -972,7 +983,7 @@ static void supervise(const smd_drive_params *p, smd_drive_state *s)
 /* An automatic restart (SMD_FAULT_RESTART): instead of latching a lost lock
  * or a failed start, the drive starts again on I/f from rest at its last
  * angle, the SMDO's disturbance estimate and speed estimate from zero. */
-static int try_restart(const smd_drive_params *p, smd_drive_state *s)
+SMD_COLD static int try_restart(const smd_drive_params *p, smd_drive_state *s)
 {
     const uint32_t lost = (uint32_t)(SMD_FAULT_LOST_LOCK | SMD_FAULT_START);
     smd_cplx zero = smd_c(SMD_R(0.0), SMD_R(0.0));

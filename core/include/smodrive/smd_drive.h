@@ -294,6 +294,7 @@ typedef struct smd_drive_params {
     smd_real R_hat, L_hat; /* the steady state of a (warm) start: R_s_hat, L_dec or L_s_hat */
     smd_real a_ref, w_track, osc_i, osc_rel;
     smd_real chatter_decay; /* chatter_max / chatter_window */
+    smd_real osc_k;       /* 1 / osc_samples (0: off) */
     int dwell, chatter_max, track_samples, forced_samples, osc_samples, restart_max;
     smd_real restart_decay; /* restart_max / restart_window */
     smd_dbpc_params dbpc;
