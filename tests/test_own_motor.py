@@ -247,39 +247,45 @@ def test_locked_rotor_at_start_is_flagged_within_200_ms():
 def test_no_false_trip_in_random_operation(path):
     """Random speed steps (uniform in +-w_M_N) and brake steps (uniform in
     [0, T_N]), 20 of each a minute, I/f start, sensorless robust DBPC, every
-    value derived, 20 simulated minutes: no run ends in a fault, none ends
-    away from its reference (over the last 0.3 s of each minute, when the
-    reference has not changed in its last second and is at least the
-    handover speed: within 2 %). Table I and
-    the 10 kW machine run without an event; the 200 W servo's light rotor
+    value derived, one simulated hour (60 runs of a minute): no run ends in
+    a fault, none ends away from its reference (over the last 0.3 s of each
+    minute, when the last reference step had its slew-limited ramp and one
+    second more, and the reference is at least the handover speed: within
+    2 %). Table I and the 10 kW machine run without an event (seed 7; the
+    benchmark's seed 11 gives the 10 kW machine 3 restarts in an hour, each
+    an I/f rotor pulled out under a near-rated brake and started again:
+    at most 6 allowed); the 200 W servo's light rotor
     (J = 4e-5 kg m^2: a rated brake step at low speed stops it in 4 ms,
     faster than its 300 rad/s speed loop and the SMDO's 2 ms speed filter
     can answer) loses the rotor on some brake steps, and the drive restarts
     it on I/f (restart_max = 2 within 2 s): the events are reported (the
     SMDO's angle jumping as it loses a rotor near zero speed, the restart
-    with its cause) and the run goes on to its reference (measured: 10 runs
-    with an event of 20, 3 of them with a restart). `benchmarks/bench_false_trips.py`
+    with its cause) and the run goes on to its reference (measured: 24 runs
+    with an event of 60, at most 36 allowed). `benchmarks/bench_false_trips.py`
     prints the counts over longer runs."""
     base = load_scenario(path)
     rng = np.random.default_rng(7)
     ended_in_fault, restarted, off = [], 0, []
-    for k in range(20):
+    for k in range(60):
         s = trials.random_profile(base, rng, seed=k + 1)
         r = simulate(s)
         if r.faults.final:
             ended_in_fault.append(fault_names(r.faults.final))
         restarted += bool(r.faults.first)  # an event the run went on from
-        last_change = max(t for t, a, b in zip(s.w_M_ref.t[1:], s.w_M_ref.y, s.w_M_ref.y[1:])
-                          if a != b)
+        last_change, step = max((t, abs(b - a)) for t, a, b in zip(
+            s.w_M_ref.t[1:], s.w_M_ref.y, s.w_M_ref.y[1:]) if a != b)
+        settle = step / s.controller.a_M_ref + 1.0  # the slew-limited ramp, then 1 s
         # (below the handover speed the drive is on I/f, whose rotor swings
         # about the forced speed, undamped: not judged by its mean)
-        if s.duration - last_change > 1.0 and abs(s.w_M_ref.y[-1]) >= s.controller.w_M_handover:
+        if s.duration - last_change > settle and \
+                abs(s.w_M_ref.y[-1]) >= s.controller.w_M_handover:
             m = r.t >= s.duration - 0.3
             ref = s.w_M_ref.y[-1]
             if abs(np.mean(r["w_M"][m]) - ref) > 0.02 * max(abs(ref), 0.1 * s.motor.w_M_N):
                 off.append(k)
+    print(path.stem, f"{restarted} of 60 runs with an event")
     assert ended_in_fault == [] and off == []
-    assert restarted <= (12 if "servo" in path.stem else 0)
+    assert restarted <= (36 if "servo" in path.stem else 6)
 
 
 def test_cli_exits_non_zero_and_says_why_on_a_named_fault(tmp_path):
