@@ -11,6 +11,7 @@ the ripple of the true current against its reference over 0.3-0.6 s, in mA
 
 import matplotlib.pyplot as plt
 
+from smodrive import plots
 from smodrive.scenarios import drive
 
 table = drive.current_control_table()
@@ -30,18 +31,4 @@ ax.set_xticks([i + 1.5 * width for i in range(len(keys))], [k[:-2] for k in keys
 ax.set_ylabel("mA")
 ax.axhline(0, color="k", lw=0.5)
 ax.legend(fontsize=7)
-# sphinx_gallery_start_ignore
-# Without a display (a non-interactive backend: MPLBACKEND=Agg, or no
-# display to open a window on) plt.show() shows nothing: the figure is kept
-# as a PNG file in the current folder instead, its path printed on stderr.
-import sys  # noqa: E402
-from pathlib import Path  # noqa: E402
-
-if "sphinx_gallery" not in sys.modules and plt.get_backend().lower() in (
-        "agg", "cairo", "pdf", "pgf", "ps", "svg", "template"):
-    png = Path("plot_current_control_table.png").resolve()
-    fig.savefig(png)
-    plt.close("all")
-    print(f"no display: the figure is in {png}", file=sys.stderr)
-# sphinx_gallery_end_ignore
-plt.show()
+plots.show(fig, "plot_current_control_table")

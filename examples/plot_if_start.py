@@ -28,18 +28,4 @@ plots.time_panels(
      ("angle error (deg)", [("theta_error_deg", "true - estimated")]),
      ("phase", [("phase", "0 I/f, 2 SMDO")])],
     ax=axes)
-# sphinx_gallery_start_ignore
-# Without a display (a non-interactive backend: MPLBACKEND=Agg, or no
-# display to open a window on) plt.show() shows nothing: the figure is kept
-# as a PNG file in the current folder instead, its path printed on stderr.
-import sys  # noqa: E402
-from pathlib import Path  # noqa: E402
-
-if "sphinx_gallery" not in sys.modules and plt.get_backend().lower() in (
-        "agg", "cairo", "pdf", "pgf", "ps", "svg", "template"):
-    png = Path("plot_if_start.png").resolve()
-    fig.savefig(png)
-    plt.close("all")
-    print(f"no display: the figure is in {png}", file=sys.stderr)
-# sphinx_gallery_end_ignore
-plt.show()
+plots.show(fig, "plot_if_start")

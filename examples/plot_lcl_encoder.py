@@ -27,18 +27,4 @@ plots.time_panels(
      ("current (A)", [("i_abs", "motor |i_2|"), ("i1_abs", "inverter |i_1|")]),
      ("capacitor |u_c| (V)", [("uc_abs", "filter capacitor")])],
     ax=axes)
-# sphinx_gallery_start_ignore
-# Without a display (a non-interactive backend: MPLBACKEND=Agg, or no
-# display to open a window on) plt.show() shows nothing: the figure is kept
-# as a PNG file in the current folder instead, its path printed on stderr.
-import sys  # noqa: E402
-from pathlib import Path  # noqa: E402
-
-if "sphinx_gallery" not in sys.modules and plt.get_backend().lower() in (
-        "agg", "cairo", "pdf", "pgf", "ps", "svg", "template"):
-    png = Path("plot_lcl_encoder.png").resolve()
-    fig.savefig(png)
-    plt.close("all")
-    print(f"no display: the figure is in {png}", file=sys.stderr)
-# sphinx_gallery_end_ignore
-plt.show()
+plots.show(fig, "plot_lcl_encoder")

@@ -51,18 +51,4 @@ plots.time_panels(
      ("position error (rad)", [("theta_error", "true")]),
      ("phase / fault", [("phase", "phase (0 I/f, 2 SMDO)"), ("fault", "fault word")])],
     t_window=(0.6, 1.6), ax=axes)
-# sphinx_gallery_start_ignore
-# Without a display (a non-interactive backend: MPLBACKEND=Agg, or no
-# display to open a window on) plt.show() shows nothing: the figure is kept
-# as a PNG file in the current folder instead, its path printed on stderr.
-import sys  # noqa: E402
-from pathlib import Path  # noqa: E402
-
-if "sphinx_gallery" not in sys.modules and plt.get_backend().lower() in (
-        "agg", "cairo", "pdf", "pgf", "ps", "svg", "template"):
-    png = Path("plot_zero_crossing.png").resolve()
-    fig.savefig(png)
-    plt.close("all")
-    print(f"no display: the figure is in {png}", file=sys.stderr)
-# sphinx_gallery_end_ignore
-plt.show()
+plots.show(fig, "plot_zero_crossing")

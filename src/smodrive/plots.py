@@ -583,3 +583,38 @@ def pil_panels(r, ax=None) -> np.ndarray:
     _suptitle(axes, f"{r.scenario}: processor in the loop ({r.math}; "
                     f"{'identical' if r.identical else 'max duty diff %.3g' % r.max_duty_diff})")
     return axes
+
+
+#: matplotlib backends that draw no window: plt.show() would show nothing
+_HEADLESS = ("agg", "cairo", "pdf", "pgf", "ps", "svg", "template")
+
+
+def show(fig: Figure | None = None, name: str = "figure",
+         files: Sequence[Path] = ()) -> None:
+    """An example script's last line: ``plt.show()``, except without a
+    display (a non-interactive backend: MPLBACKEND=Agg, or no display to open
+    a window on), where it would show nothing: then `fig` is kept as
+    ``name.png`` in the current folder (and `files`, figures already written,
+    are copied into the folder ``name``), the path printed on stderr. The
+    documentation's gallery (sphinx-gallery) collects the figures itself."""
+    import shutil
+    import sys
+
+    import matplotlib.pyplot as plt
+
+    if "sphinx_gallery" in sys.modules or plt.get_backend().lower() not in _HEADLESS:
+        plt.show()
+        return
+    kept = []
+    if fig is not None:
+        png = Path(f"{name}.png").resolve()
+        fig.savefig(png)
+        kept.append(str(png))
+    if files:
+        keep = Path(name).resolve()
+        keep.mkdir(exist_ok=True)
+        for f in files:
+            shutil.copy2(f, keep / Path(f).name)
+        kept.append(f"{len(files)} figures in {keep}")
+    plt.close("all")
+    print(f"no display: {', '.join(kept) or 'no figure'}", file=sys.stderr)
