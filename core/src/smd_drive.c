@@ -853,6 +853,18 @@ static void recover(const smd_drive_params *p, smd_drive_state *s, smd_real thet
     }
 }
 
+/* The source's EMF estimate magnitude, V (0 for the encoder). */
+static smd_real source_emf(const smd_drive_params *p, const smd_drive_state *s)
+{
+    switch (p->position) {
+    case SMD_POS_SMDO_EMF: return smd_cabs(s->smdo.u_d_hat);
+    case SMD_POS_LCL_SMO_PLL:
+        return smd_cabs(smd_c(s->pos.u.smo.e_hat[0], s->pos.u.smo.e_hat[1]));
+    case SMD_POS_LCL_LINEAR: return smd_cabs(smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3]));
+    default: return SMD_R(0.0);
+    }
+}
+
 /* Loss of lock of a sensorless source (smd_drive.h): its EMF estimate
  * against |w| psi_r_hat, and its speed at the limit it can estimate. */
 static void check_lock(const smd_drive_params *p, smd_drive_state *s)
@@ -864,13 +876,7 @@ static void check_lock(const smd_drive_params *p, smd_drive_state *s)
         s->lock_count = 0;
         return;
     }
-    switch (p->position) {
-    case SMD_POS_SMDO_EMF: e = smd_cabs(s->smdo.u_d_hat); break;
-    case SMD_POS_LCL_SMO_PLL:
-        e = smd_cabs(smd_c(s->pos.u.smo.e_hat[0], s->pos.u.smo.e_hat[1]));
-        break;
-    default: e = smd_cabs(smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3])); break;
-    }
+    e = source_emf(p, s);
     e_exp = w * p->psi_r_hat;
     bad = w >= SMD_R(0.999) * p->w_src_max;
     if (w >= p->w_lock_min && e_exp > SMD_R(0.0)) {
@@ -879,18 +885,6 @@ static void check_lock(const smd_drive_params *p, smd_drive_state *s)
     s->lock_count = bad ? s->lock_count + 1 : 0;
     if (s->lock_count >= p->lock_samples) {
         s->fault |= (uint32_t)SMD_FAULT_LOST_LOCK;
-    }
-}
-
-/* The source's EMF estimate magnitude, V (0 for the encoder). */
-static smd_real source_emf(const smd_drive_params *p, const smd_drive_state *s)
-{
-    switch (p->position) {
-    case SMD_POS_SMDO_EMF: return smd_cabs(s->smdo.u_d_hat);
-    case SMD_POS_LCL_SMO_PLL:
-        return smd_cabs(smd_c(s->pos.u.smo.e_hat[0], s->pos.u.smo.e_hat[1]));
-    case SMD_POS_LCL_LINEAR: return smd_cabs(smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3]));
-    default: return SMD_R(0.0);
     }
 }
 
