@@ -23,10 +23,10 @@ import time
 
 import numpy as np
 
-from smodrive.params import Scenario
+from smodrive.model import Scenario
 from smodrive.scenarios import yang2018 as y
 from smodrive.scenarios import yao2022
-from smodrive.simulate import CHANNELS, Engine
+from smodrive.engine import CHANNELS, Engine
 
 MOTULATOR_STEPS_PER_S = {"carrier": 330.0, "averaged": 1000.0}  # DEVELOPERS.md figures
 

@@ -26,7 +26,7 @@ import numpy as np
 
 from smodrive.scenario_io import load_scenario
 from smodrive.scenarios import trials
-from smodrive.simulate import fault_names, simulate
+from smodrive.engine import fault_names, simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -5,7 +5,7 @@ source and RAM per struct, for the M4F build.
 Method: the vector runner (core/target) runs on QEMU's mps2-an386 board
 (Cortex-M4F) with every executed instruction logged (-singlestep -d exec);
 each call between the runner's markers is costed with the Cortex-M4 TRM's
-cycle table (src/smodrive/target.py): a taken branch 1 + P with P = 1..3
+cycle table (src/smodrive/firmware/cycles.py): a taken branch 1 + P with P = 1..3
 (nominal 2), loads and stores 2 (1 when pipelined behind another), VDIV and
 VSQRT 14, fused multiply-adds 3, SDIV 2..12, zero-wait-state memory. The
 range [low, high] takes every P, IT folding and divide at its extreme;
@@ -21,7 +21,9 @@ import argparse
 import dataclasses
 import json
 
-from smodrive import target as T
+from smodrive import firmware as T
+from smodrive.firmware.cycles import F_CPU
+from smodrive.scenarios import target_cases
 
 
 def main() -> None:
@@ -30,10 +32,10 @@ def main() -> None:
     ap.add_argument("--json", help="write the tables to this file")
     args = ap.parse_args()
     maths = ("fmath", "libm") if args.math == "both" else (args.math,)
-    tables = {m: T.cycle_table(m) for m in maths}
+    tables = {m: target_cases.cycle_table(m) for m in maths}
     budget = {p: int(b) for p, b in T.BUDGET.items()}
     print(f"Cortex-M4F cycles per call (QEMU mps2-an386 instruction trace x Cortex-M4 timings); "
-          f"budget at {T.F_CPU / 1e6:.0f} MHz: yang2018 100 us = {budget['yang2018']} cycles, "
+          f"budget at {F_CPU / 1e6:.0f} MHz: yang2018 100 us = {budget['yang2018']} cycles, "
           f"yao2022 50 us = {budget['yao2022']}")
     head = f"{'':50s}" + "".join(f"{m + ' cycles':>14s} {'[low, high]':>14s} {'worst':>7s} "
                                  f"{'budget':>7s}" for m in maths)

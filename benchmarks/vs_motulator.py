@@ -33,10 +33,10 @@ from pathlib import Path
 
 import numpy as np
 
-from smodrive.params import RPM, AdcCfg, InverterCfg, LoadCfg, Profile
-from smodrive.plant import Plant
+from smodrive.model import RPM, AdcCfg, InverterCfg, LoadCfg, Profile
+from smodrive.engine.plant import Plant
 from smodrive.scenarios import yang2018 as y
-from smodrive.simulate import simulate
+from smodrive.engine import simulate
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent

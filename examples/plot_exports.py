@@ -4,7 +4,7 @@ Exports: MATLAB, CSV, Parquet, pandas
 
 ``smodrive run SCENARIO --format npz,mat,csv,parquet`` writes the log in
 each format with the unit and description of every channel; from Python the
-same is :func:`smodrive.export.write`, and :meth:`Result.to_dataframe`
+same is :func:`smodrive.engine.export.write`, and :meth:`Result.to_dataframe`
 gives a pandas DataFrame (units in ``df.attrs``).
 """
 
@@ -13,9 +13,9 @@ from pathlib import Path
 
 import scipy.io
 
-from smodrive import export
+from smodrive.engine import export
 from smodrive.scenarios import drive
-from smodrive.simulate import CHANNEL_INFO, simulate
+from smodrive.engine import CHANNEL_INFO, simulate
 
 r = simulate(drive.pi_encoder().replace(duration=0.05))
 

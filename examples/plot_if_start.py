@@ -13,7 +13,7 @@ import numpy as np
 
 from smodrive import plots
 from smodrive.scenarios import drive
-from smodrive.simulate import simulate
+from smodrive.engine import simulate
 
 r = simulate(drive.if_start())
 m = r.window(r.scenario.duration - 0.1, r.scenario.duration)

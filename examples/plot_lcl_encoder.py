@@ -12,7 +12,7 @@ import numpy as np
 
 from smodrive import plots
 from smodrive.scenarios import drive
-from smodrive.simulate import simulate
+from smodrive.engine import simulate
 
 r = simulate(drive.lcl_encoder())
 m = r.window(r.scenario.duration / 2, r.scenario.duration)

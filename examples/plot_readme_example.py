@@ -13,8 +13,8 @@ error drawn on a figure of your own (every drawing function of
 # The README example (``tests/test_gallery.py`` checks that it is the README's
 # code, verbatim).
 import numpy as np
-from smodrive.params import RPM, ControllerCfg, LoadCfg, MotorPars, Profile, Scenario
-from smodrive.simulate import simulate
+from smodrive.model import RPM, ControllerCfg, LoadCfg, MotorPars, Profile, Scenario
+from smodrive.engine import simulate
 
 motor = MotorPars()  # yang2018 Table I
 s = Scenario(
@@ -30,7 +30,7 @@ print(f"RMS position error {np.degrees(np.sqrt(np.mean(r.theta_error[m] ** 2))):
 
 # %%
 # The run on a figure: rows of ``(label, [(channel, legend), ...])``, any
-# logged channel (``smodrive.simulate.CHANNELS``) or derived one
+# logged channel (``smodrive.engine.CHANNELS``) or derived one
 # (``smodrive.plots.DERIVED``).
 import matplotlib.pyplot as plt
 

@@ -19,7 +19,7 @@ import numpy as np
 
 from smodrive import plots
 from smodrive.scenario_io import load_scenario
-from smodrive.simulate import simulate
+from smodrive.engine import simulate
 
 
 def repo_file(rel: str) -> Path:

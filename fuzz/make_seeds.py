@@ -6,7 +6,7 @@ plant), each followed by a sequence that runs the drive (or block) for some
 hundred samples, and a few edge cases (non-finite inputs, a rejected
 configuration). The drive configurations, plant configurations, profiles and
 LCL observer tables come from the smodrive package (scenario catalogue,
-smodrive.simulate), the yang2018 Table I drive also from
+smodrive.engine), the yang2018 Table I drive also from
 core/test/drive_fixture.h (written out here). The LCL tables are cut to 3
 rows around the scenario's speed (the table clamps outside), so that a seed
 stays a few kB.

@@ -1,5 +1,5 @@
 """Shared helpers of the plant tests (test_plant.py: the SPMSM alone,
-test_lcl_plant.py: behind the LCL filter; both are smodrive.plant.Plant).
+test_lcl_plant.py: behind the LCL filter; both are smodrive.engine.plant.Plant).
 
 Conventions (amplitude-invariant Clarke, x = alpha + j beta):
   i_x = Re(i e^{-j 2 pi x / 3}),  leg x contributes (2/3) u_dc a^x while
@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from smodrive.params import (
+from smodrive.model import (
     AdcCfg,
     InverterCfg,
     LclFilterPars,
@@ -22,7 +22,7 @@ from smodrive.params import (
     MotorPars,
     Scenario,
 )
-from smodrive.plant import Plant, leg_edges
+from smodrive.engine.plant import Plant, leg_edges
 from smodrive.scenarios import yao2022
 
 A = cmath.exp(2j * math.pi / 3)

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from smodrive.params import Scenario
-from smodrive.plant import Plant
+from smodrive.model import Scenario
+from smodrive.engine.plant import Plant
 
 
 def _plant(n: int | None, noise: float, bits: int, i_d0: float = 0.0, i_q0: float = 0.0,

@@ -1,4 +1,4 @@
-"""The ctypes binding (smodrive._ffi) against the compiled library.
+"""The ctypes binding (smodrive.engine._ffi) against the compiled library.
 
 Every mirror is checked field by field (name, offset, size, order) against
 the layout table that sim/src/smd_layout.c exports (generated from the
@@ -19,8 +19,8 @@ from pathlib import Path
 
 import pytest
 
-from smodrive import _ffi as F
-from smodrive.simulate import CHANNEL_INFO, CHANNELS
+from smodrive.engine import _ffi as F
+from smodrive.engine import CHANNEL_INFO, CHANNELS
 
 ROOT = Path(__file__).resolve().parents[1]
 real = F.real

@@ -11,7 +11,7 @@ import numpy as np
 from click.testing import CliRunner
 
 from smodrive.cli import main
-from smodrive.params import RPM
+from smodrive.model import RPM
 from smodrive.scenario_io import load_scenario
 
 ROOT = Path(__file__).resolve().parents[1]

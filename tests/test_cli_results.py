@@ -20,15 +20,15 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-import smodrive.export
+import smodrive.engine.export
 from smodrive import report, sweep
 from smodrive.claims import Claim
 from smodrive.cli import main, run_summary
 from smodrive.design.yao2022 import ObserverDesignPars
-from smodrive.params import RPM, ParameterError, Profile, Scenario
+from smodrive.model import RPM, ParameterError, Profile, Scenario
 from smodrive.scenarios import catalogue
 from smodrive.scenarios.common import Experiment, Outcome
-from smodrive.simulate import CHANNELS, FAULT_BITS, FaultReport, Result, log_plan, simulate
+from smodrive.engine import CHANNELS, FAULT_BITS, FaultReport, Result, log_plan, simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 SHORT = "duration = 0.01\n"  # 100 samples of the default drive (encoder, 1000 r/min)
@@ -461,11 +461,11 @@ def test_atomic_path_replaces_only_a_whole_file(tmp_path):
     p = tmp_path / "f.txt"
     p.write_text("old")
     with pytest.raises(RuntimeError):
-        with smodrive.export.atomic_path(p) as tmp:
+        with smodrive.engine.export.atomic_path(p) as tmp:
             tmp.write_text("half")
             raise RuntimeError("killed")
     assert p.read_text() == "old" and [q.name for q in tmp_path.iterdir()] == ["f.txt"]
-    smodrive.export.write_text(p, "new")
+    smodrive.engine.export.write_text(p, "new")
     assert p.read_text() == "new" and [q.name for q in tmp_path.iterdir()] == ["f.txt"]
 
 

@@ -11,11 +11,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from smodrive.params import RPM
+from smodrive.model import RPM
 from smodrive.scenario_io import load_scenario
 from smodrive.scenarios import drive
 from smodrive.scenarios import yao2022 as z
-from smodrive.simulate import simulate
+from smodrive.engine import simulate
 
 TOML = Path(__file__).resolve().parents[1] / "scenarios"
 

@@ -16,8 +16,8 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from smodrive import _ffi as F
-from smodrive.params import RPM, ControllerCfg, Profile, Scenario, yang2018_mode
+from smodrive.engine import _ffi as F
+from smodrive.model import RPM, ControllerCfg, Profile, Scenario, yang2018_mode
 
 lib = F.lib
 
@@ -561,8 +561,8 @@ def controllers(draw):
        i_q=st.floats(-10.0, 10.0), svm=st.sampled_from(["hexagon", "circle"]),
        pwm=st.sampled_from(["carrier", "averaged"]))
 def test_engine_never_logs_nan(ctrl, n0, n_ref, i_q, svm, pwm):
-    from smodrive.params import InverterCfg
-    from smodrive.simulate import simulate
+    from smodrive.model import InverterCfg
+    from smodrive.engine import simulate
 
     s = Scenario(duration=0.01, w_M0=n0 * RPM, w_M_ref=Profile.const(n_ref * RPM),
                  i_q_ref=Profile.const(i_q), controller=ctrl,

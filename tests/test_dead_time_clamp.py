@@ -20,11 +20,11 @@ import math
 import numpy as np
 import pytest
 
-from smodrive import _ffi
-from smodrive.params import AdcCfg, InverterCfg, ParameterError, Scenario
-from smodrive.plant import Plant
+from smodrive.engine import _ffi
+from smodrive.model import AdcCfg, InverterCfg, ParameterError, Scenario
+from smodrive.engine.plant import Plant
 from smodrive.scenarios import yang2018
-from smodrive.simulate import simulate
+from smodrive.engine import simulate
 
 A = cmath.exp(2j * math.pi / 3)
 

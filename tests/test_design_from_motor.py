@@ -1,5 +1,5 @@
 """The controller designed from the motor (issue 13, point 1):
-smodrive.design.from_motor, Scenario's resolution of the unset
+smodrive.model.derive, Scenario's resolution of the unset
 ControllerCfg fields, `smodrive design`.
 
 Three machines of different size, each from a TOML file in
@@ -25,12 +25,13 @@ except ModuleNotFoundError:  # Python 3.10
 import numpy as np
 import pytest
 
-from smodrive.design import from_motor
-from smodrive.params import (RPM, ControllerCfg, LoadCfg, MotorPars, ParameterError, Profile,
+from smodrive.firmware import header
+from smodrive.model import derive
+from smodrive.model import (RPM, ControllerCfg, LoadCfg, MotorPars, ParameterError, Profile,
                              Scenario)
 from smodrive.scenario_io import load_scenario, scenario_from_dict, scenario_to_toml
 from smodrive.scenarios import yang2018, yao2022
-from smodrive.simulate import drive_config, simulate
+from smodrive.engine import drive_config, simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 MOTORS = ROOT / "scenarios" / "motors"
@@ -184,7 +185,7 @@ def test_lcl_design_failure_names_the_field(tmp_path):
     frequency: the design names lcl.C1 and its valid range."""
     s = scenario_from_dict({"base": "yao2022.base", "lcl": {"C1": 1e-7}})
     with pytest.raises(ParameterError) as ei:
-        from_motor.lcl_design(s)
+        header.lcl_design(s)
     msg = str(ei.value)
     m = re.match(r"lcl\.C1 = 1e-07 is outside its valid range \[([0-9.e-]+), 1\] F", msg)
     assert m, msg
@@ -213,7 +214,7 @@ def test_design_command_prints_origins_and_writes_a_header(tmp_path):
     text = h.read_text()
     # the header holds the drive's config as the C core reads it (float)
     assert re.search(r"#define SMD_L_S_HAT 0\.000500000024f\n", text)
-    i_max = 15.0 * from_motor.rated_current(SERVO) / from_motor.rated_current(MotorPars())
+    i_max = 15.0 * derive.rated_current(SERVO) / derive.rated_current(MotorPars())
     assert f"#define SMD_I_MAX {float(np.float32(i_max)):.9g}f" in text
     # a C compiler takes it (gcc builds the package, README)
     c = subprocess.run(["gcc", "-std=c99", "-fsyntax-only", "-Wall", "-Werror", "-x", "c", str(h)],

@@ -1,5 +1,5 @@
 """docs/parameters.md is the code's: its generated tables are current, every
-section class of smodrive.params has one, its examples (doctests, TOML
+section class of smodrive.model has one, its examples (doctests, TOML
 files, shell commands) run as written and print what it says, and its
 hand-written C tables name every field and status of the headers."""
 
@@ -26,12 +26,14 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from smodrive import _ffi, params
+from smodrive import model as params
+from smodrive.model.fields import _Validated
+from smodrive.engine import _ffi
 from smodrive.cli import main as cli_main
-from smodrive.params import YANG2018_MODES, ParameterError, Scenario
+from smodrive.model import YANG2018_MODES, ParameterError, Scenario
 from smodrive.scenario_io import SECTIONS, scenario_from_dict
 from smodrive.scenarios import catalogue, yang2018, yao2022
-from smodrive.simulate import drive_config, plant_config, profiles
+from smodrive.engine import drive_config, plant_config, profiles
 
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "parameters.md"
@@ -91,9 +93,9 @@ def test_check_finds_a_stale_table_and_rewrite_keeps_the_prose(tmp_path):
 
 def _section_classes() -> list[type]:
     """Found here independently of the generator: the classes of
-    smodrive.params with a TOML section name."""
+    smodrive.model with a TOML section name."""
     return [c for _, c in inspect.getmembers(params, inspect.isclass)
-            if c.__module__ == params.__name__ and issubclass(c, params._Validated)
+            if c.__module__.startswith(params.__name__ + ".") and issubclass(c, _Validated)
             and c._section]
 
 

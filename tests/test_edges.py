@@ -24,15 +24,16 @@ import pytest
 from click.testing import CliRunner
 
 import smodrive.report
-import smodrive.simulate
-from smodrive import _ffi, plots
+import smodrive.engine
+from smodrive import plots
+from smodrive.engine import _ffi
 from smodrive.cli import main
 from smodrive.design import yao2022 as dz
-from smodrive.params import (RPM, AdcCfg, ControllerCfg, LoadCfg, MotorPars, ParameterError,
+from smodrive.model import (RPM, AdcCfg, ControllerCfg, LoadCfg, MotorPars, ParameterError,
                              Profile, Scenario)
 from smodrive.scenario_io import SECTIONS, scenario_from_dict
 from smodrive.scenarios import yao2022
-from smodrive.simulate import CHANNELS, Result, simulate
+from smodrive.engine import CHANNELS, Result, simulate
 
 SHORT = "duration = 0.01\n"  # 100 samples of the default drive (T_sp = 0.1 ms)
 LCL = 'base = "yao2022.base"\nduration = 0.005\n'  # 100 samples of the LCL drive
@@ -78,7 +79,7 @@ def no_simulation(monkeypatch):
     def boom(*a, **k):
         raise AssertionError("simulated before the output folder was checked")
 
-    monkeypatch.setattr(smodrive.simulate, "simulate", boom)
+    monkeypatch.setattr(smodrive.engine, "simulate", boom)
     monkeypatch.setattr("smodrive.cli.simulate", boom, raising=False)
     monkeypatch.setattr(smodrive.report, "reproduce", boom)
 
@@ -124,7 +125,7 @@ def test_unexpected_failure_is_one_error_line_not_a_traceback(tmp_path, monkeypa
     def broken(*a, **k):
         raise ZeroDivisionError("float division by zero")
 
-    monkeypatch.setattr(smodrive.simulate, "simulate", broken)
+    monkeypatch.setattr(smodrive.engine, "simulate", broken)
     monkeypatch.setattr("smodrive.cli.simulate", broken, raising=False)
     _refused(_cli("run", _toml(tmp_path, SHORT), "--out", tmp_path / "o"), 1,
              "float division by zero")
@@ -259,12 +260,12 @@ def test_every_engine_refusal_names_fields_of_the_schema():
     codes = [k for k in range(1, 200) if _ffi.lib.smd_plant_field(k) != b"unknown"]
     assert len(codes) >= 28
     for k in codes:
-        fields = smodrive.simulate.plant_fields(k)
+        fields = smodrive.engine.plant_fields(k)
         assert fields and set(fields) <= schema, (k, fields)
     statuses = [k for k in range(2, 200) if _ffi.status_str(k) != "unknown status"]
     assert len(statuses) >= 25
     for k in statuses:
-        fields = smodrive.simulate.controller_fields(k)
+        fields = smodrive.engine.controller_fields(k)
         assert set(fields) <= schema, (k, fields)
 
 
@@ -300,7 +301,7 @@ def test_a_failed_pole_placement_is_a_parameter_error_naming_the_field():
 @pytest.mark.parametrize("key", ["w_M_ref_rpm", "w_M0_rpm"])
 def test_a_speed_beyond_the_observer_tables_is_refused_before_running(key, tmp_path,
                                                                     no_simulation):
-    lim = f"{smodrive.simulate.TABLE_RPM[-1]:g}"
+    lim = f"{smodrive.engine.TABLE_RPM[-1]:g}"
     assert lim == "110000"
     res = _cli("run", _toml(tmp_path, LCL + f"{key} = 150000.0\n"), "--out", tmp_path / "o")
     _refused(res, 2, key.removesuffix("_rpm"), lim, "r/min")
@@ -397,16 +398,16 @@ def _long(duration: float = 3.0) -> Scenario:
 
 def test_log_plan_fits_the_budget_with_the_smallest_stride():
     s = _long()  # 30,000 samples: 10.6 MB of log
-    plan = smodrive.simulate.log_plan(s, 2**31)
+    plan = smodrive.engine.log_plan(s, 2**31)
     assert (plan.stride, plan.rows, plan.decimated) == (1, 30_000, False)
-    plan = smodrive.simulate.log_plan(s, 4_000_000)
+    plan = smodrive.engine.log_plan(s, 4_000_000)
     # every 3rd sample: 10,000 rows (3.5 MB); every 2nd would be 5.3 MB
     assert (plan.stride, plan.rows, plan.decimated) == (3, 10_000, True)
     assert plan.bytes == 10_000 * ROW <= 4_000_000 < 15_000 * ROW
-    plan = smodrive.simulate.log_plan(s.replace(log_stride=2), 4_000_000)
+    plan = smodrive.engine.log_plan(s.replace(log_stride=2), 4_000_000)
     assert plan.stride == 4  # a multiple of the scenario's own stride
     with pytest.raises(ParameterError, match="budget"):
-        smodrive.simulate.log_plan(s, ROW)  # not two rows
+        smodrive.engine.log_plan(s, ROW)  # not two rows
 
 
 def test_a_long_run_keeps_its_log_within_the_budget():

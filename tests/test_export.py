@@ -20,10 +20,10 @@ import pytest
 import scipy.io
 from click.testing import CliRunner
 
-from smodrive import export
+from smodrive.engine import export
 from smodrive.cli import main
-from smodrive.params import RPM, ControllerCfg, ParameterError, Profile, Scenario
-from smodrive.simulate import CHANNEL_INFO, CHANNELS, Result, simulate
+from smodrive.model import RPM, ControllerCfg, ParameterError, Profile, Scenario
+from smodrive.engine import CHANNEL_INFO, CHANNELS, Result, simulate
 
 # the units a channel may have: SI as the channels use them, "" for a code
 UNITS = {"s", "rad", "rad/s", "A", "V", "N m", "A/s", ""}

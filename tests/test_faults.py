@@ -11,9 +11,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from smodrive.params import RPM
+from smodrive.model import RPM
 from smodrive.scenario_io import load_scenario
-from smodrive.simulate import FAULT_BITS, fault_names, simulate
+from smodrive.engine import FAULT_BITS, fault_names, simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "scenarios" / "sensorless_load_step.toml"
@@ -94,7 +94,7 @@ def test_overcurrent_trip_reported_with_its_time():
 
 
 def test_fault_settings_are_checked():
-    from smodrive.params import ParameterError
+    from smodrive.model import ParameterError
 
     s = load_scenario(EXAMPLE)
     with pytest.raises(ParameterError, match="w_M_if_enter"):

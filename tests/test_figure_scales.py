@@ -11,7 +11,7 @@ from matplotlib.figure import Figure
 
 from smodrive import plots
 from smodrive.scenarios import yao2022
-from smodrive.simulate import simulate
+from smodrive.engine import simulate
 
 
 def _axes(nrows: int, ncols: int) -> np.ndarray:

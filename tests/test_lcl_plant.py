@@ -1,6 +1,6 @@
 """Physics tests of the LCL-filtered SPMSM plant (sim/src/smd_lcl.c with the
 mechanics, ADC and PWM shared with the filterless plant in sim/src/smd_plant.c)
-through smodrive.plant.Plant: a Scenario with its `lcl` section.
+through smodrive.engine.plant.Plant: a Scenario with its `lcl` section.
 
 The plant diagonalises the filter matrix and solves each mode in closed form.
 The references below do not: they use scipy's matrix exponential of the real
@@ -41,10 +41,10 @@ from plant_helpers import (
     w_mid,
     wrap,
 )
-from smodrive import _ffi
-from smodrive.params import RPM, AdcCfg, LclFilterPars, ParameterError
-from smodrive.plant import Plant
-from smodrive.simulate import plant_config
+from smodrive.engine import _ffi
+from smodrive.model import RPM, AdcCfg, LclFilterPars, ParameterError
+from smodrive.engine.plant import Plant
+from smodrive.engine import plant_config
 
 
 # ------------------------------------------------------------------ helpers --

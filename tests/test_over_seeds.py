@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from smodrive.params import RPM, Profile
+from smodrive.model import RPM, Profile
 from smodrive.scenarios import common
 from smodrive.scenarios import yao2022 as y
-from smodrive.simulate import simulate
+from smodrive.engine import simulate
 
 
 def short() -> "y.Scenario":

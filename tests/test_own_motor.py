@@ -19,12 +19,12 @@ import pytest
 from click.testing import CliRunner
 
 from smodrive.cli import main
-from smodrive.design import from_motor
-from smodrive.params import (RPM, ControllerCfg, InverterCfg, LoadCfg, MotorPars, ParameterError,
+from smodrive.firmware import header as fw_header
+from smodrive.model import (RPM, ControllerCfg, InverterCfg, LoadCfg, MotorPars, ParameterError,
                              Profile, Scenario)
 from smodrive.scenario_io import load_scenario, scenario_from_dict
 from smodrive.scenarios import drive, trials
-from smodrive.simulate import fault_names, simulate
+from smodrive.engine import fault_names, simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 DATASHEET = sorted((ROOT / "tests" / "motors").glob("*.toml"))
@@ -165,7 +165,7 @@ def test_row7_dead_time_compensation_follows_the_inverter(tmp_path):
     assert s.controller.t_dead_comp == 0.5e-6
     assert dict((n, src) for n, _, src in s.controller.derived)["t_dead_comp"].startswith(
         "inverter.t_dead")
-    header = from_motor.drive_header(s)
+    header = fw_header.drive_header(s)
     assert "#define SMD_T_DEAD_COMP 4.99999999e-07f" in header  # the float of 0.5e-6
     assert scenario_from_dict({"inverter": {"t_dead": 0.5e-6},
                                "controller": {"t_dead_comp": 1e-6}}).controller.t_dead_comp \

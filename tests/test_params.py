@@ -1,4 +1,4 @@
-"""Parameter validation and TOML loading/serialisation (smodrive.params,
+"""Parameter validation and TOML loading/serialisation (smodrive.model,
 smodrive.scenario_io).
 
 Every numeric field's range comes from its dataclass metadata, so that a field
@@ -25,10 +25,10 @@ import pytest
 from hypothesis import assume, HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from smodrive import _ffi as F
-from smodrive.params import RPM, AdcCfg, ControllerCfg, InverterCfg, LclFilterPars, LoadCfg
-from smodrive.design.from_motor import DERIVED_FIELDS
-from smodrive.params import (TABLE1_MOTOR, MotorPars, ParameterError, Profile, Scenario,
+from smodrive.engine import _ffi as F
+from smodrive.model import RPM, AdcCfg, ControllerCfg, InverterCfg, LclFilterPars, LoadCfg
+from smodrive.model.derive import DERIVED_FIELDS
+from smodrive.model import (TABLE1_MOTOR, MotorPars, ParameterError, Profile, Scenario,
                              yang2018_mode)
 from smodrive.scenario_io import SECTIONS as IO_SECTIONS
 from smodrive.scenario_io import load_scenario, scenario_from_dict, scenario_to_toml
@@ -109,7 +109,7 @@ def _build(cls, f, v):
 def test_every_section_has_numeric_fields_and_valid_defaults():
     # guards the parametrisation below against silently covering nothing
     assert len(NUMERIC) >= 40
-    # the fields derived from the motor (smodrive.design.from_motor.DERIVED_FIELDS,
+    # the fields derived from the motor (smodrive.model.derive.DERIVED_FIELDS,
     # k_p_i and k_i_i among them), L_dec, i_trip, and the ADC's full_scale and noise
     assert len([f for _, _, f in NUMERIC if _is_optional(f)]) == len(DERIVED_FIELDS) + 4
     for sec, cls in CLASSES.items():
@@ -835,7 +835,7 @@ def test_check_controller_refuses_parts_that_do_not_fit(s, field, text):
     msg = str(ei.value)
     assert msg.startswith(field) and text in msg, msg
     # refused before anything is simulated
-    from smodrive.simulate import simulate
+    from smodrive.engine import simulate
 
     with pytest.raises(ParameterError, match=field.replace(".", r"\.")):
         simulate(s.replace(duration=1e-3))
@@ -897,7 +897,7 @@ def test_decoupling_inductance_derives_from_the_plant_sections():
 
 
 def test_derived_values_reach_the_c_config():
-    from smodrive.simulate import drive_config
+    from smodrive.engine import drive_config
 
     s = NO_FILTER.with_controller(current="pi", current_bw=2000.0)
     dc = drive_config(s)

@@ -1,6 +1,6 @@
 """Physics tests of the host plant without the filter (sim/src/smd_spmsm.c and
 the shared mechanics, ADC and PWM of sim/src/smd_plant.c) through
-smodrive.plant.Plant; the plant behind the LCL filter: test_lcl_plant.py.
+smodrive.engine.plant.Plant; the plant behind the LCL filter: test_lcl_plant.py.
 
 Every reference below is computed independently of the plant's own
 formulation (closed forms, a rotor-frame matrix exponential, Fourier sums of
@@ -25,8 +25,8 @@ from scipy.stats import chi2
 
 from plant_helpers import SPMSM, A, duties_for, leg_dir, phase, pwm_segments, vary, wrap
 from smodrive.analysis.pwm import leg_harmonics_bessel, leg_harmonics_from_edges
-from smodrive.params import RPM
-from smodrive.plant import Plant
+from smodrive.model import RPM
+from smodrive.engine.plant import Plant
 
 
 # ------------------------------------------------------------------ helpers --

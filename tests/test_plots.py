@@ -20,9 +20,9 @@ import pytest
 from matplotlib.figure import Figure
 
 from smodrive import plots
-from smodrive.params import RPM
+from smodrive.model import RPM
 from smodrive.scenarios import yang2018, yao2022
-from smodrive.simulate import CHANNELS, simulate
+from smodrive.engine import CHANNELS, simulate
 
 
 # rows of the CLI's `run` figure: 3 + 2 + 1 curves
@@ -91,7 +91,7 @@ def test_import_and_drawing_leave_rcparams_and_backend_alone(tmp_path):
 
         import numpy as np
         from smodrive import plots
-        from smodrive.simulate import CHANNELS, Result
+        from smodrive.engine import CHANNELS, Result
         from smodrive.scenarios import yang2018
         assert diff() == [], ("import", diff())
         data = np.zeros((50, len(CHANNELS)))

@@ -20,8 +20,8 @@ from smodrive import sweep as sw
 from smodrive.analysis.metrics import metric_values
 from smodrive.analysis.tf import dbpc_steady_state
 from smodrive.cli import main
-from smodrive.params import ParameterError
-from smodrive.simulate import simulate
+from smodrive.model import ParameterError
+from smodrive.engine import simulate
 from smodrive.sweep_plot import lowest_holding, plot_all
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -359,8 +359,8 @@ def test_lock_metrics_on_a_constructed_log():
     error is known: 20 deg until t = 0.3 s, then 5 deg, then one 12 deg
     sample at t = 0.5 s; after it 1 deg."""
     from smodrive.analysis.metrics import METRICS, LOCK_DEG
-    from smodrive.params import Scenario
-    from smodrive.simulate import CHANNELS, FaultReport, Result
+    from smodrive.model import Scenario
+    from smodrive.engine import CHANNELS, FaultReport, Result
 
     assert LOCK_DEG == 10.0
     t = np.arange(1000) * 1e-3

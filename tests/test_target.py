@@ -11,15 +11,16 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from smodrive import target as T
+from smodrive import firmware as T
 from smodrive.scenarios import catalogue
+from smodrive.scenarios.target_cases import standard_cases
 
 LIBM_FUNCS = ("sin", "cos", "atan2", "exp", "expm1")
 
 
 @pytest.fixture(scope="module")
 def cases():
-    return T.standard_cases()
+    return standard_cases()
 
 
 @pytest.fixture(scope="module")
@@ -117,7 +118,7 @@ def test_processor_in_the_loop_is_identical(name, seconds, tmp_path):
 
 
 def _pos_error_rms(log: np.ndarray) -> float:
-    from smodrive.simulate import CHANNELS
+    from smodrive.engine import CHANNELS
     e = log[:, CHANNELS.index("theta_r")] - log[:, CHANNELS.index("theta_hat")]
     e = np.angle(np.exp(1j * e))[log.shape[0] // 2:]
     return float(np.sqrt(np.mean(e ** 2)))
@@ -133,7 +134,7 @@ def test_processor_in_the_loop_with_libm_is_the_same_drive(name, tmp_path):
     the second half of 0.2 s the RMS position error and the mean speed agree
     within 5 % and 0.1 % (measured 0.3 % and < 0.01 %); a wrong build (a
     lost sample, a sign, a wrong table) moves them by far more."""
-    from smodrive.simulate import CHANNELS
+    from smodrive.engine import CHANNELS
 
     s = catalogue()[name]()
     r = T.pil(s, 0.2, math="libm", work=tmp_path)

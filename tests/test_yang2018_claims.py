@@ -20,7 +20,7 @@ from smodrive.analysis import metrics
 from smodrive.claims import Claim, write_claims
 from smodrive.scenarios import yang2018 as y
 from smodrive.scenarios.common import over_seeds
-from smodrive.simulate import simulate
+from smodrive.engine import simulate
 
 REQUIRED = [
     "yang2018.fig1.peak_gain_db_Lhat_2L",

@@ -9,8 +9,8 @@ The references are written from the paper's equations (with the errata of
 docs/yao2022_design.md), on the double-precision matrices of
 smodrive.design.yao2022.design_point for the Table II plant
 (smodrive.scenarios.yao2022.BASE); the C gets the float32 tables that
-smodrive.simulate.observer_tables packs, so the packing is under test as well.
-The structs and signatures are the binding's own (smodrive._ffi), whose
+smodrive.engine.observer_tables packs, so the packing is under test as well.
+The structs and signatures are the binding's own (smodrive.engine._ffi), whose
 layout is checked field by field against the library at import.
 """
 
@@ -24,10 +24,10 @@ import pytest
 import scipy.linalg
 from scipy.optimize import linear_sum_assignment
 
-from smodrive import _ffi
+from smodrive.engine import _ffi
 from smodrive.design import yao2022 as dz
 from smodrive.scenarios.yao2022 import BASE
-from smodrive.simulate import TABLE_RPM, lcl_observer_tables, observer_tables
+from smodrive.engine import TABLE_RPM, lcl_observer_tables, observer_tables
 
 lib = _ffi.lib
 real = _ffi.real

@@ -19,8 +19,8 @@ from smodrive.claims import Claim, write_claims
 from smodrive.design import yao2022 as dz
 import dataclasses
 
-from smodrive.params import Profile
-from smodrive.simulate import CHANNELS, simulate
+from smodrive.model import Profile
+from smodrive.engine import CHANNELS, simulate
 from smodrive.scenarios import yao2022 as y
 
 REQUIRED = (
@@ -364,7 +364,7 @@ def test_table5_needs_more_angle_ripple_than_eq47_can_give():
     15.5 rad, where (47) gives at most pi/2."""
     import ctypes as ct
 
-    from smodrive import _ffi
+    from smodrive.engine import _ffi
 
     pll = dz.PllPars()
     n = 400_000
@@ -390,7 +390,7 @@ def test_table5_needs_more_angle_ripple_than_eq47_can_give():
 def test_table6_without_the_target_toolchain_is_not_measured(monkeypatch):
     """Without the cross compiler or the emulator the Table VI claims are
     'not measured' with the reason, never a failing NaN (issue 13.2)."""
-    from smodrive import target
+    from smodrive import firmware as target
 
     def no_toolchain(*_a, **_k):
         raise target.TargetError("arm-none-eabi-gcc not found")

@@ -21,7 +21,7 @@ import scipy.integrate
 
 from smodrive.design import yao2022 as y
 from smodrive.design.cheader import REALTIME_FIELDS, write_c_header
-from smodrive.params import LclFilterPars, ParameterError
+from smodrive.model import LclFilterPars, ParameterError
 from smodrive.scenarios.yao2022 import BASE
 
 PLANT = y.DesignPlant(BASE.motor, BASE.lcl, BASE.T_sp)  # Table II

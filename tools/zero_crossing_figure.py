@@ -13,7 +13,7 @@ import numpy as np
 
 from smodrive import plots
 from smodrive.scenario_io import load_scenario
-from smodrive.simulate import FAULT_BITS, simulate
+from smodrive.engine import FAULT_BITS, simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -10,7 +10,7 @@ What a command prints for a program to read (the summary JSON of
 ``smodrive run``, the lists of ``scenarios`` and ``show``) goes to stdout;
 progress, notes, warnings and errors go to stderr, so that
 ``smodrive run x.toml --out d | jq .status`` works. Every file is written
-under a temporary name and renamed onto its own (:func:`smodrive.export.atomic_path`):
+under a temporary name and renamed onto its own (:func:`smodrive.engine.export.atomic_path`):
 a killed run never leaves a truncated file under its final name.
 """
 
@@ -37,10 +37,17 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 from rich.text import Text
 
-from . import export
-from .params import RPM, ParameterError
+from . import firmware, plots
+from . import sweep as sw
+from .claims import count
+from .engine import FAULT_BITS, LATCHED_FAULTS, SimulationError, export, log_plan, simulate
+from .engine.export import write_npz
+from .firmware import header as fw_header
+from .model import RPM, ParameterError, derive
+from .report import reproduce as reproduce_papers
 from .scenario_io import load_scenario, scenario_to_toml
 from .scenarios import PAPERS, catalogue
+from .sweep_plot import plot_all
 
 console = Console(stderr=True)
 
@@ -209,8 +216,6 @@ def _remove_stale(out: Path, earlier: Iterable[str], written: Iterable[str]) -> 
 def _save_figure(axes, out: Path, stem: str) -> Path:
     """plots.save into a temporary folder of OUT, then renamed onto
     OUT/stem.png (atomic: never a truncated figure under its name)."""
-    from . import plots
-
     tmp = Path(tempfile.mkdtemp(dir=out, prefix=".figure-"))
     try:
         made = plots.save(axes, tmp, stem)
@@ -256,9 +261,6 @@ def main() -> None:
 def reproduce(papers: tuple[str, ...], out: Path) -> None:
     """Run every experiment of PAPERS (default: all) and write figures,
     claims.json and report.md into OUT."""
-    from .claims import count
-    from .report import reproduce as run
-
     chosen = list(papers) or list(PAPERS)
     unknown = [p for p in chosen if p not in PAPERS]
     if unknown:
@@ -272,7 +274,7 @@ def reproduce(papers: tuple[str, ...], out: Path) -> None:
                 tasks[name] = _task(prog, name)
             prog.update(tasks[name], completed=frac)
 
-        rep = run(chosen, out, on_progress=on_progress)
+        rep = reproduce_papers(chosen, out, on_progress=on_progress)
     table = Table(title=escape(f"claims ({out / 'claims.json'})"))
     for col in ("claim", "paper", "expected", "reproduced", "unit", "result"):
         table.add_column(col)
@@ -342,9 +344,6 @@ def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
     an earlier run's files (unless --force). The summary JSON is printed on
     stdout, progress and notes on stderr; the exit code is 1 when the run
     ends in a fault (unless the scenario sets faults_expected)."""
-    from . import plots
-    from .simulate import SimulationError, log_plan, simulate
-
     fmts = export.parse_formats(formats)
     if "parquet" in fmts:
         try:
@@ -411,9 +410,7 @@ def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
 
 
 def write_signals(path: Path, r, progress: Callable[[float], None] | None = None) -> None:
-    """signals.npz (:func:`smodrive.export.write_npz`)."""
-    from .export import write_npz
-
+    """signals.npz (:func:`smodrive.engine.export.write_npz`)."""
     write_npz(r, path, progress)
 
 
@@ -432,8 +429,6 @@ def _final_fault_t(r) -> float | None:
     channel: the time of the first row of the last stretch of rows that
     hold those bits (to the log stride); None without a final fault, or
     when the log's last row does not hold it."""
-    from .simulate import FAULT_BITS, LATCHED_FAULTS
-
     final = int(r.faults.final)
     if not final:
         return None
@@ -488,14 +483,11 @@ def run_summary(s, r, plan) -> dict[str, Any]:
 
 def _run_pil(s, out: Path, seconds: float, math: str) -> list[str]:
     """The PIL run: pil.json and the comparison figure; returns their names."""
-    from . import plots
-    from .target import TargetError, pil
-
     with _progress() as prog:
         task = _task(prog, f"{s.name} (PIL, {math})")
         try:
-            r = pil(s, seconds, math=math, progress=lambda f: prog.update(task, completed=f))
-        except TargetError as exc:
+            r = firmware.pil(s, seconds, math=math, progress=lambda f: prog.update(task, completed=f))
+        except firmware.TargetError as exc:
             _fail(str(exc), 1)
     summary = {
         "name": s.name, "samples": r.samples, "math": math, "reference": r.reference,
@@ -534,8 +526,6 @@ def show(name: str) -> None:
 def design(scenario: str, header: Path | None, name: str) -> None:
     """Print the controller designed from the motor: each motor-specific value,
     derived (with its rule) or set; with --header, write it for firmware."""
-    from .design import from_motor
-
     s = _load(scenario)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -545,20 +535,20 @@ def design(scenario: str, header: Path | None, name: str) -> None:
     m = s.motor
     click.echo(f"{s.name}: {s.controller.current} current control, {s.controller.position} "
                f"position, {s.controller.start} start")
-    click.echo(f"motor: E_N = {from_motor.rated_emf(m):.4g} V peak (n_p w_M_N psi_r), I_N = "
-               f"{from_motor.rated_current(m):.4g} A peak (T_N / k_t), T_N = {m.T_N:.4g} N m")
+    click.echo(f"motor: E_N = {derive.rated_emf(m):.4g} V peak (n_p w_M_N psi_r), I_N = "
+               f"{derive.rated_current(m):.4g} A peak (T_N / k_t), T_N = {m.T_N:.4g} N m")
     t = Table("value", "", "unit", "origin", box=None)
-    for r in from_motor.design_rows(s):
+    for r in fw_header.design_rows(s):
         t.add_row(r.name, f"{r.value:.6g}", r.unit, r.origin)
     Console(soft_wrap=True, width=160).print(t)
     if s.lcl is not None and s.controller.position in ("lcl_smo_pll", "lcl_linear"):
-        d = from_motor.lcl_design(s)
+        d = fw_header.lcl_design(s)
         lo, hi, n = d["table_rpm"]
         click.echo(f"LCL observers: filter resonance {d['f_res_hz']:.5g} Hz (observer's model), "
                    f"PLL bandwidth {d['pll_bandwidth_hz']:.4g} Hz, tables designed at {n} speeds "
                    f"from {lo:g} to {hi:g} r/min")
     if header is not None:
-        text = from_motor.drive_header(s, name)
+        text = fw_header.drive_header(s, name)
         export.write_text(header, text)
         _say(f"wrote {header}")
 
@@ -582,9 +572,6 @@ def sweep(sweep_file: str | None, out: Path | None, scheduler: str | None,
           workers: int | None, plot_dir: Path | None, list_: bool, no_plot: bool) -> None:
     """Run a parameter sweep (a sweep TOML, or a built-in name from --list) on
     Dask: one Parquet row a run in OUT/runs, maps in OUT/maps."""
-    from . import sweep as sw
-    from .sweep_plot import plot_all
-
     if list_:
         for name, title in sw.builtins().items():
             click.echo(f"{name}  {title}")

@@ -34,8 +34,9 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from .analysis import tf
-from .params import RPM, MotorPars
-from .simulate import Result
+from .claims import load_specs
+from .engine import CHANNELS, Result
+from .model import RPM, MotorPars
 
 #: At most this many points a curve (a longer log is drawn from every k-th row).
 MAX_POINTS = 200_000
@@ -247,14 +248,14 @@ DERIVED: dict[str, tuple[str, str, Callable[[Result], np.ndarray]]] = {
 
 
 def channel(r: Result, name: str) -> np.ndarray:
-    """A logged channel of `r` (:data:`smodrive.simulate.CHANNELS`) or a
+    """A logged channel of `r` (:data:`smodrive.engine.CHANNELS`) or a
     derived one (:data:`DERIVED`), by name."""
     if name in DERIVED:
         return DERIVED[name][2](r)
     try:
         return r[name]
     except ValueError:
-        raise KeyError(f"unknown channel {name!r}: neither logged (smodrive.simulate.CHANNELS) "
+        raise KeyError(f"unknown channel {name!r}: neither logged (smodrive.engine.CHANNELS) "
                        f"nor derived ({', '.join(DERIVED)})") from None
 
 
@@ -391,8 +392,6 @@ PAPER_MARKS: dict[str, list[PaperMark]] = {
 
 @functools.lru_cache(maxsize=4)
 def _paper_specs(paper: str):
-    from .claims import load_specs
-
     return load_specs(Path(__file__).resolve().parent / "scenarios" / f"{paper}.claims.toml")
 
 
@@ -557,12 +556,10 @@ def disturbance_panels(t: np.ndarray, d: np.ndarray, e17: np.ndarray, e18: np.nd
 
 @_styled
 def pil_panels(r, ax=None) -> np.ndarray:
-    """A processor-in-the-loop run (:class:`smodrive.target.PilResult`):
+    """A processor-in-the-loop run (:class:`smodrive.firmware.PilResult`):
     angle estimate, q current and duty-relevant voltage of the host-only run
     and of the Cortex-M4F controller, and their difference. `ax`: 3 x 2
     Axes; returns them."""
-    from .simulate import CHANNELS
-
     axes = _layout(ax, 3, 2, (8.0, 6.0), sharex=True)
     t = r.log_host[:, CHANNELS.index("t")]
     rows = [("theta_hat", "angle estimate (rad)"), ("i_q", "i_q (A)"),

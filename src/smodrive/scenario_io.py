@@ -29,6 +29,7 @@ from __future__ import annotations
 import dataclasses
 import numbers
 import re
+
 try:
     import tomllib
 except ModuleNotFoundError:  # Python 3.10: the same parser as a package
@@ -39,9 +40,21 @@ from typing import Any
 
 import tomli_w
 
-from .design import from_motor
-from .params import (RPM, AdcCfg, ControllerCfg, InverterCfg, LclFilterPars, LoadCfg, MotorPars,
-                     ParameterError, Profile, Scenario, yang2018_mode)
+from .model import (
+    RPM,
+    AdcCfg,
+    ControllerCfg,
+    InverterCfg,
+    LclFilterPars,
+    LoadCfg,
+    MotorPars,
+    ParameterError,
+    Profile,
+    Scenario,
+    derive,
+    yang2018_mode,
+)
+from .scenarios import catalogue
 
 SECTIONS: dict[str, type] = {
     "motor": MotorPars,
@@ -158,8 +171,6 @@ def _controller(data: dict[str, Any], base: ControllerCfg) -> ControllerCfg:
 
 
 def _base(name: Any) -> Scenario:
-    from .scenarios import catalogue
-
     if not isinstance(name, str):
         raise ParameterError(f"base = {name!r} must be a catalogue name (smodrive scenarios)")
     cat = catalogue()
@@ -310,7 +321,7 @@ def _scenario_from_dict(data: dict[str, Any]) -> Scenario:
         # controller values (a preset's estimates, gains and limits) are
         # derived anew from it, unless [controller] sets them (a file of the
         # older LCL schema keeps the preset's, as that drive did)
-        base_ctrl = from_motor.unset(base_ctrl)
+        base_ctrl = derive.unset(base_ctrl)
     built["controller"] = _controller(sections.get("controller", {}), base_ctrl)
     return dataclasses.replace(base, **_kwargs(Scenario, "scenario", top), **built)
 
@@ -382,7 +393,7 @@ def scenario_to_toml(s: Scenario) -> str:
     """Serialise a scenario to TOML with tomli-w (round-trips through
     load_scenario; optional fields left at None, "derived", are omitted).
 
-    >>> from smodrive.params import Scenario
+    >>> from smodrive.model import Scenario
     >>> text = scenario_to_toml(Scenario(duration=0.5))
     >>> scenario_from_dict(tomllib.loads(text)) == Scenario(duration=0.5)
     True

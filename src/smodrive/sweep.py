@@ -52,7 +52,7 @@ except ModuleNotFoundError:  # Python 3.10: the same parser as a package
 import numpy as np
 
 from .analysis.metrics import METRICS, metric_values
-from .params import ParameterError, Scenario
+from .model import ParameterError, Scenario
 
 BUILTIN_DIR = Path(__file__).resolve().parent / "sweeps"
 #: columns every row has beside its axes and metrics
@@ -657,7 +657,7 @@ def run_one(job: Job, run: Run) -> dict[str, Any]:
     """One run in this process: the C engine directly, the samples before the
     metrics' window unlogged; the row of the results (point, metrics,
     status, fault, wall time)."""
-    from .simulate import CHANNELS, Engine, Result
+    from .engine import CHANNELS, Engine, Result
 
     t_start = time.perf_counter()
     row: dict[str, Any] = {"run_id": run.id, "index": run.index, **run.point}
@@ -684,7 +684,7 @@ def run_one(job: Job, run: Run) -> dict[str, Any]:
         r = Result(s, data, status, f, log_stride=1, samples=n)
         with np.errstate(all="ignore"):
             row.update(metric_values(r, job.metrics, *job.window))
-        from .simulate import fault_names
+        from .engine import fault_names
 
         row.update(status="fault" if f.final else "ok", steps=n,
                    first_fault=",".join(fault_names(f.first)),
@@ -699,7 +699,7 @@ def run_one(job: Job, run: Run) -> dict[str, Any]:
 def _warm_up(base: Scenario) -> None:
     """On each worker before the runs: the modules and the C library loaded,
     one engine initialised (start-up is not counted in the run phase)."""
-    from .simulate import Engine
+    from .engine import Engine
 
     Engine(base)
 
@@ -921,7 +921,7 @@ def start_client(scheduler: str | None = None, workers: int | None = None):
 
 def prepare_out(spec: SweepSpec, out: Path, sweep_text: str | None = None) -> None:
     out = Path(out)
-    from .export import write_text  # atomic: a killed sweep never leaves half a sweep.json
+    from .engine.export import write_text  # atomic: a killed sweep never leaves half a sweep.json
 
     runs_dir(out).mkdir(parents=True, exist_ok=True)
     write_text(out / "sweep.json", json.dumps(

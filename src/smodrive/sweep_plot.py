@@ -14,8 +14,8 @@ from typing import Any
 import numpy as np
 
 from .analysis.metrics import METRICS
-from .export import atomic_path
-from .params import ParameterError
+from .engine.export import atomic_path
+from .model import ParameterError
 
 PLOT_KEYS = {"kind", "file", "title", "metric", "x", "y", "facet", "hue", "fixed", "rows",
              "reduce", "band", "log", "overlay", "overlay_facet", "over", "ok", "label"}

@@ -51,7 +51,7 @@ def scaling_rotation(gain_abc: tuple[float, float, float]) -> float:
 #
 # One registry of named run metrics, shared by the sweeps (smodrive.sweep)
 # and available to the claims: each metric reduces one run (a
-# smodrive.simulate.Result) over a time window [t0, t1) to one float. A
+# smodrive.engine.Result) over a time window [t0, t1) to one float. A
 # metric that needs the whole run (`needs_full_log`) is given the log from
 # t = 0; the others only the window's rows (a sweep runs the samples before
 # the window without logging them).

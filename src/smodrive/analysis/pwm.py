@@ -14,6 +14,8 @@ import math
 import numpy as np
 from scipy.special import jv
 
+from ..engine.plant import leg_edges
+
 
 def leg_harmonics_from_edges(V_Q: float, M: float, N: int, nmax: int,
                              T: float = 50e-6, t_dead: float = 0.0) -> np.ndarray:
@@ -21,8 +23,6 @@ def leg_harmonics_from_edges(V_Q: float, M: float, N: int, nmax: int,
     fundamental period N T: exact integrals of the pulses [kT + t_on, kT + t_off)
     from the plant's edge function, duties d_k = (1 + M cos(w_e k T)) / 2
     sampled at the carrier peaks t_k = k T."""
-    from ..plant import leg_edges
-
     Te = N * T
     we = 2 * math.pi / Te
     amps = []

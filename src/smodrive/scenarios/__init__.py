@@ -1,22 +1,8 @@
-"""The papers' experiments as data: scenario catalogues and their claims."""
+"""The papers' experiments as data: scenario catalogues and their claims
+(:mod:`.yang2018`, :mod:`.yao2022`), the drive compositions
+(:mod:`.drive`), trial profiles for any motor (:mod:`.trials`) and the
+firmware test's cases (:mod:`.target_cases`)."""
 
-from __future__ import annotations
+from .catalogue import PAPERS, catalogue
 
-from typing import Callable
-
-from ..params import Scenario
-from . import drive, yang2018, yao2022
-
-PAPERS = {"yang2018": yang2018, "yao2022": yao2022}
-
-
-def catalogue() -> dict[str, Callable[[], Scenario]]:
-    """Every named scenario of both papers (and their bases) and the drive
-    compositions of :mod:`.drive`, by name."""
-    out: dict[str, Callable[[], Scenario]] = {
-        "yang2018.base": lambda: yang2018.BASE,
-        "yao2022.base": lambda: yao2022.BASE,
-    }
-    for mod in (*PAPERS.values(), drive):
-        out.update(mod.SCENARIOS)
-    return out
+__all__ = ["PAPERS", "catalogue"]

@@ -9,8 +9,8 @@ from pathlib import Path
 from typing import Callable
 
 from ..claims import Claim, ClaimSpecs, load_specs
-from ..simulate import Engine, Result, simulate
-from ..params import Scenario
+from ..engine import Engine, Result, simulate
+from ..model import Scenario
 
 ProgressFn = Callable[[str, float], None]
 

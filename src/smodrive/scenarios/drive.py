@@ -20,8 +20,8 @@ from typing import Callable
 
 import numpy as np
 
-from ..params import RPM, LoadCfg, Profile, Scenario
-from ..simulate import Result, simulate
+from ..engine import Result, simulate
+from ..model import RPM, LoadCfg, Profile, Scenario
 from . import yang2018 as y
 from . import yao2022 as z
 

@@ -17,7 +17,7 @@ smodrive can have; the tests require none).
 Example
 -------
 >>> from smodrive.scenarios import trials
->>> from smodrive.params import Scenario
+>>> from smodrive.model import Scenario
 >>> s = trials.profile_scenario(Scenario())  # Table I
 >>> [round(y / trials.RPM) for y in s.w_M_ref.y][:4]
 [0, 750, 750, 1500]
@@ -31,8 +31,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..params import RPM, LoadCfg, Profile, Scenario
-from ..simulate import Result, fault_names
+from ..engine import Result, fault_names
+from ..model import RPM, LoadCfg, Profile, Scenario
 
 #: the usual profile: (reference as a fraction of rated speed, segments it lasts)
 STEPS = ((0.5, 2), (1.0, 2), ("load on", 2), ("load off", 1), (-0.5, 2), (-1.0, 2))

@@ -15,13 +15,22 @@ from typing import Callable
 
 import numpy as np
 
+from .. import plots
 from ..analysis import metrics, tf
 from ..claims import Claim
-from ..params import (RPM, AdcCfg, ControllerCfg, InverterCfg, LoadCfg, MotorPars, Profile,
-                      Scenario, yang2018_mode)
-from ..simulate import Result
-from .common import (Experiments, Outcome, ProgressFn, SeedStats, over_seeds, paper_specs,
-                     run_sim)
+from ..engine import Result
+from ..model import (
+    RPM,
+    AdcCfg,
+    ControllerCfg,
+    InverterCfg,
+    LoadCfg,
+    MotorPars,
+    Profile,
+    Scenario,
+    yang2018_mode,
+)
+from .common import Experiments, Outcome, ProgressFn, SeedStats, over_seeds, paper_specs, run_sim
 
 SPECS = paper_specs(__file__)  # the claims' texts and fixed values: yang2018.claims.toml
 claim = SPECS.claim
@@ -330,8 +339,6 @@ def run_fig1(progress: ProgressFn) -> Outcome:
     ]
 
     def plot(fig_dir):
-        from .. import plots
-
         return plots.save(plots.fig1_bode(MOTOR, T, f_ex, amp), fig_dir, "yang2018_fig1")
 
     return Outcome(claims, {s.name: r_sim}, [("yang2018_fig1", plot)])
@@ -389,8 +396,6 @@ def run_fig2(progress: ProgressFn) -> Outcome:
     claims = fig2_claims(G, w_mean, i_q, G_e)
 
     def plot(fig_dir):
-        from .. import plots
-
         return plots.save(plots.fig2_bode(w_mean, abs(G), float(np.angle(G))), fig_dir,
                           "yang2018_fig2")
 
@@ -499,8 +504,6 @@ def run_fig5_fig6(progress: ProgressFn) -> Outcome:
                             noise_mA=1e3 * NOISE_SMALL, scenario_ratio=ratio_r))
 
     def plot5(fig_dir):
-        from .. import plots
-
         return plots.save(plots.dq_panels(
             [res[f"yang2018.fig5{t}"] for t in "abcd"],
             [r"(a) $\hat L_s=0.5L_s$", r"(b) $\hat L_s=2L_s$", r"(c) $\hat\psi_r=0.5\psi_r$",
@@ -509,8 +512,6 @@ def run_fig5_fig6(progress: ProgressFn) -> Outcome:
         ), fig_dir, "yang2018_fig5")
 
     def plot6(fig_dir):
-        from .. import plots
-
         return plots.save(plots.dq_panels(
             [res["yang2018.fig6a"], res["yang2018.fig6b"]],
             [r"(a) $\hat L_s=2L_s$", r"(b) $\hat L_s=0.5L_s$"],
@@ -546,8 +547,6 @@ def run_fig7(progress: ProgressFn) -> Outcome:
                                 **seed_fields(ov)))
 
     def plot(fig_dir):
-        from .. import plots
-
         return plots.save(plots.sensorless_panels(
             list(res.values()),
             ["(a) 1500 r/min, rated load", "(b) 75 r/min, rated load"],
@@ -592,8 +591,6 @@ def run_fig8(progress: ProgressFn) -> Outcome:
     ]
 
     def plot(fig_dir):
-        from .. import plots
-
         return plots.save(plots.sensorless_panels(
             [r], ["rated load applied and released at 1500 r/min"],
             "Fig. 8: step load at 1500 r/min", t_window=[(0.2, s.duration)],
@@ -641,8 +638,6 @@ def run_fig9(progress: ProgressFn) -> Outcome:
     ]
 
     def plot(fig_dir):
-        from .. import plots
-
         return plots.save(plots.sensorless_panels(
             [r], ["150 -> 1500 -> 150 r/min"],
             "Fig. 9: speed steps at 4500 r/min/s", t_window=[(0.0, s.duration)],

@@ -10,24 +10,40 @@ gains, regular-sampled carrier PWM), not from injected sinusoids.
 
 from __future__ import annotations
 
-import subprocess
-
 import ctypes as ct
 import dataclasses
 import math
+import subprocess
 from typing import Callable
 
 import numpy as np
 
-from .. import _ffi
+from .. import firmware, plots
 from ..analysis import metrics
 from ..analysis import pwm as pwm_an
 from ..design import yao2022 as dz
-from ..params import (RPM, AdcCfg, ControllerCfg, InverterCfg, LclFilterPars, LoadCfg, MotorPars,
-                      Profile, Scenario)
-from ..simulate import Result
-from .common import (Experiments, Outcome, ProgressFn, SeedStats, over_seeds, over_seeds_multi,
-                     paper_specs, run_sim)
+from ..engine import Result, _ffi, lcl_observer_tables
+from ..model import (
+    RPM,
+    AdcCfg,
+    ControllerCfg,
+    InverterCfg,
+    LclFilterPars,
+    LoadCfg,
+    MotorPars,
+    Profile,
+    Scenario,
+)
+from .common import (
+    Experiments,
+    Outcome,
+    ProgressFn,
+    SeedStats,
+    over_seeds,
+    over_seeds_multi,
+    paper_specs,
+    run_sim,
+)
 
 SPECS = paper_specs(__file__)  # the claims' texts and fixed values: yao2022.claims.toml
 claim = SPECS.claim
@@ -170,8 +186,6 @@ def run_fig4(progress: ProgressFn) -> Outcome:
                     a6=lines[6], e17_over_d=e17_over_d, raw=raw)]
 
     def plot(fig_dir):
-        from .. import plots
-
         n = min(d.size, int(0.005 / s.T_sp))
         return plots.save(plots.disturbance_panels(
             r.t[:-1][m][:n], d[:n], e17[:n], e18[:n], s.T_sp,
@@ -213,8 +227,6 @@ def run_fig7(progress: ProgressFn) -> Outcome:
     progress("yao2022.fig7", 1.0)
 
     def plot(fig_dir):
-        from .. import plots
-
         f = np.logspace(0, np.log10(0.5 / pll.T), 800)
         responses = [
             (f"k = ({kt}, {kw}, {ka})",
@@ -287,8 +299,6 @@ def run_fig9_10(progress: ProgressFn) -> Outcome:
                             speed=TAG[n], krpm=n / 1e3))
 
     def plot(fig_dir):
-        from .. import plots
-
         rs = list(res.values())
         return plots.save(plots.time_panels(
             rs, [f"{n / 1e3:g} kr/min" for n in SPEEDS],
@@ -381,8 +391,6 @@ def run_table5(progress: ProgressFn) -> Outcome:
            if n in (30e3, 100e3)}))
 
     def plot17(fig_dir):
-        from .. import plots
-
         rs = [by_key[("proposed", 60e3)], by_key[("proposed", 100e3)]]
         return [
             plots.save(plots.waveform_spectrum(rs, ["60 kr/min", "100 kr/min"], "i_alpha",
@@ -396,8 +404,6 @@ def run_table5(progress: ProgressFn) -> Outcome:
         ]
 
     def plot(fig_dir):
-        from .. import plots
-
         return plots.save(plots.ripple_panels(by_key, SPEEDS,
                                               "Figs. 12-13, Table V: speed-estimation ripple "
                                               "and chattering, baseline vs proposed"),
@@ -466,8 +472,6 @@ def run_fig14(progress: ProgressFn) -> Outcome:
     ]
 
     def plot(fig_dir):
-        from .. import plots
-
         return plots.save(plots.time_panels(
             [r_id, r], ["ideal current sensors (as the paper's simulation)",
                         "+-1 % ADC gains, 0.02 A noise, 12 bit"],
@@ -518,8 +522,6 @@ def run_fig19_21(progress: ProgressFn) -> Outcome:
                     **seed_fields(st["speed"]))]
 
     def plot(fig_dir):
-        from .. import plots
-
         return plots.save(plots.time_panels(
             [r], ["i_delta step 10 -> 15 A at 0.05 s"],
             "Figs. 19-21: torque-current step with the fan load",
@@ -612,8 +614,6 @@ def run_fig22(progress: ProgressFn) -> Outcome:
     ]
 
     def plot(fig_dir):
-        from .. import plots
-
         return plots.save(plots.time_panels(
             [r], ["+30 -> -30 kr/min"], "Fig. 22: speed reversal",
             [("speed (r/min)", [("n_ref_rpm", "reference"), ("n_rpm", "true"),
@@ -660,8 +660,6 @@ def run_fig23(progress: ProgressFn) -> Outcome:
     smo_mean = float(np.mean(r_smo.theta_error[m]))
 
     def plot(fig_dir):
-        from .. import plots
-
         return plots.save(plots.time_panels(
             list(res.values()),
             ["linear observer (65), C_hat = 2 C", "sliding-mode observer, C_hat = 2 C"],
@@ -680,7 +678,7 @@ def run_fig23(progress: ProgressFn) -> Outcome:
 
 # ------------------------------------------------------------- Table VI -----
 
-# Table VI's rows (in the claim ids) and the parts of smodrive.target they count
+# Table VI's rows (in the claim ids) and the parts of smodrive.firmware they count
 TABLE6_PARTS = {"observer": "prediction", "reaching_law": "reaching_law", "pll": "pll"}
 # what the largest costs on the Cortex-M4F are, for the claims' reasons
 TABLE6_COSTS = {
@@ -698,12 +696,10 @@ TABLE6_COSTS = {
 
 @EXPERIMENTS("yao2022.table6", "Execution cost")
 def run_table6(progress: ProgressFn) -> Outcome:
-    from .. import target
-
     why = {}
     missing = ""
     try:
-        rows, by_fn = target.table6_cycles("fmath")
+        rows, by_fn = firmware.table6_cycles(lcl_observer_tables(steady(100e3)), "fmath")
         cycles = {part: r.nominal for part, r in rows.items()}
         bounds = {part: (r.low, r.high) for part, r in rows.items()}
         for part, fns in by_fn.items():
@@ -717,13 +713,13 @@ def run_table6(progress: ProgressFn) -> Outcome:
                          + " cycles; the paper does not say whether its count includes the "
                          "model's speed interpolation, the band-pass updates, sin/cos and "
                          "atan2 (docs/errata.md)")
-    except (target.TargetError, OSError, subprocess.SubprocessError) as exc:
+    except (firmware.TargetError, OSError, subprocess.SubprocessError) as exc:
         # toolchain or emulator missing: not measured (neither pass nor fail),
         # with the reason
         missing = str(exc)
-        cycles = {part: float("nan") for part in target.TABLE6_PAPER}
-        bounds = {part: (float("nan"), float("nan")) for part in target.TABLE6_PAPER}
-        why = {part: str(exc) for part in target.TABLE6_PAPER}
+        cycles = {part: float("nan") for part in firmware.TABLE6_PAPER}
+        bounds = {part: (float("nan"), float("nan")) for part in firmware.TABLE6_PAPER}
+        why = {part: str(exc) for part in firmware.TABLE6_PAPER}
     progress("yao2022.table6", 1.0)
     claims = [claim("yao2022.table6.cycles_{row}", cycles[part], row=row,
                     part=part.replace("_", " "), low=bounds[part][0], high=bounds[part][1],

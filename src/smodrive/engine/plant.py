@@ -4,7 +4,7 @@ scenario: the SPMSM alone or behind the LCL filter.
 
 Example
 -------
->>> from smodrive.params import Scenario
+>>> from smodrive.model import Scenario
 >>> p = Plant(Scenario())
 >>> p.step((0.6, 0.5, 0.4))
 >>> abs(p.i_s) > 0
@@ -19,9 +19,10 @@ from typing import Sequence
 
 import numpy as np
 
+from ..model import ParameterError, Scenario
 from . import _ffi
-from .params import ParameterError, Scenario
-from .simulate import plant_config, plant_fields
+from .marshal import plant_config
+from .run import plant_fields
 
 _D3 = ct.c_double * 3
 

@@ -18,7 +18,7 @@ real = ct.c_float  # smd_real of the default (float) build
 
 
 def _load() -> ct.CDLL:
-    here = Path(__file__).resolve().parent
+    here = Path(__file__).resolve().parent.parent  # the package root, where the wheel puts it
     for cand in (here / "libsmodrive.so", here / "libsmodrive.dylib"):
         if cand.exists():
             return ct.CDLL(str(cand))

@@ -1,7 +1,7 @@
 """Export a run's log with its units: NumPy (.npz), MATLAB (.mat), CSV and
 Parquet.
 
-Every format holds one column per channel of :data:`smodrive.simulate.CHANNELS`
+Every format holds one column per channel of :data:`smodrive.engine.CHANNELS`
 (SI units, float64) and says what each is:
 
 ``npz``
@@ -35,7 +35,7 @@ file of that name stays whole until the new one replaces it).
 >>> parse_formats("xls")
 Traceback (most recent call last):
 ...
-smodrive.params.ParameterError: --format: unknown format 'xls'; the formats are npz, mat, csv, parquet (comma-separated, e.g. npz,mat)
+smodrive.model.ParameterError: --format: unknown format 'xls'; the formats are npz, mat, csv, parquet (comma-separated, e.g. npz,mat)
 """
 
 from __future__ import annotations
@@ -50,7 +50,8 @@ from typing import Any, Callable, Iterator
 
 import numpy as np
 
-from .params import ParameterError
+from ..model import ParameterError
+from .channels import CHANNEL_INFO, CHANNELS
 
 #: the export formats, by name: the file each writes
 FORMATS: dict[str, str] = {"npz": "signals.npz", "mat": "signals.mat", "csv": "signals.csv",
@@ -112,8 +113,6 @@ def parse_formats(text: str) -> tuple[str, ...]:
 
 def channel_table() -> list[dict[str, str]]:
     """Every logged channel: name, unit and description, in log order."""
-    from .simulate import CHANNEL_INFO, CHANNELS
-
     return [{"name": c, "unit": CHANNEL_INFO[c][0], "description": CHANNEL_INFO[c][1]}
             for c in CHANNELS]
 
@@ -127,7 +126,7 @@ def run_info(r) -> dict[str, Any]:
 
 def write(r, out: Path, formats: tuple[str, ...] = ("npz",),
           progress: Progress | None = None) -> list[Path]:
-    """Write the log of `r` (:class:`smodrive.simulate.Result`) into the
+    """Write the log of `r` (:class:`smodrive.engine.Result`) into the
     folder `out` in each of `formats`; returns the paths written (a
     sidecar included). `progress(fraction)` as the files are written."""
     out = Path(out)
@@ -147,8 +146,6 @@ def write_npz(r, path: Path, progress: Progress | None = None) -> list[Path]:
     """signals.npz (one array per channel, compressed, as
     np.savez_compressed writes it, plus ``_units`` and ``_descriptions``), a
     channel at a time: no copy of the log is made."""
-    from .simulate import CHANNELS
-
     table = channel_table()
     extra = {"_units": np.array([c["unit"] for c in table]),
              "_descriptions": np.array([c["description"] for c in table])}
@@ -188,8 +185,6 @@ def write_csv(r, path: Path, progress: Progress | None = None,
     """signals.csv (a header of channel names, 17 significant digits) and
     its sidecar signals.csv.json (units, descriptions, run information),
     `chunk_rows` rows at a time."""
-    from .simulate import CHANNELS
-
     path = Path(path)
     n = r.data.shape[0]
     with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="") as f:
@@ -236,8 +231,6 @@ def to_dataframe(r):
     except ImportError:
         raise ImportError("Result.to_dataframe() needs pandas: pip install pandas "
                           "(or the extra: pip install 'smodrive[pandas]')") from None
-    from .simulate import CHANNELS
-
     df = pd.DataFrame(r.data, columns=list(CHANNELS), copy=True)
     table = channel_table()
     df.attrs["units"] = {c["name"]: c["unit"] for c in table}

@@ -1,0 +1,211 @@
+"""The C configuration structs of one scenario: the plant
+(:func:`plant_config`), the drive (:func:`drive_config`, with the LCL
+observers' lookup tables designed offline by :mod:`smodrive.design.yao2022`
+and packed in the C layouts) and the reference profiles."""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+
+import numpy as np
+
+from ..design import yao2022 as dz
+from ..model import LCL_TABLE_RPM, LclFilterPars, MotorPars, ParameterError, Profile, Scenario
+from .channels import CURRENT, LAWS, POSITION, START
+from . import _ffi
+
+TABLE_RPM = np.arange(-LCL_TABLE_RPM, LCL_TABLE_RPM + 1.0, 1000.0)  # LCL observer tables, r/min
+
+
+def _pwl(p: Profile) -> _ffi.Pwl:
+    w = _ffi.Pwl()
+    w.n = len(p.t)
+    for k, (t, y) in enumerate(zip(p.t, p.y)):
+        w.t[k] = t
+        w.y[k] = y
+    return w
+
+
+def _warm_i_q0(s: Scenario) -> float:
+    """q-axis current of the steady state at t = 0 (the load and friction at
+    the initial speed), or 0 without a warm start."""
+    m = s.motor
+    if not s.warm_start or s.controller.start == "if" or m.k_t <= 0:
+        return 0.0
+    w_M0 = s.w_M0
+    brake = s.load.T_brake(0.0) * max(-1.0, min(1.0, w_M0 / s.load.w_brake_eps))
+    T_L = s.load.T_ext(0.0) + brake + s.load.k_fan * w_M0 * abs(w_M0) + m.B * w_M0
+    return T_L / m.k_t
+
+
+def plant_config(s: Scenario) -> _ffi.PlantConfig:
+    """The plant's C config: the true machine, filter, inverter, ADC, load
+    and initial state (a warm start: the steady state carrying the load)."""
+    m, inv, adc, f = s.motor, s.inverter, s.adc, s.lcl
+    c = _ffi.PlantConfig()
+    c.R_s, c.L_s, c.psi_r, c.n_p, c.J, c.B = m.R_s, m.L_s, m.psi_r, m.n_p, m.J, m.B
+    if f is not None:
+        c.lcl, c.L1, c.L2o, c.C1 = 1, f.L1, f.L2o, f.C1
+    c.u_dc = inv.u_dc
+    c.T_sw = s.T_sp
+    c.pwm_mode = 1 if inv.pwm == "carrier" else 0
+    c.t_dead = inv.t_dead
+    c.dead_time_model = 1 if inv.dead_time_model == "clamp" else 0
+    for k in range(3):
+        c.adc_gain[k], c.adc_offset[k] = adc.gain[k], adc.offset[k]
+        c.adc_gain_i1[k], c.adc_offset_i1[k] = adc.gain_i1[k], adc.offset_i1[k]
+    c.adc_noise = adc.noise
+    c.adc_bits = adc.bits
+    c.adc_n_oversample = adc.n_oversample
+    c.adc_full_scale = adc.full_scale
+    c.seed = adc.seed
+    c.w_brake_eps = s.load.w_brake_eps
+    c.k_fan = s.load.k_fan
+    c.w_M0 = s.w_M0
+    c.theta_r0 = s.theta_r0
+    c.i_q0 = i_q0 = _warm_i_q0(s)
+    if f is not None and s.warm_start and s.controller.start != "if":
+        # steady state of the LCL in the rotor frame with i_2 = j i_q0:
+        # u_c = j w psi + (R + j w L2) i_2, i_1 = i_2 + j w C1 u_c
+        w_e = s.w_M0 * m.n_p
+        L2 = f.L2o + m.L_s
+        uc = 1j * w_e * m.psi_r + (m.R_s + 1j * w_e * L2) * 1j * i_q0
+        i1 = 1j * i_q0 + 1j * w_e * f.C1 * uc
+        c.uc_d0, c.uc_q0 = uc.real, uc.imag
+        c.i1_d0, c.i1_q0 = i1.real, i1.imag
+    return c
+
+
+@functools.lru_cache(maxsize=8)
+def observer_tables(plant, design) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """The LCL observers' tables for `plant`
+    (:class:`smodrive.design.yao2022.DesignPlant`: motor, filter, T_sp),
+    designed offline at every 1000 r/min of TABLE_RPM and packed in the C
+    layouts: (models (n, N_MODEL) float32, linear observer (n, N_LIN)
+    float32, w_min, dw)."""
+    t = dz.design_tables(plant, TABLE_RPM, design)
+    n = t.w.size
+    m = np.zeros((n, _ffi.N_MODEL), dtype=np.float32)
+    lin = np.zeros((n, _ffi.N_LIN), dtype=np.float32)
+    for k in range(n):
+        parts = [t.G[k].ravel(), t.H[k].ravel(), t.F[k].ravel(), t.T_r[k][2:, 2:].ravel(),
+                 t.H_c[k].ravel(), t.D1[k].ravel(), t.D2[k].ravel(), t.Gamma_c[k].ravel(),
+                 t.Gamma_1[k].ravel(), t.Gamma_2[k].ravel(), t.G_s[k].ravel(),
+                 t.K_c[k].ravel(), t.K_y[k].ravel(), [t.k[k]]]
+        m[k] = np.concatenate(parts)
+        lin[k] = np.concatenate([t.L_s[k].ravel(), t.Theta[k].ravel(), t.Theta_y[k].ravel(),
+                                 t.Theta_u[k].ravel()])
+    if not (np.all(np.isfinite(m)) and np.all(np.isfinite(lin))):
+        raise ParameterError("observer design produced non-finite matrices")
+    m.flags.writeable = lin.flags.writeable = False
+    return m, lin, float(t.w[0]), float(t.w[1] - t.w[0])
+
+
+def lcl_observer_tables(s: Scenario, design=None):
+    """observer_tables for scenario `s`: designed from the controller's
+    estimates (L_s_hat, R_s_hat, psi_r_hat) and the filter with the
+    observer's capacitance C1_hat_ratio C1, at the scenario's T_sp."""
+    c = s.controller
+    if s.lcl is None:
+        raise ParameterError("the LCL observers need the [lcl] filter section")
+    # the design's machine and filter are the controller's estimates: a value
+    # the design cannot take is named by the field the user set
+    for label, value, cls, name in (
+            ("controller.R_s_hat", c.R_s_hat, MotorPars, "R_s"),
+            ("controller.L_s_hat", c.L_s_hat, MotorPars, "L_s"),
+            ("controller.psi_r_hat", c.psi_r_hat, MotorPars, "psi_r"),
+            (f"lcl.C1 x controller.C1_hat_ratio = {s.lcl.C1!r} x {c.C1_hat_ratio!r}",
+             s.lcl.C1 * c.C1_hat_ratio, LclFilterPars, "C1")):
+        lo, hi, lo_open = cls.__dataclass_fields__[name].metadata["range"]
+        if not ((value > lo if lo_open else value >= lo) and value <= hi):
+            raise ParameterError(
+                f"{label} = {value!r} is outside its valid range {'(' if lo_open else '['}"
+                f"{lo:g}, {hi:g}] {cls.__dataclass_fields__[name].metadata['unit']} of the "
+                "LCL observers' design (their model is the controller's estimates)")
+    est_motor = dataclasses.replace(s.motor, R_s=c.R_s_hat, L_s=c.L_s_hat, psi_r=c.psi_r_hat)
+    est_lcl = dataclasses.replace(s.lcl, C1=s.lcl.C1 * c.C1_hat_ratio)
+    design = design or dz.ObserverDesignPars(Q=tuple(c.Q))
+    try:
+        return observer_tables(dz.DesignPlant(est_motor, est_lcl, s.T_sp), design)
+    except (ValueError, ArithmeticError, np.linalg.LinAlgError) as exc:
+        raise ParameterError(
+            f"{s.name}: the LCL observers' design failed: {exc}. It is designed from T_sp = "
+            f"{s.T_sp!r} s, lcl.L1, lcl.L2o, lcl.C1 x controller.C1_hat_ratio, "
+            "controller.L_s_hat, controller.R_s_hat and controller.Q (motor.n_p scales its "
+            "speed axis)") from None
+
+
+def drive_config(s: Scenario, tables=None) -> _ffi.DriveConfig:
+    """The drive's C config (SI units, electrical angles and speeds). For
+    the LCL observers `tables` (from :func:`lcl_observer_tables`) must be
+    kept alive as long as the config is in use."""
+    k, T = s.controller, s.T_sp
+    n_p = s.motor.n_p
+    c = _ffi.DriveConfig()
+    c.current, c.position, c.start = CURRENT[k.current], POSITION[k.position], START[k.start]
+    c.lcl = 0 if s.lcl is None else 1
+    c.T_sp = T
+    c.L_s_hat, c.R_s_hat, c.psi_r_hat = k.L_s_hat, k.R_s_hat, k.psi_r_hat
+    c.lambda_min, c.l, c.w_c, c.rho = k.lambda_min, k.l, k.w_c, k.rho
+    c.smdo_euler = 1 if k.smdo_euler else 0
+    c.w_lpf, c.w_hys = k.w_lpf, k.w_hys
+    c.w_max = k.w_M_max * n_p
+    c.k_p_i, c.k_i_i = k.current_pi_gains()
+    c.L_dec = s.L_dec
+    c.R_v = k.R_v
+    c.emf_ff = 1 if k.emf_ff else 0
+    c.speed_loop = 1 if k.speed_loop else 0
+    c.k_p_w, c.k_i_w = k.pi_gains(n_p)
+    c.i_max = k.i_max
+    c.speed_decimation = k.speed_decimation
+    c.k_theta, c.k_omega, c.k_a = k.k_theta, k.k_omega, k.k_a
+    if tables is not None:
+        m, lin, w_min, dw = tables
+        c.smo = _ffi.SmoConfig(T_sp=T, law=LAWS[k.law], table=m.ctypes.data, n=m.shape[0],
+                               w_min=w_min, dw=dw, Q1=k.Q[0], Q2=k.Q[1], bw_rel2=k.bw_rel[0],
+                               bw_rel3=k.bw_rel[1], w_bp_min=k.w_M_bp_min * n_p)
+        c.lin = _ffi.LinConfig(table=lin.ctypes.data, n=lin.shape[0], w_min=w_min, dw=dw)
+    c.handover = int(round(k.t_handover / T)) if k.start == "handover" else 0
+    c.i_start = k.i_start
+    c.a_start = k.a_M_start * n_p
+    c.w_handover = k.w_M_handover * n_p
+    c.svm_limit = 1 if s.inverter.svm_limit == "hexagon" else 0
+    c.t_dead_comp = k.t_dead_comp
+    c.i_dtc = k.i_dtc
+    c.i_trip = min(2.5 * k.i_max, 1e5) if k.i_trip is None else k.i_trip
+    c.u_dc_min = k.u_dc_min_ratio * s.inverter.u_dc
+    c.u_dc_max = k.u_dc_max_ratio * s.inverter.u_dc
+    c.safe_state = 1 if k.safe_state == "pwm_off" else 0
+    sensorless = k.position != "encoder"
+    c.lock_samples = int(round(k.t_lock / T)) if sensorless else 0
+    c.lock_ratio = k.lock_ratio
+    c.w_lock_min = k.w_M_lock_min * n_p
+    c.w_if_enter = k.w_M_if_enter * n_p
+    c.a_ref = k.a_M_ref * n_p
+    c.dwell = int(round(k.t_dwell / T))
+    c.chatter_max = k.chatter_max
+    c.chatter_window = max(1, int(round(k.t_chatter / T)))
+    c.track_samples = int(round(k.t_track / T)) if k.speed_loop else 0
+    c.w_track = k.w_M_track * n_p
+    c.forced_samples = int(round(k.t_forced / T)) if (k.start == "if" or k.w_M_if_enter > 0) \
+        else 0
+    c.osc_i, c.osc_rel = k.osc_i, k.osc_rel
+    c.osc_samples = int(round(k.t_osc / T)) if k.osc_i > 0 else 0
+    c.restart_max = k.restart_max if (k.start == "if" and k.position == "smdo_emf") else 0
+    c.restart_window = max(1, int(round(k.t_restart / T)))
+    return c
+
+
+def profiles(s: Scenario) -> _ffi.Profiles:
+    p = _ffi.Profiles()
+    p.w_M_ref = _pwl(s.w_M_ref)
+    p.T_ext = _pwl(s.load.T_ext)
+    p.T_brake = _pwl(s.load.T_brake)
+    p.i_d_ref = _pwl(s.i_d_ref)
+    p.i_q_ref = _pwl(s.i_q_ref)
+    p.i_d_sin_amp = s.i_d_sin_amp
+    p.i_d_sin_freq = s.i_d_sin_freq
+    return p
+
+

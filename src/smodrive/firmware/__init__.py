@@ -1,0 +1,29 @@
+"""The firmware layer: the real-time core on a Cortex-M4F. The vector
+runner (core/target) built for the host and for QEMU's ``mps2-an386``
+(:mod:`.build`), test vectors (:mod:`.vectors`), running and comparing the
+two builds (:mod:`.run`), processor-in-the-loop (:mod:`.pil`), cycle counts
+from the emulator's trace (:mod:`.cycles`) and the C header of a drive's
+configuration (:mod:`.header`). It imports the engine, the design and the
+model; the scenarios it runs are given to it
+(:mod:`smodrive.scenarios.target_cases` names the standard ones).
+"""
+
+from .build import FMATH_DEFINES, MATH_FUNCS, TargetError, build, c_root
+from .cycles import BUDGET, TABLE6_PAPER, CycleRow, cycle_table, sizes, table6_cycles, trace_windows
+from .pil import PilResult, pil
+from .run import compare, drive_case, record, run_both, run_host, run_m4, ulp_distance
+from .vectors import (
+                      BlockCase,
+                      DriveCase,
+                      TablesCase,
+                      drive_outputs,
+                      read_outputs,
+                      variants,
+                      write_vectors,
+)
+
+__all__ = ["FMATH_DEFINES", "MATH_FUNCS", "TargetError", "build", "c_root", "BUDGET",
+           "TABLE6_PAPER", "CycleRow", "cycle_table", "sizes", "table6_cycles", "trace_windows",
+           "PilResult", "pil", "compare", "drive_case", "record", "run_both", "run_host", "run_m4",
+           "ulp_distance", "BlockCase", "DriveCase", "TablesCase", "drive_outputs",
+           "read_outputs", "variants", "write_vectors"]

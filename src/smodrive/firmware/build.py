@@ -1,0 +1,123 @@
+"""The real-time core on a Cortex-M4F: the vector runner (core/target) built
+for the host and for QEMU's ``mps2-an386`` board, test vectors, a bit-for-bit
+comparison of the two builds, processor-in-the-loop runs against the host
+plant, and cycle counts from the emulator's instruction trace.
+
+The runner is the same C for both (``core/target/smd_vec.c``); the host
+build is the simulator's float core (same sources, ``-ffp-contract=off``).
+Two math variants: ``libm`` (each platform's C library: glibc on the host,
+newlib on the target) and ``fmath`` (the core's portable float math,
+``smodrive/smd_fmath.h``, on both), see :data:`FMATH_DEFINES`.
+
+Needs ``arm-none-eabi-gcc`` (Debian: gcc-arm-none-eabi, libnewlib-arm-none-eabi)
+and ``qemu-system-arm`` (Debian: qemu-system-arm); ``make toolchain``
+installs them."""
+
+from __future__ import annotations
+
+import ctypes as ct
+import hashlib
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+from ..engine import _ffi
+
+MAGIC = 0x56444D53
+VERSION = 1
+CASE_END, CASE_DRIVE, CASE_TABLES, CASE_BLOCK = 0, 1, 2, 3
+BLOCKS = {"transforms": 1, "svm": 2, "pi": 3, "dbpc": 4, "smdo": 5, "emf_pos": 6, "pll": 7,
+          "bandpass": 8, "lcl_smo": 9, "linobs": 10, "math": 11, "table6": 12}
+#: the math block's outputs per step, in order
+MATH_FUNCS = ("sin", "cos", "atan2", "exp", "expm1", "floor", "sqrt", "fabs")
+#: the core's math hooks mapped to its portable float math
+FMATH_DEFINES = ['-DSMD_MATH_HEADER="smodrive/smd_fmath.h"', "-DSMD_SINF=smd_sinf",
+                 "-DSMD_COSF=smd_cosf", "-DSMD_SINCOSF=smd_sincosf", "-DSMD_ATAN2F=smd_atan2f",
+                 "-DSMD_EXPF=smd_expf", "-DSMD_EXPM1F=smd_expm1f"]
+M4_FLAGS = ["-mcpu=cortex-m4", "-mthumb", "-mfpu=fpv4-sp-d16", "-mfloat-abi=hard"]
+COMMON_FLAGS = ["-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Werror"]
+IN_WORDS = ct.sizeof(_ffi.DriveIn) // 4
+VIEW_BYTES = ct.sizeof(_ffi.DriveView)
+OUT_BYTES = ct.sizeof(_ffi.DriveOut)  # d_abc, fault, pwm_off
+SAMPLE_BYTES = 4 + OUT_BYTES + VIEW_BYTES  # status, smd_drive_out, view
+
+
+class TargetError(RuntimeError):
+    """The target toolchain is missing, a build failed or the emulator did."""
+
+
+# ---------------------------------------------------------------- sources --
+
+def c_root() -> Path:
+    """The folder holding core/include, core/src and core/target: the source
+    tree this package was built from, or the copy installed with it."""
+    here = Path(__file__).resolve().parents[1]  # the package root (firmware/..)
+    for cand in (here / "c_src", here.parents[1]):
+        if (cand / "core" / "target" / "smd_vec.c").is_file():
+            return cand
+    raise TargetError("the C sources of the core are not installed with this package; "
+                      "run from a source checkout")
+
+
+def _tool(name: str, debian: str) -> str:
+    path = shutil.which(name)
+    if path is None:
+        raise TargetError(f"{name} not found: install Debian's {debian} (make toolchain)")
+    return path
+
+
+def _sources(root: Path, kind: str) -> list[Path]:
+    core = sorted((root / "core" / "src").glob("*.c"))
+    tgt = root / "core" / "target"
+    if kind == "host":
+        return core + [tgt / "smd_vec.c", tgt / "host_io.c"]
+    return core + [tgt / "smd_vec.c", tgt / "m4" / "semihost_io.c", tgt / "m4" / "startup.c"]
+
+
+def _cache_dir() -> Path:
+    base = os.environ.get("SMODRIVE_CACHE") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "smodrive")
+    return Path(base) / "target"
+
+
+def build(kind: str, math: str = "fmath", out_dir: Path | None = None,
+          extra: tuple[str, ...] = ()) -> Path:
+    """The runner for `kind` ("host" or "m4") with `math` ("libm" or
+    "fmath"), built once per content of its sources and flags; `extra`
+    flags go last (tests build deliberately wrong variants with them)."""
+    if kind not in ("host", "m4") or math not in ("libm", "fmath"):
+        raise ValueError(f"build({kind!r}, {math!r})")
+    root = c_root()
+    srcs = _sources(root, kind)
+    headers = sorted((root / "core").glob("*/**/*.h")) + [root / "core/target/m4/mps2_an386.ld"]
+    flags = list(COMMON_FLAGS) + (FMATH_DEFINES if math == "fmath" else [])
+    tail_flags = list(extra)
+    if kind == "host":
+        cc = shutil.which("gcc") or shutil.which("cc")
+        if cc is None:
+            raise TargetError("no host C compiler (gcc)")
+        cmd_tail = ["-lm"]
+    else:
+        cc = _tool("arm-none-eabi-gcc", "gcc-arm-none-eabi")
+        flags = M4_FLAGS + flags + ["-g", "-ffunction-sections", "-fdata-sections"]
+        cmd_tail = ["-nostartfiles", "-T", str(root / "core/target/m4/mps2_an386.ld"),
+                    "-Wl,--gc-sections", "-lm", "-lc", "-lgcc"]
+    flags += tail_flags
+    h = hashlib.sha256(" ".join([cc, kind, math] + flags + cmd_tail).encode())
+    for f in srcs + headers:
+        h.update(f.read_bytes())
+    out_dir = Path(out_dir) if out_dir else _cache_dir()
+    exe = out_dir / f"smd_vec_{kind}_{math}_{h.hexdigest()[:12]}{'.elf' if kind == 'm4' else ''}"
+    if exe.exists():
+        return exe
+    out_dir.mkdir(parents=True, exist_ok=True)
+    tmp = exe.with_suffix(exe.suffix + f".tmp{os.getpid()}")
+    cmd = [cc, *flags, f"-I{root / 'core/include'}", f"-I{root / 'core/target'}",
+           *map(str, srcs), "-o", str(tmp), *cmd_tail]
+    res = subprocess.run(cmd, capture_output=True, text=True)
+    if res.returncode != 0:
+        raise TargetError(f"building the {kind} runner failed:\n{res.stderr[-3000:]}")
+    os.replace(tmp, exe)
+    return exe
+

@@ -1,0 +1,187 @@
+"""Processor-in-the-loop: the controller on the emulated Cortex-M4F (or the
+host runner) fed sample by sample from the host plant through a FIFO pair."""
+
+from __future__ import annotations
+
+import ctypes as ct
+import dataclasses
+import os
+import shutil
+import struct
+import subprocess
+import tempfile
+import threading
+from pathlib import Path
+
+import numpy as np
+
+from ..engine import CHANNELS, Engine, _ffi
+from ..engine.run import _wrap_pi
+from .build import (
+    CASE_DRIVE,
+    IN_WORDS,
+    MAGIC,
+    OUT_BYTES,
+    SAMPLE_BYTES,
+    VERSION,
+    VIEW_BYTES,
+    TargetError,
+    _cache_dir,
+    build,
+)
+from .run import qemu_command, ulp_distance
+from .vectors import DriveCase
+
+# ------------------------------------------------------------------- PIL --
+
+class _Link:
+    """A controller in another process, fed sample by sample through a FIFO
+    pair: the runner on the emulated M4F (semihosting files) or on the
+    host. Speaks the streamed drive case of core/target/smd_vec.h."""
+
+    def __init__(self, kind: str, math: str, case: DriveCase, work: Path):
+        self.dir = Path(tempfile.mkdtemp(prefix="smd_pil_", dir=work))
+        fin, fout = self.dir / "in", self.dir / "out"
+        os.mkfifo(fin)
+        os.mkfifo(fout)
+        exe = build(kind, math)
+        cmd = (qemu_command(exe, str(fin), str(fout)) if kind == "m4"
+               else [str(exe), str(fin), str(fout)])
+        self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+        self.timer = threading.Timer(600.0, self.proc.kill)
+        self.timer.start()
+        # the runner opens its input first, then its output: the same order
+        self.w = open(fin, "wb", buffering=0)
+        self.r = open(fout, "rb", buffering=0)
+        head = DriveCase(case.name, case.config, case.tables, case.start,
+                         np.zeros((0, IN_WORDS), np.float32)).encode()
+        self.w.write(struct.pack("<II", MAGIC, VERSION) + head[:-4] + struct.pack("<i", -1))
+        magic, kind_, size, init = struct.unpack("<Iiii", self._read(16))
+        if magic != MAGIC or kind_ != CASE_DRIVE or size != -1:
+            raise TargetError("PIL: unexpected answer from the runner")
+        self.init = init
+
+    def _read(self, n: int) -> bytes:
+        out = b""
+        while len(out) < n:
+            chunk = self.r.read(n - len(out))
+            if not chunk:
+                self.proc.kill()
+                msg = (self.proc.stdout.read() or b"").decode(errors="replace")
+                raise TargetError(f"PIL: the runner stopped: {msg.strip()[-500:]}")
+            out += chunk
+        return out
+
+    def step(self, din: bytes) -> bytes:
+        self.w.write(din)
+        return self._read(SAMPLE_BYTES)
+
+    def close(self) -> None:
+        try:
+            self.w.close()
+            self.r.read()
+            self.r.close()
+            self.proc.wait(timeout=60)
+        finally:
+            self.timer.cancel()
+            if self.proc.poll() is None:
+                self.proc.kill()
+            shutil.rmtree(self.dir, ignore_errors=True)
+
+
+def _closed_loop(s, n: int, controller: str, math: str, work: Path, progress=None) -> dict:
+    """Scenario `s` for n samples through the split engine step with the
+    controller `controller`: "sim" (the simulator's own, libm), "host" or
+    "m4" (the runner on the FIFO link, with `math`). Returns the raw answers
+    (status, duties, view per sample), the duties and the log."""
+    nch = len(CHANNELS)
+    lib = _ffi.lib
+    eng = Engine(s)
+    din, dout, view = _ffi.DriveIn(), _ffi.DriveOut(), _ffi.DriveView()
+    row = (ct.c_double * nch)()
+    log = np.zeros((n, nch))
+    duty = np.zeros((n, 3), np.float32)
+    raw = []
+    link = None
+    if controller != "sim":
+        st0 = eng._st
+        case = DriveCase(s.name, eng._dc, eng._tables,
+                         (_wrap_pi(st0.theta0), st0.w0, st0.i_q0),
+                         np.zeros((0, IN_WORDS), np.float32))
+        link = _Link(controller, math, case, work)
+    try:
+        if link is not None and link.init != 0:
+            raise TargetError(f"PIL: the drive's init on the {controller} runner returned "
+                              f"{link.init} ({_ffi.status_str(link.init)})")
+        for k in range(n):
+            lib.smd_engine_ext_inputs(eng._buf, ct.byref(din))
+            if link is None:
+                st = lib.smd_engine_host_step(eng._buf, ct.byref(din), ct.byref(dout),
+                                              ct.byref(view))
+                ans = struct.pack("<i", st) + bytes(dout) + bytes(view)
+            else:
+                ans = link.step(bytes(din))
+                st = struct.unpack_from("<i", ans)[0]
+                ct.memmove(ct.addressof(dout), ans[4:4 + OUT_BYTES], OUT_BYTES)
+                ct.memmove(ct.addressof(view), ans[4 + OUT_BYTES:], VIEW_BYTES)
+            raw.append(ans)
+            duty[k] = dout.d_abc[:]
+            lib.smd_engine_ext_apply(eng._buf, ct.byref(dout), st, ct.byref(view), row)
+            log[k] = row[:]
+            if progress is not None and k % 256 == 0:
+                progress(k / n)
+    finally:
+        if link is not None:
+            link.close()
+    if progress is not None:
+        progress(1.0)
+    return {"raw": b"".join(raw), "duty": duty.astype(float), "log": log}
+
+
+@dataclasses.dataclass
+class PilResult:
+    scenario: str
+    samples: int
+    math: str
+    reference: str              # the host-only controller compared with
+    max_duty_diff: float        # largest |d_M4F - d_host| over phases and samples
+    max_theta_diff_rad: float   # controller angle, wrapped
+    max_w_diff: float           # controller speed, electrical rad/s
+    max_view_ulp: int           # over every word of status, duties and view
+    identical: bool             # status, duties and view bit for bit
+    log_host: np.ndarray
+    log_pil: np.ndarray
+
+
+def pil(s, seconds: float, math: str = "fmath", progress=None,
+        work: Path | None = None) -> PilResult:
+    """Processor in the loop: scenario `s` for `seconds` with the controller
+    compiled for the Cortex-M4F on QEMU against the host plant, sample by
+    sample, beside the host-only run of the same controller on its own copy
+    of the plant: with math "fmath" the host build of the runner (both sides
+    the portable float math: expected identical), with "libm" the
+    simulator's own controller (glibc against newlib: bounded, not equal)."""
+    n = int(round(seconds / s.T_sp))
+    work = Path(work) if work else _cache_dir()
+    work.mkdir(parents=True, exist_ok=True)
+    ref_kind = "host" if math == "fmath" else "sim"
+    half = (lambda f: progress(0.5 * f)) if progress else None
+    rest = (lambda f: progress(0.5 + 0.5 * f)) if progress else None
+    ref = _closed_loop(s, n, ref_kind, math, work, half)
+    tgt = _closed_loop(s, n, "m4", math, work, rest)
+    wa = np.frombuffer(tgt["raw"], "<u4")
+    wb = np.frombuffer(ref["raw"], "<u4")
+    fa, fb = wa.view("<f4"), wb.view("<f4")
+    same = (wa == wb) | (np.isnan(fa) & np.isnan(fb))
+    i_th, i_w = CHANNELS.index("theta_hat"), CHANNELS.index("w_hat")
+    dth = np.abs(np.angle(np.exp(1j * (tgt["log"][:, i_th] - ref["log"][:, i_th]))))
+    return PilResult(
+        scenario=s.name, samples=n, math=math,
+        reference="host runner (fmath)" if ref_kind == "host" else "simulator (glibc libm)",
+        max_duty_diff=float(np.max(np.abs(tgt["duty"] - ref["duty"]))),
+        max_theta_diff_rad=float(dth.max()),
+        max_w_diff=float(np.max(np.abs(tgt["log"][:, i_w] - ref["log"][:, i_w]))),
+        max_view_ulp=int(ulp_distance(fa, fb).max()),
+        identical=bool(same.all()), log_host=ref["log"], log_pil=tgt["log"])
+
+

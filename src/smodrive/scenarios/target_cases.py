@@ -1,0 +1,125 @@
+"""What the firmware tests and the cycle table run: every composition of
+the one drive on a scenario that exercises it, the standard vector set
+(blocks, recorded drives with their edge-case variants, the papers'
+recorded scenarios) and the cases of the Cortex-M4F cycle table. The
+scenarios are the papers' (:mod:`.drive`, :mod:`.yao2022`); the machinery is
+:mod:`smodrive.firmware`."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from ..engine import drive_config
+from ..firmware import cycles
+from ..firmware.build import IN_WORDS
+from ..firmware.run import drive_case
+from ..firmware.vectors import BlockCase, DriveCase, TablesCase, variants
+from . import drive, yao2022
+from .catalogue import catalogue
+
+
+def mode_scenarios() -> list[tuple[str, object]]:
+    """Every composition of the one drive (smd_drive.h) on a scenario that
+    exercises it: the yang2018 motor (current pi/dbpc/robust_dbpc x
+    position encoder/smdo_emf x start running/handover/if) at 1500 r/min
+    with the rated load (from standstill for I/f), and the yao2022 LCL drive
+    (pi x encoder/lcl_smo_pll/lcl_linear x the three starts, and the two
+    reference reaching laws) at 60 kr/min."""
+    out = []
+    for cur, pos, start in itertools.product(("pi", "dbpc", "robust_dbpc"),
+                                             ("encoder", "smdo_emf"),
+                                             ("running", "handover", "if")):
+        base = drive.if_start() if start == "if" else drive._table1_steady("x")
+        out.append((f"{cur}.{pos}.{start}",
+                    base.with_controller(current=cur, position=pos, start=start)))
+    for pos, start in itertools.product(("encoder", "lcl_smo_pll", "lcl_linear"),
+                                        ("running", "handover", "if")):
+        out.append((f"lcl.pi.{pos}.{start}",
+                    yao2022.steady(60e3).with_controller(position=pos, start=start)))
+    for law in ("tde17", "tde18"):
+        out.append((f"lcl.pi.lcl_smo_pll.running.{law}",
+                    yao2022.steady(60e3).with_controller(law=law)))
+    return out
+
+
+
+#: the paper scenarios whose recorded inputs the vectors replay at length
+PAPER_CASES = ("yang2018.fig7a", "yao2022.steady.100k")
+
+
+def standard_cases(samples: int = 600, paper_samples: int = 3000) -> list:
+    """The vector set of the target test: every block of the core on its
+    PRNG inputs (with non-finite values in the last tenth), every drive
+    composition recorded from its scenario with the edge-case variants,
+    the paper scenarios' recorded inputs, and a rejected composition."""
+    cases: list = [BlockCase(f"block.{b}", b, 3000, 1000 + i)
+                   for i, b in enumerate(("transforms", "svm", "pi", "dbpc", "smdo", "emf_pos",
+                                          "pll", "bandpass", "math"))]
+    tables = None
+    for name, s in mode_scenarios():
+        rec = drive_case("drive." + name, s, samples)
+        cases += [rec, *variants(rec)]
+        tables = tables or rec.tables
+    cases += [TablesCase("tables", tables),
+              BlockCase("block.lcl_smo.a", "lcl_smo", 3000, 3000),  # seed % 3: the law
+              BlockCase("block.lcl_smo.b", "lcl_smo", 3000, 3001),
+              BlockCase("block.lcl_smo.c", "lcl_smo", 3000, 3002),
+              BlockCase("block.linobs", "linobs", 3000, 3003),
+              BlockCase("block.table6", "table6", 1000, 3004)]
+    cat = catalogue()
+    for name in PAPER_CASES:
+        cases.append(drive_case("paper." + name, cat[name](), paper_samples))
+    # a composition the drive rejects (DBPC through the LCL filter): both
+    # builds must answer SMD_ERR_COMBINATION
+    bad = cat["yao2022.steady.100k"]()
+    cfg = drive_config(bad, tables)
+    cfg.current = 1
+    cases.append(DriveCase("drive.rejected.dbpc_lcl", cfg, tables, (0.0, 0.0, 0.0),
+                           np.zeros((5, IN_WORDS), np.float32)))
+    return cases
+
+
+def cycle_cases(samples: int = 150):
+    """What the cycle table measures: each block on its PRNG inputs (the
+    first 100 calls, before the edge values), yao2022 Table VI's three
+    parts, and the drive step of each composition in its steady phase."""
+    blocks = [("transforms", "yang2018"), ("svm", "yang2018"), ("pi", "yang2018"),
+              ("dbpc", "yang2018"), ("smdo", "yang2018"), ("emf_pos", "yang2018"),
+              ("pll", "yao2022"), ("bandpass", "yao2022")]
+    cases: list = [BlockCase(f"block.{b}", b, 120, 11 + i) for i, (b, _) in enumerate(blocks)]
+    paper = {f"block.{b}": p for b, p in blocks}
+    modes = []
+    for cur in ("pi", "dbpc", "robust_dbpc"):
+        for pos in ("encoder", "smdo_emf"):
+            modes.append((f"drive {cur} + {pos}", "yang2018",
+                          drive._table1_steady("x").with_controller(current=cur, position=pos)))
+    modes.append(("drive robust_dbpc + smdo_emf, I/f forced phase", "yang2018",
+                  drive.if_start()))
+    for pos, law in (("encoder", "proposed"), ("lcl_smo_pll", "proposed"),
+                     ("lcl_smo_pll", "tde17"), ("lcl_linear", "proposed")):
+        name = f"drive pi + LCL + {pos}" + (f" ({law})" if pos == "lcl_smo_pll" else "")
+        modes.append((name, "yao2022",
+                      yao2022.steady(100e3).with_controller(position=pos, law=law)))
+    tables = None
+    for name, p, s in modes:
+        c = drive_case(name, s, samples)
+        tables = tables or c.tables
+        cases.append(c)
+        paper[name] = p
+    cases += [TablesCase("tables", tables),
+              BlockCase("block.lcl_smo", "lcl_smo", 120, 3000),
+              BlockCase("block.linobs", "linobs", 120, 3003),
+              BlockCase("table6", "table6", 120, 7)]
+    paper.update({"block.lcl_smo": "yao2022", "block.linobs": "yao2022",
+                  "table6": "yao2022"})
+    return cases, paper
+
+
+
+def cycle_table(math: str = "fmath", work=None, samples: int = 150):
+    """The Cortex-M4F cycle table of :func:`cycle_cases`
+    (:func:`smodrive.firmware.cycle_table`)."""
+    cases, paper = cycle_cases(samples)
+    return cycles.cycle_table(cases, paper, math, work, samples)
