@@ -4,7 +4,7 @@ A new user's first runs of a motor (issue 18): sensorless robust DBPC
 (yang2018's SMDO position) started by I/f from rest, speed steps to +50 %
 and +100 % of rated speed, a rated load step (brake on, then off), a
 reversal through zero to -50 % and -100 %. Every controller value is derived
-from the motor (:mod:`smodrive.design.from_motor`); the profile's segments
+from the motor (:mod:`smodrive.model.derive`); the profile's segments
 scale with the motor's reference slew time (rated speed over the derived
 ``a_M_ref``), so a flywheel and a servo run the same sequence.
 
