@@ -10,6 +10,13 @@ from typing import Any
 
 import numpy as np
 
+try:  # the TOML parser: the standard library's from Python 3.11, the same as a package before
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover (Python 3.10)
+    import tomli as tomllib  # type: ignore[no-redef]
+
+__all__ = ["tomllib", "fmt_g", "fmt4", "is_num", "is_real", "plain"]
+
 
 def fmt_g(x: float) -> str:
     """A number as %g (ranges in messages)."""

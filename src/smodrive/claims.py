@@ -12,6 +12,8 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Literal
 
+from ._util import tomllib
+
 Check = Literal["abs", "rel", "max", "min"]
 
 
@@ -281,11 +283,6 @@ def load_specs(path: Path) -> ClaimSpecs:
     (template) id with the keys of ClaimSpec, and the optional `[text]` table
     of shared texts referenced as `{text.NAME}`. Unknown keys, missing
     statements, unknown or unused shared texts are errors."""
-    try:
-        import tomllib
-    except ModuleNotFoundError:  # Python 3.10: the same parser as a package
-        import tomli as tomllib
-
     path = Path(path)
     data = tomllib.loads(path.read_text())
     texts = _shared_texts(data, path)

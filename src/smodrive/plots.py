@@ -25,6 +25,8 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import functools
+import shutil
+import sys
 from pathlib import Path
 from typing import Callable, Iterator, Sequence
 
@@ -594,9 +596,6 @@ def show(fig: Figure | None = None, name: str = "figure",
     ``name.png`` in the current folder (and `files`, figures already written,
     are copied into the folder ``name``), the path printed on stderr. The
     documentation's gallery (sphinx-gallery) collects the figures itself."""
-    import shutil
-    import sys
-
     import matplotlib.pyplot as plt
 
     if "sphinx_gallery" in sys.modules or plt.get_backend().lower() not in _HEADLESS:

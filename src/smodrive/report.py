@@ -3,7 +3,9 @@ report.md."""
 
 from __future__ import annotations
 
+import os
 import platform
+import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -72,9 +74,6 @@ def gallery(paper: str, quick: Collection[str]) -> Reproduction:
     every experiment, or those of `quick` in the documentation build
     (SMODRIVE_GALLERY_QUICK set), into a temporary folder; prints each
     claim with its verdict and shows each figure."""
-    import os
-    import tempfile
-
     import matplotlib.pyplot as plt
 
     short = bool(os.environ.get("SMODRIVE_GALLERY_QUICK"))

@@ -49,6 +49,7 @@ from pathlib import Path
 from typing import Any, Callable, Iterator
 
 import numpy as np
+from scipy.io import savemat
 
 from ..model import ParameterError
 from .channels import CHANNEL_INFO, CHANNELS
@@ -165,8 +166,6 @@ def write_npz(r, path: Path, progress: Progress | None = None) -> list[Path]:
 def write_mat(r, path: Path, progress: Progress | None = None) -> list[Path]:
     """signals.mat: a column vector per channel and the structs ``units``,
     ``descriptions`` and ``info``."""
-    from scipy.io import savemat
-
     table = channel_table()
     data: dict[str, Any] = {c["name"]: np.ascontiguousarray(r[c["name"]]).reshape(-1, 1)
                             for c in table}

@@ -4,9 +4,14 @@ figure or table of a paper) and its outcome (claims, results, figures)."""
 from __future__ import annotations
 
 import dataclasses
+import multiprocessing
+import os
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
+
+import numpy as np
 
 from ..claims import Claim, ClaimSpecs, load_specs
 from ..engine import Engine, Result, simulate
@@ -79,8 +84,6 @@ class SeedStats:
     higher_is_worse: bool = True
 
     def percentile(self, q: float) -> float:
-        import numpy as np
-
         v = np.asarray(self.values, dtype=float)
         if not self.higher_is_worse:
             q = 100.0 - q  # the q-th percentile of badness
@@ -88,8 +91,6 @@ class SeedStats:
 
     @property
     def median(self) -> float:
-        import numpy as np
-
         return float(np.median(np.asarray(self.values, dtype=float)))
 
     @property
@@ -130,8 +131,6 @@ def _seed_values(job: int, seed: int) -> dict[str, float]:
 
 
 def _workers(n_jobs: int) -> int:
-    import os
-
     try:
         cores = len(os.sched_getaffinity(0))
     except AttributeError:  # not Linux
@@ -154,9 +153,6 @@ def over_seeds_multi(
     others run in parallel processes when more than one core is available.
     The values depend only on the seeds, not on the worker count (each run
     is a deterministic function of its scenario). `sim_kw` go to simulate()."""
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
     seeds = tuple(int(x) for x in seeds)
     if not seeds or len(set(seeds)) != len(seeds):
         raise ValueError(f"over_seeds: seeds must be distinct and not empty, got {seeds}")

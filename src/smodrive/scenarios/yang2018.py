@@ -13,6 +13,7 @@ import dataclasses
 import math
 from typing import Callable
 
+import control
 import numpy as np
 
 from .. import plots
@@ -328,8 +329,6 @@ def speed_loop_load_dip(ctrl: ControllerCfg, J: float, n_p: int, dT: float) -> f
     loop b (k_p + k_i / s) / s with b = 1.5 n_p^2 psi / J and the speed
     feedback through the first-order LPF w_lpf of the sensorless estimate
     (python-control step response; the current loop is taken as ideal)."""
-    import control
-
     k_p, k_i = ctrl.pi_gains(n_p)
     b = 1.5 * n_p**2 * ctrl.psi_r_pi / J
     s = control.tf("s")
