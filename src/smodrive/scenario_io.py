@@ -17,6 +17,11 @@ A file of the older LCL schema (``kind = "lcl"``, a ``[plant]`` section)
 still loads: it is read as ``base = "yao2022.base"`` with its keys moved to
 where they live now, and a warning says what to write instead.
 
+:func:`apply` applies such a table of changes (without ``base``) to a given
+scenario, with the same keys, units and messages: :func:`scenario_from_dict`
+applies a file's to its base, a sweep (:mod:`smodrive.sweep`) its ``[set]``
+and each run's axis values to its base scenario.
+
 Example
 -------
 >>> s = scenario_from_dict({"w_M0_rpm": 1000.0, "controller": {"mode": "sensorless"}})
@@ -29,17 +34,13 @@ from __future__ import annotations
 import dataclasses
 import numbers
 import re
-
-try:
-    import tomllib
-except ModuleNotFoundError:  # Python 3.10: the same parser as a package
-    import tomli as tomllib
 import warnings
 from pathlib import Path
 from typing import Any
 
 import tomli_w
 
+from ._util import is_num, tomllib
 from .model import (
     RPM,
     AdcCfg,
@@ -66,18 +67,14 @@ SECTIONS: dict[str, type] = {
 }
 
 
-def _is_num(x: Any) -> bool:
-    return isinstance(x, (int, float)) and not isinstance(x, bool)
-
-
 def _profile_from(name: str, v: Any, scale: float = 1.0) -> Profile:
     form = f"{name}: expected a number or a table {{t = [...], y = [...]}} of numbers"
-    if _is_num(v):
+    if is_num(v):
         return Profile.const(float(v) * scale)
     if not (isinstance(v, dict) and set(v) == {"t", "y"}):
         raise ParameterError(form)
     t, y = v["t"], v["y"]
-    if not (isinstance(t, list) and isinstance(y, list) and all(map(_is_num, t + y))):
+    if not (isinstance(t, list) and isinstance(y, list) and all(map(is_num, t + y))):
         raise ParameterError(form)
     try:
         return Profile(tuple(map(float, t)), tuple(float(x) * scale for x in y))
@@ -135,7 +132,7 @@ def _kwargs(cls: type, section: str, data: dict[str, Any]) -> dict[str, Any]:
             once(name, as_written)
             if name in profiles:
                 kwargs[name] = _profile_from(f"{section}.{key}", value, k)
-            elif _is_num(value):
+            elif is_num(value):
                 kwargs[name] = float(value) * k
             else:
                 raise ParameterError(f"{section}.{key} = {value!r} is not a number")
@@ -267,27 +264,36 @@ def _from_legacy_lcl(data: dict[str, Any]) -> dict[str, Any]:
     warnings.warn(
         "kind = 'lcl' is the schema before the one drive; read as base = 'yao2022.base' "
         "with: " + "; ".join(moved) + ". `smodrive show` prints a scenario in the current "
-        "schema.", UserWarning, stacklevel=4)
+        "schema.", UserWarning, stacklevel=3)
     return {k: v for k, v in out.items() if v != {}}
 
 
-def scenario_from_dict(data: dict[str, Any]) -> Scenario:
-    """A Scenario from parsed TOML (see the module docstring)."""
-    try:
-        return _scenario_from_dict(data)
-    except ParameterError as exc:
-        raise _as_written(exc, _legacy_origins(data)) from None
+def apply(base: Scenario | None, data: dict[str, Any], *, rederive: bool = True) -> Scenario:
+    """`base` with the changes `data`, a parsed scenario TOML without
+    ``base`` and ``kind``: the sections (``[motor]``, ``[controller]``, ...)
+    as tables, the top-level fields as keys, with the units of a scenario
+    file (``w_M0_rpm``, ``a_M_start_rpm_s``, a profile as ``{t, y}``, the
+    ``mode`` shorthand); a wrong key or value is named with its section and
+    valid range. A value `data` sets is the user's, even where it equals the
+    one the base derived from its motor.
 
+    `base` None: the defaults of :class:`Scenario`, and a ``[motor]`` is a
+    whole machine (every data-sheet field from `data`, never Table I's).
+    `rederive`: when ``[motor]`` makes another machine than the base's, all
+    of the base's motor-specific controller values (a preset's estimates,
+    gains and limits) are derived anew from it unless ``[controller]`` sets
+    them, as in a scenario file; with False only those the base derived
+    from its motor (``controller.derived``) follow the new one and the
+    values the base sets stay (a sweep's changes; the older LCL schema,
+    which kept the preset's).
 
-def _scenario_from_dict(data: dict[str, Any]) -> Scenario:
-    data = dict(data)
-    kind = data.pop("kind", None)
-    if kind == "lcl":
-        data = _from_legacy_lcl(data)
-    elif kind not in (None, "pmsm"):
-        raise ParameterError(f"kind = {kind!r} is not one of pmsm, lcl (and no longer needed)")
-    has_base = "base" in data
-    base = _base(data.pop("base")) if has_base else Scenario()
+    >>> s = apply(scenario_from_dict({"w_M0_rpm": 1000.0}), {"controller": {"L_s_hat": 0.02}})
+    >>> (round(s.w_M0 / RPM), s.controller.L_s_hat)
+    (1000, 0.02)
+    """
+    if "base" in data:
+        raise ParameterError("base: the base scenario is given apart from the changes (the "
+                             "top-level base of a scenario file, sweep.base of a sweep)")
     top: dict[str, Any] = {}
     sections: dict[str, Any] = {}
     for key, value in data.items():
@@ -297,16 +303,17 @@ def _scenario_from_dict(data: dict[str, Any]) -> Scenario:
             sections[key] = value
         else:
             top[key] = value
+    scenario = Scenario() if base is None else base
     built: dict[str, Any] = {}
     for key, value in sections.items():
         if key == "controller":
             continue
-        if key == "motor" and not has_base:
+        if key == "motor" and base is None:
             # a machine of the user's: every field from the file (MotorPars
             # refuses one left out, derives B), never the Table I defaults
             built[key] = MotorPars(**_kwargs(MotorPars, key, value))
             continue
-        current = getattr(base, key)
+        current = getattr(scenario, key)
         if current is None:  # the filter section of a base without one
             current = SECTIONS[key]()
         kw = _kwargs(SECTIONS[key], key, value)
@@ -315,15 +322,33 @@ def _scenario_from_dict(data: dict[str, Any]) -> Scenario:
             # what the base derived
             kw["derived"] = tuple(t for t in current.derived if t[0] not in kw)
         built[key] = dataclasses.replace(current, **kw)
-    base_ctrl = base.controller
-    if kind != "lcl" and "motor" in built and built["motor"] != base.motor:
+    base_ctrl = scenario.controller
+    if rederive and "motor" in built and built["motor"] != scenario.motor:
         # another machine than the base's: the base's motor-specific
-        # controller values (a preset's estimates, gains and limits) are
-        # derived anew from it, unless [controller] sets them (a file of the
-        # older LCL schema keeps the preset's, as that drive did)
+        # controller values are derived anew from it, unless [controller]
+        # sets them
         base_ctrl = derive.unset(base_ctrl)
-    built["controller"] = _controller(sections.get("controller", {}), base_ctrl)
-    return dataclasses.replace(base, **_kwargs(Scenario, "scenario", top), **built)
+    if "controller" in sections or base_ctrl is not scenario.controller:
+        built["controller"] = _controller(sections.get("controller", {}), base_ctrl)
+    return dataclasses.replace(scenario, **_kwargs(Scenario, "scenario", top), **built)
+
+
+def scenario_from_dict(data: dict[str, Any]) -> Scenario:
+    """A Scenario from parsed TOML (see the module docstring): its ``base``
+    (or the defaults) with the rest of `data` applied (:func:`apply`)."""
+    try:
+        changes = dict(data)
+        kind = changes.pop("kind", None)
+        if kind == "lcl":
+            changes = _from_legacy_lcl(changes)
+        elif kind not in (None, "pmsm"):
+            raise ParameterError(f"kind = {kind!r} is not one of pmsm, lcl (and no longer "
+                                 "needed)")
+        base = _base(changes.pop("base")) if "base" in changes else None
+        # a file of the older LCL schema keeps the preset's controller, as that drive did
+        return apply(base, changes, rederive=kind != "lcl")
+    except ParameterError as exc:
+        raise _as_written(exc, _legacy_origins(data)) from None
 
 
 def load_scenario(path: str | Path) -> Scenario:
@@ -352,14 +377,14 @@ def load_scenario(path: str | Path) -> Scenario:
     return s
 
 
-def _plain(v: Any) -> Any:
+def _toml_value(v: Any) -> Any:
     """A field value as tomli-w writes it: a profile as a table {t, y}, tuples
     as arrays, NumPy scalars as Python numbers (floats keep their repr, so a
     value round-trips exactly)."""
     if isinstance(v, Profile):
-        return {"t": _plain(v.t), "y": _plain(v.y)}
+        return {"t": _toml_value(v.t), "y": _toml_value(v.y)}
     if isinstance(v, (tuple, list)):
-        return [_plain(x) for x in v]
+        return [_toml_value(x) for x in v]
     if isinstance(v, (bool, str)):
         return v
     if isinstance(v, numbers.Integral):
@@ -381,11 +406,12 @@ def scenario_dict(s: Scenario) -> dict[str, Any]:
                 # controller values derived from the motor are left out: the
                 # file derives them again from its [motor] (smodrive design)
                 derived = {n for n, _, _ in getattr(v, "derived", ())}
-                out[f.name] = {g.name: _plain(getattr(v, g.name)) for g in dataclasses.fields(v)
+                out[f.name] = {g.name: _toml_value(getattr(v, g.name))
+                               for g in dataclasses.fields(v)
                                if getattr(v, g.name) is not None and g.name not in derived
                                and not g.metadata.get("internal")}
         elif v is not None and not f.metadata.get("internal"):
-            out[f.name] = _plain(v)
+            out[f.name] = _toml_value(v)
     return out
 
 
