@@ -49,7 +49,7 @@ def external_cluster(n: int, tmp: Path):
     sched_file = tmp / "scheduler.json"
     # the workers import the smodrive this script imports (installed or src/)
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(
-        [str(Path(sw.__file__).resolve().parents[1]), os.environ.get("PYTHONPATH", "")])}
+        [str(Path(sw.__file__).resolve().parents[2]), os.environ.get("PYTHONPATH", "")])}
     procs = [subprocess.Popen(dask_cli() + ["scheduler", "--scheduler-file", str(sched_file),
                                             "--port", "0", "--no-dashboard"], env=env,
                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]

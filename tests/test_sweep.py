@@ -16,13 +16,16 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
+from smodrive import scenario_io
 from smodrive import sweep as sw
 from smodrive.analysis.metrics import metric_values
 from smodrive.analysis.tf import dbpc_steady_state
 from smodrive.cli import main
 from smodrive.model import ParameterError
 from smodrive.engine import simulate
-from smodrive.sweep_plot import lowest_holding, plot_all
+from smodrive.scenario_io import scenario_from_dict
+from smodrive.scenarios import catalogue
+from smodrive.sweep import lowest_holding
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -165,6 +168,25 @@ values = ["dbpc", "pi"]
             assert sorted(np.floor(u * 40).astype(int)) == list(range(40))
 
 
+def test_changes_are_applied_as_a_scenario_file_reads_them():
+    """[set] and a run's changes go through scenario_io.apply, the function a
+    scenario file goes through: the same keys, units and messages; another
+    motor keeps the controller values the base sets (a file derives them
+    anew)."""
+    base = catalogue()["drive.pi_encoder"]()
+    ch = {"w_M0_rpm": 900.0, "controller": {"L_s_hat": 0.03}, "adc": {"seed": 3}}
+    assert sw.apply_changes(base, ch) == scenario_from_dict({"base": "drive.pi_encoder", **ch})
+    with pytest.raises(ParameterError, match=r"controller\.L_s_hat = -1\.0 is outside its valid "
+                                             r"range \(0, 10\] H"):
+        sw.apply_changes(base, {"controller": {"L_s_hat": -1.0}})
+    with pytest.raises(ParameterError, match=r"^base: only in \[sweep\]"):
+        sw.apply_changes(base, {"base": "drive.pi_encoder"})
+    own = base.with_controller(L_s_hat=0.03)  # set, not derived from the motor
+    motor = {"motor": {"L_s": 0.02}}
+    assert sw.apply_changes(own, motor).controller.L_s_hat == 0.03
+    assert scenario_io.apply(own, motor).controller.L_s_hat == 0.02
+
+
 # ------------------------------------------------------------ the rows ---
 
 def test_worker_row_is_simulate_with_the_registry(tmp_path):
@@ -226,7 +248,7 @@ def test_killed_sweep_resumes_with_the_missing_runs_only(tmp_path):
     total = len(sw.expand(spec))
     out = tmp_path / "out"
     # the subprocess imports the smodrive these tests import (installed or src/)
-    env = {**os.environ, "PYTHONPATH": str(Path(sw.__file__).resolve().parents[1])
+    env = {**os.environ, "PYTHONPATH": str(Path(sw.__file__).resolve().parents[2])
            + os.pathsep + os.environ.get("PYTHONPATH", "")}
     proc = subprocess.Popen([sys.executable, "-m", "smodrive.cli", "sweep", str(src), "--out",
                              str(out), "--workers", "1"], env=env, start_new_session=True,

@@ -47,7 +47,7 @@ from .model import RPM, ParameterError, derive
 from .report import reproduce as reproduce_papers
 from .scenario_io import load_scenario, scenario_to_toml
 from .scenarios import PAPERS, catalogue
-from .sweep_plot import plot_all
+from .sweep import plot_all
 
 console = Console(stderr=True)
 

@@ -1,7 +1,8 @@
 """Maps of a sweep's results: heatmaps (two axes, with contours and
 analytic overlays), lines with percentile bands over the seeds (one axis),
 and the envelope of a pass/fail metric (the lowest value of an axis that
-holds). What is drawn is the sweep file's ``[[plots]]`` (docs/sweeps.md).
+holds). What is drawn is the sweep file's ``[[plots]]`` (docs/sweeps.md,
+checked by :mod:`smodrive.sweep.plotspec`).
 """
 
 from __future__ import annotations
@@ -9,124 +10,24 @@ from __future__ import annotations
 import math
 import textwrap
 from pathlib import Path
-from typing import Any
 
+import matplotlib
+import matplotlib.colors as mcolors
+import matplotlib.ticker as mt
 import numpy as np
 
-from .analysis.metrics import METRICS
-from .engine.export import atomic_path
-from .model import ParameterError
-
-PLOT_KEYS = {"kind", "file", "title", "metric", "x", "y", "facet", "hue", "fixed", "rows",
-             "reduce", "band", "log", "overlay", "overlay_facet", "over", "ok", "label"}
-REDUCE = ("median", "mean", "max", "min")
-
-
-# ------------------------------------------------------------ checking ---
-
-def _rows_of(p: dict) -> list[dict]:
-    """A plot's rows of panels: `rows` (tables overriding the plot's keys),
-    or one row a metric of `metric` when it is a list."""
-    base = {k: v for k, v in p.items() if k != "rows"}
-    if "rows" in p:
-        return [{**base, **r} for r in p["rows"]]
-    m = p.get("metric")
-    if isinstance(m, list):
-        return [{**base, "metric": x} for x in m]
-    return [base]
-
-
-def check_plots(spec) -> None:
-    """Every [[plots]] entry names existing axes, metrics and options; each
-    axis is plotted, fixed, or reduced (the seeds)."""
-    names = set(spec.axis_names)
-    for i, p in enumerate(spec.plots):
-        ctx = f"plots[{i}]"
-        bad = sorted(set(p) - PLOT_KEYS)
-        if bad:
-            raise ParameterError(f"{ctx}.{bad[0]}: unknown field (known: "
-                                 f"{', '.join(sorted(PLOT_KEYS))})")
-        kind = p.get("kind")
-        if kind not in ("heatmap", "lines", "envelope"):
-            raise ParameterError(f"{ctx}.kind = {kind!r} is not one of heatmap, lines, envelope")
-        if not isinstance(p.get("file", ""), str) or not p.get("file", "x").isidentifier():
-            raise ParameterError(f"{ctx}.file = {p.get('file')!r} must be a file stem "
-                                 "(letters, digits, _)")
-        if "rows" in p and not (isinstance(p["rows"], list) and p["rows"]
-                                and all(isinstance(r, dict) for r in p["rows"])):
-            raise ParameterError(f"{ctx}.rows must be a non-empty array of tables")
-        for j, r in enumerate(_rows_of(p)):
-            c = f"{ctx}" if "rows" not in p else f"{ctx}.rows[{j}]"
-            bad = sorted(set(r) - PLOT_KEYS)
-            if bad:
-                raise ParameterError(f"{c}.{bad[0]}: unknown field")
-            metric = r.get("ok") if kind == "envelope" else r.get("metric")
-            what = "ok" if kind == "envelope" else "metric"
-            if metric not in spec.metrics:
-                raise ParameterError(f"{c}.{what} = {metric!r} is not a metric of the sweep "
-                                     f"(sweep.metrics: {', '.join(spec.metrics)})")
-            need = {"heatmap": ("x", "y"), "lines": ("x",), "envelope": ("x", "over")}[kind]
-            used = set()
-            for k in need + ("facet", "hue"):
-                if k in r:
-                    if r[k] not in names:
-                        raise ParameterError(f"{c}.{k} = {r[k]!r} is not an axis (axes: "
-                                             f"{', '.join(spec.axis_names)})")
-                    used.add(r[k])
-                elif k in need:
-                    raise ParameterError(f"{c}: missing {k!r} (an axis name)")
-            if kind == "heatmap":
-                for k in ("x", "y"):
-                    ax = spec.axis(r[k])
-                    if not ax.numeric or ax.kind == "draw":
-                        raise ParameterError(f"{c}.{k} = {r[k]!r}: a heatmap needs a numeric "
-                                             "grid or list of values, not a "
-                                             + ("random draw" if ax.kind == "draw" else
-                                                "list of names") + " (use facet or hue)")
-            fixed = r.get("fixed", {})
-            if not isinstance(fixed, dict):
-                raise ParameterError(f"{c}.fixed must be a table axis = value")
-            for k, v in fixed.items():
-                if k not in names:
-                    raise ParameterError(f"{c}.fixed.{k}: not an axis")
-                ax = spec.axis(k)
-                if not any(_same(v, a) for a in ax.values):
-                    raise ParameterError(f"{c}.fixed.{k} = {v!r} is not one of the axis's "
-                                         f"values {list(ax.values)}")
-            for a in spec.axes:
-                if a.name not in used and a.name not in fixed and len(a.values) > 1:
-                    raise ParameterError(f"{c}: axis {a.name} is neither plotted (x, y, facet, "
-                                         "hue, over) nor fixed (fixed = {" f"{a.name} = ...}})")
-            red = r.get("reduce", "median")
-            if red not in REDUCE:
-                raise ParameterError(f"{c}.reduce = {red!r} is not one of {', '.join(REDUCE)}")
-            band = r.get("band", [10, 90])
-            if not (isinstance(band, list) and len(band) == 2
-                    and all(isinstance(b, (int, float)) for b in band)
-                    and 0 <= band[0] < band[1] <= 100):
-                raise ParameterError(f"{c}.band = {band!r} must be two percentiles [lo, hi] "
-                                     "with 0 <= lo < hi <= 100")
-            ov = r.get("overlay")
-            if ov is not None and ov not in OVERLAYS:
-                raise ParameterError(f"{c}.overlay = {ov!r} is not one of "
-                                     f"{', '.join(OVERLAYS)}")
-    if spec.sample == "lhs" and any(p.get("kind") == "heatmap" for p in spec.plots):
-        raise ParameterError("plots: a heatmap needs a grid (sample = 'product'); a Latin-"
-                             "hypercube sample has no grid")
-
-
-def _same(a: Any, b: Any) -> bool:
-    if isinstance(a, (int, float)) and isinstance(b, (int, float)) and not isinstance(a, bool):
-        return math.isclose(a, b, rel_tol=1e-9, abs_tol=1e-12)
-    return a == b
-
+from ..analysis.metrics import METRICS
+from ..engine.export import atomic_path
+from ..model import ParameterError
+from .plotspec import OVERLAYS, rows_of, same
+from .store import load_results
 
 # ------------------------------------------------------------- helpers ---
 
 def _select(cols: dict, fixed: dict) -> np.ndarray:
     m = np.ones(len(cols["run_id"]), dtype=bool)
     for k, v in fixed.items():
-        m &= np.array([_same(x, v) for x in cols[k]], dtype=bool)
+        m &= np.array([same(x, v) for x in cols[k]], dtype=bool)
     return m
 
 
@@ -170,8 +71,6 @@ def _log_ticks(ax, which: str, values: np.ndarray, log: bool) -> None:
     """A log axis labelled at the grid's values, as plain numbers."""
     if not log:
         return
-    import matplotlib.ticker as mt
-
     getattr(ax, f"set_{which}scale")("log")
     axis = ax.xaxis if which == "x" else ax.yaxis
     ticks = values if values.size <= 8 else values[::int(math.ceil(values.size / 8))]
@@ -180,50 +79,9 @@ def _log_ticks(ax, which: str, values: np.ndarray, log: bool) -> None:
     axis.set_minor_locator(mt.NullLocator())
 
 
-# -------------------------------------------------------------- overlays ---
-
-def _yang2018_eq12_13(spec, r: dict, X: np.ndarray, Y: np.ndarray) -> np.ndarray | None:
-    """yang2018 eq. (12)-(13) (conventional DBPC, steady state): the
-    predicted id_error or iq_error over the (x, y) grid of L_hat and psi_hat
-    axes; i_d_ref = 0 and i_q_ref carrying the base scenario's load at its
-    initial speed."""
-    from .analysis.tf import dbpc_steady_state
-
-    s = spec.base
-    m = s.motor
-    vals = {}
-    for axis_name, grid in ((r["x"], X), (r["y"], Y)):
-        a = spec.axis(axis_name)
-        ref = 1.0
-        if a.relative_to:
-            obj: Any = s
-            for part in a.relative_to.split("."):
-                obj = getattr(obj, part)
-            ref = float(obj)
-        for k in a.keys:
-            vals[k] = grid * ref
-    L_hat = vals.get("controller.L_s_hat", np.full_like(X, s.controller.L_s_hat))
-    psi_hat = vals.get("controller.psi_r_hat", np.full_like(X, s.controller.psi_r_hat))
-    w = s.w_M0
-    T_L = s.load.T_brake(0.0) + s.load.T_ext(0.0) + s.load.k_fan * w * abs(w) + m.B * w
-    i_q = T_L / m.k_t
-    i_d, i_qs = dbpc_steady_state(m.L_s, m.R_s, m.psi_r, L_hat, s.controller.R_s_hat, psi_hat,
-                                  w * m.n_p, s.T_sp, 0.0, i_q)
-    if r["metric"] == "id_error":
-        return i_d - 0.0
-    if r["metric"] == "iq_error":
-        return i_qs - i_q
-    return None
-
-
-OVERLAYS = {"yang2018_eq12_13": _yang2018_eq12_13}
-
-
 # --------------------------------------------------------------- drawing ---
 
 def _heatmap_row(fig, axs, spec, cols, r: dict) -> None:
-    import matplotlib.colors as mcolors
-
     metric = r["metric"]
     facet_vals = spec.axis(r["facet"]).values if "facet" in r else (None,)
     xa, ya = spec.axis(r["x"]), spec.axis(r["y"])
@@ -279,7 +137,7 @@ def _heatmap_row(fig, axs, spec, cols, r: dict) -> None:
             cs = ax.contour(X, Y, np.ma.masked_invalid(Zc), levels=levels, colors="k",
                             linewidths=0.6)
             ax.clabel(cs, fontsize=6, fmt="%.3g")
-        if ov_name and (r.get("overlay_facet") is None or _same(fv, r.get("overlay_facet"))):
+        if ov_name and (r.get("overlay_facet") is None or same(fv, r.get("overlay_facet"))):
             P = OVERLAYS[ov_name](spec, r, X, Y)
             if P is not None and levels is not None:
                 fine = [np.geomspace(v.min(), v.max(), 120) if lg else
@@ -300,8 +158,6 @@ def _heatmap_row(fig, axs, spec, cols, r: dict) -> None:
     cb = fig.colorbar(mesh, ax=list(axs), shrink=0.9)
     cb.set_label(r.get("label", _metric_label(metric)), fontsize=8)
     if isinstance(norm, mcolors.LogNorm):
-        import matplotlib.ticker as mt
-
         plain = mt.FuncFormatter(lambda v, _: f"{v:.2g}")
         cb.ax.yaxis.set_major_locator(mt.LogLocator(subs=(1.0, 2.0, 5.0)))
         cb.ax.yaxis.set_major_formatter(plain)
@@ -347,7 +203,7 @@ def lowest_holding(over_values, ok: np.ndarray, over: np.ndarray) -> float:
     if the highest value does not hold."""
     best = math.nan
     for v in sorted(over_values, reverse=True):
-        m = np.array([_same(x, v) for x in over])
+        m = np.array([same(x, v) for x in over])
         if not m.any():
             continue
         if np.all(ok[m]):
@@ -374,12 +230,9 @@ def envelope_values(spec, cols, r: dict, fixed: dict) -> np.ndarray:
 def plot_all(spec, out: Path, cols: dict | None = None) -> list[Path]:
     """Draw every [[plots]] entry of the sweep from OUT's results into
     OUT/maps/<file>.png; returns the paths."""
-    import matplotlib
-
     matplotlib.use("Agg")
+    # pyplot after the backend is chosen: files only, never a window
     import matplotlib.pyplot as plt
-
-    from .sweep import load_results
 
     out = Path(out)
     if cols is None:
@@ -389,7 +242,7 @@ def plot_all(spec, out: Path, cols: dict | None = None) -> list[Path]:
     (out / "maps").mkdir(parents=True, exist_ok=True)
     paths = []
     for i, p in enumerate(spec.plots):
-        rows = _rows_of(p)
+        rows = rows_of(p)
         kind = p["kind"]
         ncol = len(spec.axis(p["facet"]).values) if "facet" in p else 1
         width = max(6.5, 3.3 * ncol + 1.2)
