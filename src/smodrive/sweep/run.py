@@ -158,6 +158,7 @@ def run_sweep(spec: SweepSpec, out: str | Path, scheduler: str | None = None,
     total)`; `on_batch(rows, client)` after each part is written (tests
     use it to kill a worker mid-sweep). A batch Dask gives up on (its
     workers died three times) is reported, not written: run again."""
+    import pyarrow.parquet  # noqa: F401  (optional, see store; imported now, not while the workers run)
     from distributed import as_completed  # slow to import: see start_client
 
     out = Path(out)

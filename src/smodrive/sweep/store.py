@@ -11,18 +11,22 @@ import os
 from pathlib import Path
 
 import numpy as np
-import pyarrow as pa
-import pyarrow.parquet as pq
 
 from ..engine.export import write_text
 from ..model import ParameterError
 from .plan import expand
 from .spec import SweepSpec, parse_sweep
 
+# pyarrow is imported where a function reads or writes Parquet: an optional
+# dependency elsewhere (`smodrive run --format parquet` says how to install
+# it), so the CLI, which imports this package, starts without it
 
-def schema(spec: SweepSpec) -> pa.Schema:
-    """The columns of a row of `spec`: run id and index, the axes (and the
-    seed), the metrics, the standard columns."""
+
+def schema(spec: SweepSpec):
+    """The columns of a row of `spec` (a pyarrow Schema): run id and index,
+    the axes (and the seed), the metrics, the standard columns."""
+    import pyarrow as pa  # optional: see above
+
     cols = [("run_id", pa.string()), ("index", pa.int64())]
     for a in spec.axes:
         typ = (pa.int64() if a.integer else pa.float64() if a.numeric
@@ -48,6 +52,8 @@ def _part_files(out: Path) -> list[Path]:
 
 def done_ids(out: Path) -> set[str]:
     """The run ids OUT has a row for."""
+    import pyarrow.parquet as pq  # optional: see above
+
     ids: set[str] = set()
     for p in _part_files(out):
         ids.update(pq.read_table(p, columns=["run_id"]).column(0).to_pylist())
@@ -57,6 +63,9 @@ def done_ids(out: Path) -> set[str]:
 def read_parts(out: Path):
     """Every row of OUT/runs (all parts, as written: a run twice would show
     twice), as one pyarrow Table."""
+    import pyarrow as pa  # optional: see above
+    import pyarrow.parquet as pq
+
     tables = [pq.read_table(p) for p in _part_files(out)]
     if not tables:
         return None
@@ -66,6 +75,8 @@ def read_parts(out: Path):
 def load_results(spec: SweepSpec, out: Path) -> dict[str, np.ndarray]:
     """The rows of OUT that belong to the runs of `spec` (one per run, in
     run order), as columns: name -> numpy array."""
+    import pyarrow as pa  # optional: see above
+
     t = read_parts(out)
     runs = expand(spec)
     order = {r.id: r.index for r in runs}
@@ -88,6 +99,9 @@ def load_results(spec: SweepSpec, out: Path) -> dict[str, np.ndarray]:
 
 def write_part(out: Path, spec: SweepSpec, rows: list[dict]) -> Path:
     """`rows` (a finished batch) as one part of OUT/runs."""
+    import pyarrow as pa  # optional: see above
+    import pyarrow.parquet as pq
+
     tag = hashlib.sha256("".join(r["run_id"] for r in rows).encode()).hexdigest()[:12]
     path = runs_dir(out) / f"part-{min(r['index'] for r in rows):08d}-{tag}.parquet"
     tmp = path.with_name("." + path.name + f".{os.getpid()}.tmp")
