@@ -144,7 +144,7 @@ def test_unfilled_field_raises():
 def test_make_builds_the_same_claim_as_by_hand():
     """A spec's claim is the Claim with the data's attributes and the run's
     values: same JSON (key order included), same verdict and FAILS text."""
-    spec = ClaimSpec(id="p.x_{tag}", statement="At {n:g} r/min: error {e:.2f}.", unit="rad",
+    spec = ClaimSpec(id="p.x_{tag}", kind="method", statement="At {n:g} r/min: error {e:.2f}.", unit="rad",
                      check="max", paper={"p.x_a": 0.1, "p.x_b": 0.2}, tolerance=0.15,
                      basis="bound {n:g}", why_fail="because")
     for tag, r in (("a", 0.1), ("b", 0.3)):
@@ -158,29 +158,31 @@ def test_make_builds_the_same_claim_as_by_hand():
 
 
 def test_fixed_and_computed_values_do_not_mix():
-    spec = ClaimSpec(id="p.x", statement="s", paper=1.0, tolerance=0.1)
+    spec = ClaimSpec(id="p.x", kind="method", statement="s", paper=1.0, tolerance=0.1)
     with pytest.raises(ValueError, match="tolerance is fixed in the data"):
         spec.make(1.0, tolerance=0.2)
     with pytest.raises(ValueError, match="paper is fixed in the data"):
         spec.make(1.0, paper=2.0)
     with pytest.raises(ValueError, match="no tolerance"):
-        ClaimSpec(id="p.y", statement="s").make(1.0)
+        ClaimSpec(id="p.y", kind="method", statement="s").make(1.0)
     with pytest.raises(ValueError, match="no paper for this id"):
-        ClaimSpec(id="p.{k}", statement="s", paper={"p.a": 1.0}, tolerance=1.0).make(1.0, k="b")
+        ClaimSpec(id="p.{k}", kind="method", statement="s", paper={"p.a": 1.0}, tolerance=1.0).make(1.0, k="b")
 
 
 @pytest.mark.parametrize("body, error", [
-    ('["p.x"]\nstatement = "s"\nunits = "A"\n', "unknown keys"),
+    ('["p.x"]\nstatement = "s"\nkind = \"method\"\nunits = "A"\n', "unknown keys"),
     ('["p.x"]\nunit = "A"\n', "no statement"),
-    ('["p.x"]\nstatement = "s"\ncheck = "ratio"\n', "check"),
-    ('["p.x"]\nstatement = "s {}"\n', "not a plain name"),
-    ('["p.x"]\nstatement = "s {a.b}"\n', "not a plain name"),
-    ('["p.x"]\nstatement = "s {expected}"\n', "not a plain name"),
-    ('["p.x"]\nstatement = "s {text.nope}"\n', "no shared text"),
-    ('[text]\nold = "t"\n["p.x"]\nstatement = "s"\n', "used by no claim"),
-    ('["p.{k}"]\nstatement = "s"\npaper = { "q.a" = 1.0 }\n', "not of this spec"),
-    ('["p.x"]\nstatement = "s"\npaper = "0.1"\n', "number"),
-    ('["p.x"]\nstatement = "s"\nunit = 1\n', "string"),
+    ('["p.x"]\nstatement = "s"\nkind = \"method\"\ncheck = "ratio"\n', "check"),
+    ('["p.x"]\nstatement = "s"\n', "kind"),
+    ('["p.x"]\nstatement = "s"\nkind = \"guess\"\n', "kind"),
+    ('["p.x"]\nstatement = "s {}"\nkind = \"method\"\n', "not a plain name"),
+    ('["p.x"]\nstatement = "s {a.b}"\nkind = \"method\"\n', "not a plain name"),
+    ('["p.x"]\nstatement = "s {expected}"\nkind = \"method\"\n', "not a plain name"),
+    ('["p.x"]\nstatement = "s {text.nope}"\nkind = \"method\"\n', "no shared text"),
+    ('[text]\nold = "t"\n["p.x"]\nstatement = "s"\nkind = \"method\"\n', "used by no claim"),
+    ('["p.{k}"]\nstatement = "s"\nkind = \"method\"\npaper = { "q.a" = 1.0 }\n', "not of this spec"),
+    ('["p.x"]\nstatement = "s"\nkind = \"method\"\npaper = "0.1"\n', "number"),
+    ('["p.x"]\nstatement = "s"\nkind = \"method\"\nunit = 1\n', "string"),
 ])
 def test_bad_data_raises(tmp_path, body, error):
     path = tmp_path / "bad.claims.toml"
@@ -192,7 +194,7 @@ def test_bad_data_raises(tmp_path, body, error):
 def test_shared_texts_are_inserted(tmp_path):
     path = tmp_path / "p.claims.toml"
     path.write_text('[text]\nwhy = "noise at {n:g} r/min"\n'
-                    '["p.x"]\nstatement = "s"\ntolerance = 1.0\nwhy_fail = "{text.why}."\n')
+                    '["p.x"]\nstatement = "s"\nkind = \"method\"\ntolerance = 1.0\nwhy_fail = "{text.why}."\n')
     c = load_specs(path).claim("p.x", 2.0, expected=0.0, n=75.0)
     assert c.why_fail == "noise at 75 r/min."
     assert c.statement.endswith("Why: noise at 75 r/min.")

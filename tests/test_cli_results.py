@@ -472,7 +472,7 @@ def test_atomic_path_replaces_only_a_whole_file(tmp_path):
 def test_a_sweeps_spec_and_maps_are_written_atomically(tmp_path, monkeypatch):
     """sweep.json, sweep.toml and the maps reach their names by os.replace
     of a temporary file (the Parquet parts already were)."""
-    from smodrive.sweep_plot import plot_all
+    from smodrive.sweep import plot_all
 
     src = tmp_path / "small.toml"
     src.write_text('[sweep]\nbase = "drive.pi_encoder"\nmetrics = ["ripple"]\n'
@@ -492,7 +492,7 @@ def test_a_sweeps_spec_and_maps_are_written_atomically(tmp_path, monkeypatch):
 
     monkeypatch.setattr(os, "replace", spy)
     sweep.prepare_out(spec, out, src.read_text())
-    sweep._write_part(out, spec, sweep.run_local(spec))
+    sweep.write_part(out, spec, sweep.run_local(spec))
     paths = plot_all(spec, out)
     assert [p.name for p in paths] == ["lines.png"] and paths[0].stat().st_size > 1000
     assert {"sweep.json", "sweep.toml", "lines.png"} <= set(replaced)

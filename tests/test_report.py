@@ -1,6 +1,6 @@
 """results/report.md (issue 13, point 4): the claims table renders as a
 table in a real Markdown renderer (markdown-it-py, CommonMark with the
-GitHub table extension), one row of seven cells per claim with the
+GitHub table extension), one row of eight cells per claim (the kind of comparison in the second) with the
 criterion's `|` intact; every figure a run writes is shown; a claim the run
 could not measure says so and why, and is neither a pass nor a fail."""
 
@@ -18,7 +18,7 @@ from smodrive.claims import Claim, count
 from smodrive.scenarios import PAPERS
 from smodrive.scenarios.common import Experiment, Outcome
 
-HEADER = ["claim", "paper", "expected", "reproduced", "unit", "criterion", "result"]
+HEADER = ["claim", "kind", "paper", "expected", "reproduced", "unit", "criterion", "result"]
 
 
 def table_rows(md: str) -> list[list[str]]:
@@ -64,24 +64,25 @@ def test_claims_table_has_every_cell_in_a_real_renderer(tmp_path):
     assert rows[0] == HEADER
     assert len(rows) == 1 + len(cs)
     for c, row in zip(cs, rows[1:]):
-        assert len(row) == 7, row
+        assert len(row) == 8, row
         assert row[0] == c.id  # the code span, `|` and all
-        assert row[4] == c.unit
-        assert row[5] == c.describe_check()  # "|reproduced - expected| <= ..." intact
-        assert row[6] == {"pass": "pass", "fail": "FAIL", "not measured": "not measured"}[
+        assert row[1] == c.kind
+        assert row[5] == c.unit
+        assert row[6] == c.describe_check()  # "|reproduced - expected| <= ..." intact
+        assert row[7] == {"pass": "pass", "fail": "FAIL", "not measured": "not measured"}[
             c.status]
     # the absolute criteria hold two `|`: the case the issue found broken
-    assert rows[1][5].startswith("|reproduced - paper| <= 0.1 A")
-    assert [r[6] for r in rows[1:]] == ["pass", "FAIL", "pass", "FAIL", "pass", "not measured"]
+    assert rows[1][6].startswith("|reproduced - paper| <= 0.1 A")
+    assert [r[7] for r in rows[1:]] == ["pass", "FAIL", "pass", "FAIL", "pass", "not measured"]
 
 
 def test_unescaped_table_would_break_in_the_same_renderer():
     """The check above can fail: the row as report.md wrote it before has
     its criterion split at the `|` and loses the verdict."""
     c = claims()[0]
-    old = (f"| `{c.id}` | 1 | - | 1.05 | A | {c.describe_check()} | pass |")
-    rows = table_rows("| " + " | ".join(HEADER) + " |\n|" + "---|" * 7 + "\n" + old + "\n")
-    assert rows[1][5] != c.describe_check() and "pass" not in rows[1]
+    old = (f"| `{c.id}` | method | 1 | - | 1.05 | A | {c.describe_check()} | pass |")
+    rows = table_rows("| " + " | ".join(HEADER) + " |\n|" + "---|" * 8 + "\n" + old + "\n")
+    assert rows[1][6] != c.describe_check() and "pass" not in rows[1]
 
 
 def test_not_measured_is_neither_pass_nor_fail():
@@ -99,7 +100,7 @@ def test_not_measured_from_a_spec(tmp_path):
     from smodrive.claims import load_specs
 
     p = tmp_path / "x.claims.toml"
-    p.write_text('["x.cycles"]\nstatement = "Cycles."\nunit = "cycles"\ncheck = "max"\n'
+    p.write_text('["x.cycles"]\nstatement = "Cycles."\nkind = "method"\nunit = "cycles"\ncheck = "max"\n'
                  "paper = 10.0\ntolerance = 40.0\n")
     c = load_specs(p).claim("x.cycles", float("nan"), not_measured="no emulator")
     assert c.status == "not measured" and c.statement.endswith("NOT MEASURED: no emulator")

@@ -16,6 +16,20 @@ from ._util import tomllib
 
 Check = Literal["abs", "rel", "max", "min"]
 
+#: what a claim compares, counted apart (README, report.md): the paper's own
+#: numbers (a value read from a table or a figure, or a statement such as
+#: 'i_d kept at zero'); a prediction from the paper's own equations (exact or
+#: linearised, computed before looking at the result); a check of a method of
+#: ours (one measurement against another, or against the drive's own design);
+#: and analytic checks, where no smodrive code is under test (outside the count)
+KINDS: dict[str, str] = {
+    "paper": "against the paper's numbers",
+    "equation": "against the paper's own equations",
+    "method": "method checks",
+    "analytic": "analytic checks (no smodrive code under test; not counted)",
+}
+COUNTED_KINDS = ("paper", "equation", "method")
+
 
 @dataclass
 class Claim:
@@ -33,8 +47,14 @@ class Claim:
     # why the run could not measure it (a tool missing, ...): neither a pass
     # nor a fail; its reproduced value is NaN
     not_measured: str = ""
+    kind: str = "method"  # one of KINDS
 
     def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise ValueError(f"{self.id}: kind {self.kind!r} is not one of {', '.join(KINDS)}")
+        self._check()
+
+    def _check(self) -> None:
         # plain Python numbers (NumPy scalars do not serialise to JSON)
         for name in ("paper", "expected", "reproduced", "tolerance"):
             v = getattr(self, name)
@@ -95,11 +115,33 @@ class Claim:
 
 
 def count(claims: list[Claim]) -> dict[str, int]:
-    """How many claims passed, failed and could not be measured."""
+    """How many claims passed, failed and could not be measured (the
+    analytic checks left out: they test no smodrive code)."""
     out = {"pass": 0, "fail": 0, "not measured": 0}
     for c in claims:
-        out[c.status] += 1
+        if c.kind in COUNTED_KINDS:
+            out[c.status] += 1
     return out
+
+
+def count_by_kind(claims: list[Claim]) -> dict[str, dict[str, int]]:
+    """:func:`count` for each kind of :data:`KINDS` (analytic included)."""
+    return {k: {"pass": sum(c.kind == k and c.status == "pass" for c in claims),
+                "fail": sum(c.kind == k and c.status == "fail" for c in claims),
+                "not measured": sum(c.kind == k and c.status == "not measured"
+                                    for c in claims)}
+            for k in KINDS}
+
+
+def describe_counts(claims: list[Claim]) -> str:
+    """The counts by kind in one sentence (report.md, the CLI)."""
+    parts = []
+    for k, n in count_by_kind(claims).items():
+        total = sum(n.values())
+        if total:
+            parts.append(f"{KINDS[k]}: {n['pass']} of {total} pass"
+                         + (f", {n['not measured']} not measured" if n["not measured"] else ""))
+    return "; ".join(parts)
 
 
 def write_claims(claims: list[Claim], path: Path) -> None:
@@ -115,7 +157,7 @@ def write_claims(claims: list[Claim], path: Path) -> None:
 # claim fails. Texts shared by several claims sit in the table `[text]` and
 # are referenced as `{text.NAME}`. The run supplies what it measures.
 
-SPEC_KEYS = ("statement", "unit", "check", "paper", "tolerance", "basis", "why_fail")
+SPEC_KEYS = ("statement", "kind", "unit", "check", "paper", "tolerance", "basis", "why_fail")
 CHECKS = ("abs", "rel", "max", "min")
 TEXT_TABLE = "text"
 # arguments of ClaimSpec.make, so not available as field names
@@ -154,6 +196,7 @@ class ClaimSpec:
 
     id: str
     statement: str
+    kind: str = ""
     unit: str = ""
     check: Check = "abs"
     paper: float | dict[str, float] | None = None
@@ -164,6 +207,9 @@ class ClaimSpec:
     def __post_init__(self) -> None:
         if self.check not in CHECKS:
             raise ValueError(f"{self.id}: check {self.check!r} is not one of {CHECKS}")
+        if self.kind not in KINDS:
+            raise ValueError(f"{self.id}: kind {self.kind!r} is not one of {', '.join(KINDS)} "
+                             "(every claim says what it compares)")
         for name in ("id", "statement", "unit", "basis", "why_fail"):
             if not isinstance(getattr(self, name), str):
                 raise ValueError(f"{self.id}: {name} must be a string")
@@ -234,7 +280,7 @@ class ClaimSpec:
             paper=self._fixed("paper", cid, paper), expected=expected,
             reproduced=reproduced, unit=self.unit, tolerance=tol, check=self.check,
             basis=self.basis.format(**fields), why_fail=self.why_fail.format(**fields),
-            not_measured=not_measured)
+            not_measured=not_measured, kind=self.kind)
 
 
 class ClaimSpecs(Mapping[str, ClaimSpec]):

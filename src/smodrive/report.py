@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Collection
 
-from .claims import Claim, count, write_claims
+from .claims import KINDS, Claim, count, describe_counts, write_claims
 from .scenarios import PAPERS
 
 
@@ -126,7 +126,7 @@ def _rel(f: Path, out: Path) -> str:
 
 
 def render_report(rep: Reproduction, papers: list[str], out: Path) -> str:
-    """report.md: the claims table (one row of seven cells per claim in any
+    """report.md: the claims table (one row of eight cells per claim in any
     Markdown renderer), each claim's statement and tolerance, and every
     figure of the run under its experiment."""
     n = count(rep.claims)
@@ -138,17 +138,23 @@ def render_report(rep: Reproduction, papers: list[str], out: Path) -> str:
         + f". {rep.samples:,} control samples simulated in {rep.seconds:.1f} s wall time on "
         f"{platform.machine()} ({platform.python_version()}).",
         "",
-        "| claim | paper | expected | reproduced | unit | criterion | result |",
-        "|---|---|---|---|---|---|---|",
+        f"By kind: {describe_counts(rep.claims)}. A claim against the paper's numbers compares "
+        "with a value or a statement of the paper; one against the paper's own equations with "
+        "a prediction computed from them before the run; a method check measures a method of "
+        "ours against another measurement or the drive's design; an analytic check exercises "
+        "no smodrive code and is not counted.",
+        "",
+        "| claim | kind | paper | expected | reproduced | unit | criterion | result |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     for c in rep.claims:
-        cells = [f"`{c.id}`", _fmt(c.paper), _fmt(c.expected), _fmt(c.reproduced), c.unit,
-                 c.describe_check(), RESULT[c.status]]
+        cells = [f"`{c.id}`", c.kind, _fmt(c.paper), _fmt(c.expected), _fmt(c.reproduced),
+                 c.unit, c.describe_check(), RESULT[c.status]]
         lines.append("| " + " | ".join(cell(x) for x in cells) + " |")
     lines += ["", "## Statements and tolerances", ""]
     for c in rep.claims:
         verdict = {"pass": "pass", "fail": "FAIL", "not measured": "not measured"}[c.status]
-        lines.append(f"- **{c.id}** ({verdict}): {c.statement}"
+        lines.append(f"- **{c.id}** ({verdict}; {KINDS[c.kind]}): {c.statement}"
                      + (f" *Tolerance:* {c.basis}." if c.basis else ""))
     lines += ["", "## Figures", ""]
     shown = set()
