@@ -263,6 +263,54 @@ def dbpc_exact_closed_loop(L: float, R: float, L_hat: float, R_hat: float, T: fl
     return (L_hat / T) / ((z - a) * (z + c) / b + (L_hat / T) * c**2)
 
 
+def dbpc_fixed_point(L: float, R: float, psi: float, L_hat: float, R_hat: float,
+                     psi_hat: float, w: float, T: float, i_d_ref: float, i_q: float, *,
+                     plant: str = "zoh", t_dead: float = 0.0, t_dead_comp: float = 0.0,
+                     u_dc: float = 540.0) -> tuple[float, float, complex]:
+    """The exact steady state of conventional DBPC (7)-(9) at electrical speed
+    w with the true current i_q: (i_d, i_q reference, the dead time's residual
+    voltage), solved in the rotor frame as a fixed point of the sampled loop,
+    with no term dropped. The plant over one period is the zero-order hold of
+    the machine (the voltage held in the stationary frame, the EMF rotating:
+    i^{k+1} = a i^k + b u^{k-1} - (j w psi / L) (e^{j w T} - a) / (j w + R / L)
+    e^{j theta_k}, a = e^{-R T / L}, b = (1 - a) / R), or with
+    plant="euler" the model (3) the paper's eq. (12) is derived from. The
+    controller applies at k the voltage it computed at k-1 (its prediction (8)
+    takes it). With t_dead > 0 the inverter loses (4 / pi) (t_dead / T) u_dc in
+    the direction of the true current (the fundamental of each phase's +-
+    (t_dead / T) u_dc square wave), and the compensation adds
+    (4 / pi) (t_dead_comp / T) u_dc in the direction of the reference (whose
+    sign it uses): their difference is the residual, found by iterating."""
+    if plant == "zoh":
+        a = math.exp(-R * T / L)
+        b = (1.0 - a) / R
+        E = 1j * w * psi / L * (np.exp(1j * w * T) - a) / (1j * w + R / L)
+    elif plant == "euler":
+        a, b, E = 1.0 - R * T / L, T / L, 1j * w * psi * T / L
+    else:
+        raise ValueError(f"plant {plant!r}: 'zoh' or 'euler'")
+    rho = np.exp(1j * w * T)
+    dU = 0j
+    x = np.zeros(5)
+    for _ in range(60):
+        def resid(x: np.ndarray, dU: complex = dU) -> np.ndarray:
+            I, U, I_ref = x[0] + 1j * x[1], x[2] + 1j * x[3], i_d_ref + 1j * x[4]
+            r1 = I * rho - a * I - b * (U / rho + dU) + E  # the plant over one period
+            I1 = I + T / L_hat * (U / rho - R_hat * I - 1j * w * psi_hat)  # eq. (8)
+            r2 = U - (L_hat / T * (I_ref * rho**2 - I1) + R_hat * I1  # eq. (9), (7)
+                      + 1j * w * psi_hat * rho)
+            return np.array([r1.real, r1.imag, r2.real, r2.imag, I.imag - i_q])
+        f0 = resid(np.zeros(5))  # linear in x: solved exactly
+        J = np.column_stack([resid(e) - f0 for e in np.eye(5)])
+        x = np.linalg.solve(J, -f0)
+        I, I_ref = x[0] + 1j * x[1], i_d_ref + 1j * x[4]
+        new = 4 / math.pi * u_dc / T * (t_dead_comp * I_ref / abs(I_ref) - t_dead * I / abs(I))
+        if abs(new - dU) < 1e-12:
+            break
+        dU = new
+    return float(x[0]), float(x[4]), complex(dU)
+
+
 def robust_dbpc_noise_gain(L_hat: float, ctrl: ControllerCfg = BASE.controller,
                            motor: MotorPars = MOTOR, T: float = BASE.T_sp,
                            w_r: float = W_N * MOTOR.n_p) -> float:
