@@ -21,7 +21,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 SHORT = {
     "yang2018.fig1.sim_peak_gain_db_Lhat_2L_vs_eq14": "eq. (14) assumes the Euler plant",
-    "yang2018.fig6a.ripple_ratio": "ADC noise through the gain L_hat/T_sp",
+    "yang2018.fig5a.eq12_vs_exact": "eq. (12) assumes the Euler plant (errata E13)",
     "yang2018.fig7b.pos_error_peak_deg": "ADC noise and dead time at 75 r/min",
     "yang2018.fig7b.pos_error_peak_deg_oversampled": "dead time alone gives 10.5 deg",
     "yang2018.fig9.pos_error_peak_deg": "dead time at 72-150 r/min without load (noise off: "

@@ -143,8 +143,8 @@ NOISE_WINDOW = (0.1, 0.5)
 # model is least physical. They use zero-current clamping (a small current
 # decays to zero within the dead time and the open leg follows the back EMF;
 # docs/assumptions.md). Figs. 1-6 keep the hard-sign model: at rated load the
-# clamp changes no verdict (measured: the largest change is
-# fig6b.ripple_ratio, 0.723 -> 0.637, both within its bound).
+# clamp changes no verdict (measured before issue 20: the largest change was
+# the since dropped fig6b.ripple_ratio, 0.723 -> 0.637, both within its bound).
 SENSORLESS_INVERTER = dataclasses.replace(BASE.inverter, dead_time_model="clamp")
 
 
@@ -309,6 +309,37 @@ def dbpc_fixed_point(L: float, R: float, psi: float, L_hat: float, R_hat: float,
             break
         dU = new
     return float(x[0]), float(x[4]), complex(dU)
+
+
+def dbpc_noise_gain(L_hat: float, motor: MotorPars = MOTOR, T: float = BASE.T_sp,
+                    R_hat: float | None = None, plant: str = "zoh") -> float:
+    """RMS of the true current per RMS of the (white) current measurement
+    noise in the conventional DBPC loop (8)-(9): the H2 norm of the noise ->
+    current transfer. The loop is linear and its noise dynamics do not depend
+    on the speed (the references and the EMF are deterministic and drop
+    out): state [i, u] at t_k, the true current and the voltage applied over
+    [t_k, t_k+1) (the previous command); (8) predicts
+    i_k1 = (1 - R_hat T / L_hat)(i + n) + (T / L_hat) u and (9) commands
+    u' = (R_hat - L_hat / T) i_k1; the plant is the exact i' = a i + b u,
+    a = e^{-R T / L}, b = (1 - a) / R, or with plant="euler" the model (3),
+    a = 1 - R T / L, b = T / L."""
+    R, L = motor.R_s, motor.L_s
+    Rh = R if R_hat is None else R_hat
+    if plant == "zoh":
+        a = math.exp(-R * T / L)
+        b = (1.0 - a) / R
+    elif plant == "euler":
+        a, b = 1.0 - R * T / L, T / L
+    else:
+        raise ValueError(f"plant {plant!r}: 'zoh' or 'euler'")
+    g, c = T / L_hat, Rh - L_hat / T
+    A = np.array([[a, b], [c * (1 - g * Rh), c * g]])
+    B = np.array([0.0, c * (1 - g * Rh)])
+    if np.max(np.abs(np.linalg.eigvals(A))) >= 1.0:
+        return math.inf
+    C = np.array([[1.0, 0.0]])
+    P = scipy.linalg.solve_discrete_lyapunov(A.T, C.T @ C)
+    return float(np.sqrt(B @ P @ B))
 
 
 def robust_dbpc_noise_gain(L_hat: float, ctrl: ControllerCfg = BASE.controller,
