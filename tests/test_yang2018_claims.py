@@ -362,3 +362,34 @@ def test_fig5b_noise_ratio_rejects_the_plausible_wrong_loops(claims):
               euler=euler)
     for wrong in (2.0, euler, robust):
         assert not y.SPECS.claim("yang2018.fig5b.noise_ripple_ratio", wrong, **kw).passed
+
+
+@pytest.mark.parametrize("change", [dict(J_hat_k=1.25), dict(speed_bw_k=0.8),
+                                    dict(speed_bw_k=1.25), dict(w_lpf_k=2.0)])
+def test_fig8_speed_dip_rejects_a_speed_loop_off_its_design(change):
+    """The dip claim checks the speed path against its linear design: a
+    drive whose speed PI or speed filter is not the designed one (gains 25 %
+    off, the filter twice as fast), judged against the design's dip, fails."""
+    s0 = y.fig8_scenario()
+    c = s0.controller
+    k = {"J_hat": c.J_hat * change.get("J_hat_k", 1.0),
+         "speed_bw": c.speed_bw * change.get("speed_bw_k", 1.0),
+         "w_lpf": c.w_lpf * change.get("w_lpf_k", 1.0)}
+    r = simulate(s0.with_controller(**k))
+    dip = float(y.W_N - np.min(r["w_M"][r.window(y.FIG8_ON, y.FIG8_OFF)])) / y.RPM
+    exp_dip = y.speed_loop_load_dip(c, s0.motor.J, s0.motor.n_p, y.T_N) / y.RPM
+    assert not y.SPECS.claim("yang2018.fig8.speed_dip_rpm", dip, expected=exp_dip,
+                             tolerance=round(0.06 * exp_dip, 2)).passed
+
+
+def test_fig7a_and_fig8_peaks_reject_a_one_sample_lag(claims):
+    """The peak bounds (3 and 3.5 deg, three times their error budgets)
+    reject the controller's angle one sample late, which the 10 deg bound of
+    the paper's 'almost coincide' let through."""
+    for cid, s, t0 in (("yang2018.fig7a.pos_error_peak_deg", y.fig7_scenario(1500.0), 0.5),
+                       ("yang2018.fig8.pos_error_peak_deg", y.fig8_scenario(), y.HANDOVER)):
+        c = claims[cid]
+        assert c.passed
+        r = simulate(s)
+        lag = float(np.max(np.abs(y.pos_error_lagged_deg(r, r.window(t0, s.duration), 1))))
+        assert lag > c.tolerance

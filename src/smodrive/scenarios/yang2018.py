@@ -330,8 +330,12 @@ def run_fig7(progress: ProgressFn) -> Outcome:
         else:
             claims.append(claim("yang2018.fig7b.pos_error_deg", rms_e))
         peaks = peak_over_seeds(s, r, 0.5, 1.0, progress)
+        # at 1500 r/min the bound is the error budget: the peak with the
+        # angle one sample late is stated beside it
+        extra = {"lag_peak": float(np.max(np.abs(pos_error_lagged_deg(r, m, 1))))} \
+            if tag == "a" else {}
         claims.append(claim(f"yang2018.fig7{tag}.pos_error_peak_deg", peaks.p90,
-                            **seed_fields(peaks)))
+                            **seed_fields(peaks), **extra))
         if tag == "b":
             s_ov = fig7_oversampled_scenario()
             ov = over_seeds(s_ov, peak_pos_error(0.5, 1.0), progress=progress)
@@ -375,10 +379,12 @@ def run_fig8(progress: ProgressFn) -> Outcome:
     dip = float(W_N - np.min(r["w_M"][m_on])) / RPM
     exp_dip = speed_loop_load_dip(s.controller, s.motor.J, s.motor.n_p, T_N) / RPM
     peaks = peak_over_seeds(s, r, HANDOVER, s.duration, progress)
+    lag_peak = float(np.max(np.abs(pos_error_lagged_deg(r, r.window(HANDOVER, s.duration), 1))))
     claims = [
         claim("yang2018.fig8.speed_dip_rpm", dip, expected=exp_dip,
-              tolerance=round(0.2 * exp_dip, 2)),
-        claim("yang2018.fig8.pos_error_peak_deg", peaks.p90, **seed_fields(peaks)),
+              tolerance=round(0.06 * exp_dip, 2)),
+        claim("yang2018.fig8.pos_error_peak_deg", peaks.p90, lag_peak=lag_peak,
+              **seed_fields(peaks)),
     ]
 
     def plot(fig_dir):
