@@ -53,9 +53,26 @@ def _num(v) -> str:
     return f"{v:.4g}" if isinstance(v, float) else str(v)
 
 
+#: the kinds of claim (smodrive.claims.KINDS), as the README's counts name them
+KIND_WORDS = {"paper": "against the paper's numbers", "equation": "against its own equations",
+              "method": "method checks", "analytic": "analytic checks (not counted)"}
+
+
+def counts(mine: list[dict]) -> str:
+    """The README's counts of one paper, by kind."""
+    parts = []
+    for kind, words in KIND_WORDS.items():
+        of = [c for c in mine if c.get("kind", "method") == kind]
+        if of:
+            n_pass = sum(c["passed"] for c in of)
+            parts.append(f"{words}: {n_pass} of {len(of)} pass")
+    return "**" + "; ".join(parts) + "**"
+
+
 def table(claims: list[dict], paper: str) -> str:
-    rows = [f"| claim (`{paper}.`) | paper | expected | reproduced | unit | criterion | result |",
-            "|---|---|---|---|---|---|---|"]
+    rows = [f"| claim (`{paper}.`) | kind | paper | expected | reproduced | unit | criterion | "
+            "result |",
+            "|---|---|---|---|---|---|---|---|"]
     for c in claims:
         if not c["id"].startswith(paper + "."):
             continue
@@ -67,7 +84,8 @@ def table(claims: list[dict], paper: str) -> str:
             sys.exit(f"{c['id']} fails and has no short reason in SHORT: add one")
         crit = (c["criterion"].replace("reproduced", "rep").replace("expected", "exp")
                 .replace("|", "\\|"))
-        rows.append(f"| `{c['id'][len(paper) + 1:]}` | {_num(c['paper'])} | "
+        rows.append(f"| `{c['id'][len(paper) + 1:]}` | {c.get('kind', 'method')} | "
+                    f"{_num(c['paper'])} | "
                     f"{_num(c['expected'])} | {_num(c['reproduced'])} | {c['unit']} | {crit} | "
                     f"{result} |")
     return "\n".join(rows)
@@ -82,8 +100,7 @@ def main() -> None:
     text = a.readme.read_text()
     for paper in ("yang2018", "yao2022"):
         mine = [c for c in claims if c["id"].startswith(paper + ".")]
-        n_pass = sum(c["passed"] for c in mine)
-        count = f"**{n_pass} claims pass, {len(mine) - n_pass} fail**"
+        count = counts(mine)
         for tag, body in ((f"claims:{paper}", table(claims, paper)), (f"count:{paper}", count)):
             pat = re.compile(rf"(<!-- {tag} -->)(.*?)(<!-- /{tag} -->)", re.S)
             if not pat.search(text):
