@@ -13,8 +13,7 @@ error drawn on a figure of your own (every drawing function of
 # The README example (``tests/test_gallery.py`` checks that it is the README's
 # code, verbatim).
 import numpy as np
-from smodrive.model import RPM, ControllerCfg, LoadCfg, MotorPars, Profile, Scenario
-from smodrive.engine import simulate
+from smodrive import RPM, ControllerCfg, LoadCfg, MotorPars, Profile, Scenario, simulate
 
 motor = MotorPars()  # yang2018 Table I
 s = Scenario(
