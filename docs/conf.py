@@ -72,7 +72,10 @@ myst_heading_anchors = 3
 suppress_warnings = ["myst.header", "myst.xref_missing", "misc.highlighting_failure"]
 
 autosummary_generate = True
-autodoc_default_options = {"members": True, "show-inheritance": True}
+# each object documented once, where it is defined: a package's __all__
+# re-exports its modules' names (from smodrive.engine import simulate), which
+# autodoc would document a second time under the package
+autodoc_default_options = {"members": True, "show-inheritance": True, "ignore-module-all": True}
 autodoc_member_order = "bysource"
 autodoc_typehints = "description"
 napoleon_numpy_docstring = True

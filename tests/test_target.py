@@ -13,6 +13,7 @@ import pytest
 
 from smodrive import firmware as T
 from smodrive.scenarios import catalogue
+from smodrive.firmware.cycles import _classify as classify
 from smodrive.scenarios.target_cases import standard_cases
 
 LIBM_FUNCS = ("sin", "cos", "atan2", "exp", "expm1")
@@ -151,7 +152,7 @@ def test_cortex_m4_timings_of_instruction_classes():
     wired to the disassembly: divide and square root 14, a register list
     1 + N (a d register counts twice), POP with PC a branch, loads 2 before
     pipelining, a conditional branch a branch."""
-    c = T._classify
+    c = classify
     assert c("vdiv.f32", "s0, s1, s2", 4).cost == (14, 14, 14)
     assert c("vsqrt.f32", "s0, s1", 4).cost == (14, 14, 14)
     assert c("vpush", "{s16-s23}", 4).cost == (9, 9, 9)

@@ -10,7 +10,8 @@ from typing import Any
 
 import numpy as np
 
-try:  # the TOML parser: the standard library's from Python 3.11, the same as a package before
+# the TOML parser: the standard library's from Python 3.11, the same as a package before
+try:
     import tomllib
 except ModuleNotFoundError:  # pragma: no cover (Python 3.10)
     import tomli as tomllib  # type: ignore[no-redef]

@@ -1,7 +1,7 @@
-"""The engine layer: the C library's binding (:mod:`._ffi`), the C structs
-of a scenario (:mod:`.marshal`), the run in chunks (:mod:`.run`), its
-result (:mod:`.result`), its files (:mod:`.export`) and direct access to
-the plant (:mod:`.plant`). It imports :mod:`smodrive.model` and
+"""The engine layer: the C library's binding (:mod:`smodrive.engine._ffi`), the C structs
+of a scenario (:mod:`smodrive.engine.marshal`), the run in chunks (:mod:`smodrive.engine.run`), its
+result (:mod:`smodrive.engine.result`), its files (:mod:`smodrive.engine.export`) and direct access to
+the plant (:mod:`smodrive.engine.plant`). It imports :mod:`smodrive.model` and
 :mod:`smodrive.design` (the LCL observers' tables), nothing above.
 """
 

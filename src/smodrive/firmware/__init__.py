@@ -1,9 +1,9 @@
 """The firmware layer: the real-time core on a Cortex-M4F. The vector
 runner (core/target) built for the host and for QEMU's ``mps2-an386``
-(:mod:`.build`), test vectors (:mod:`.vectors`), running and comparing the
-two builds (:mod:`.run`), processor-in-the-loop (:mod:`.pil`), cycle counts
-from the emulator's trace (:mod:`.cycles`) and the C header of a drive's
-configuration (:mod:`.header`). It imports the engine, the design and the
+(:mod:`smodrive.firmware.build`), test vectors (:mod:`smodrive.firmware.vectors`), running and comparing the
+two builds (:mod:`smodrive.firmware.run`), processor-in-the-loop (:mod:`smodrive.firmware.pil`), cycle counts
+from the emulator's trace (:mod:`smodrive.firmware.cycles`) and the C header of a drive's
+configuration (:mod:`smodrive.firmware.header`). It imports the engine, the design and the
 model; the scenarios it runs are given to it
 (:mod:`smodrive.scenarios.target_cases` names the standard ones).
 """

@@ -2,9 +2,9 @@
 controller values derived from the motor. Pure functions of parameters: it
 imports nothing of smodrive above :mod:`smodrive._util`.
 
-Floors, bottom up: :mod:`.fields` (units, ParameterError, field kinds,
-Profile) -> :mod:`.pars` (motor, filter, inverter, ADC, load, controller)
--> :mod:`.derive` (controller values from the motor) -> :mod:`.scenario`
+Floors, bottom up: :mod:`smodrive.model.fields` (units, ParameterError, field kinds,
+Profile) -> :mod:`smodrive.model.pars` (motor, filter, inverter, ADC, load, controller)
+-> :mod:`smodrive.model.derive` (controller values from the motor) -> :mod:`smodrive.model.scenario`
 (Scenario).
 """
 

@@ -1,7 +1,7 @@
 """The papers' experiments as data: scenario catalogues and their claims
-(:mod:`.yang2018`, :mod:`.yao2022`), the drive compositions
-(:mod:`.drive`), trial profiles for any motor (:mod:`.trials`) and the
-firmware test's cases (:mod:`.target_cases`)."""
+(:mod:`smodrive.scenarios.yang2018`, :mod:`smodrive.scenarios.yao2022`), the drive compositions
+(:mod:`smodrive.scenarios.drive`), trial profiles for any motor (:mod:`smodrive.scenarios.trials`) and the
+firmware test's cases (:mod:`smodrive.scenarios.target_cases`)."""
 
 from .catalogue import PAPERS, catalogue
 

@@ -2,7 +2,7 @@
 the one drive on a scenario that exercises it, the standard vector set
 (blocks, recorded drives with their edge-case variants, the papers'
 recorded scenarios) and the cases of the Cortex-M4F cycle table. The
-scenarios are the papers' (:mod:`.drive`, :mod:`.yao2022`); the machinery is
+scenarios are the papers' (:mod:`smodrive.scenarios.drive`, :mod:`smodrive.scenarios.yao2022`); the machinery is
 :mod:`smodrive.firmware`."""
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """yang2018: the drive and the operating points of Sec. VI as scenarios (the
 motor of Table I, :data:`BASE`, one builder a figure), and what the
 experiments measure from a run or a model (position errors, the exact
-discrete DBPC loop, the noise gain of the robust DBPC). :mod:`.yang2018`
+discrete DBPC loop, the noise gain of the robust DBPC). :mod:`smodrive.scenarios.yang2018`
 runs the experiments and re-exports every name here.
 
 Values the paper does not give are the documented assumptions of

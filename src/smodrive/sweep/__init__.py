@@ -31,16 +31,16 @@ Example (``docs/sweeps.md`` has the whole format)::
 
 The modules, each importing only those above it:
 
-- :mod:`.axes`: an axis or ``[seeds]`` table parsed and checked; the
+- :mod:`smodrive.sweep.axes`: an axis or ``[seeds]`` table parsed and checked; the
   changes an axis value makes (applied by :func:`smodrive.scenario_io.apply`);
-- :mod:`.plotspec`: the ``[[plots]]`` entries checked, the analytic overlays;
-- :mod:`.spec`: a sweep file into a :class:`SweepSpec`, the built-in
+- :mod:`smodrive.sweep.plotspec`: the ``[[plots]]`` entries checked, the analytic overlays;
+- :mod:`smodrive.sweep.spec`: a sweep file into a :class:`SweepSpec`, the built-in
   sweeps (``builtin/*.toml``), the run count and its bound;
-- :mod:`.plan`: the runs of a spec (:func:`expand`), their ids, their check;
-- :mod:`.worker`: a run in a Dask worker, reduced to one row;
-- :mod:`.store`: OUT, its Parquet parts and ``sweep.json``, read back;
-- :mod:`.run`: batches on Dask (or in this process), :func:`run_sweep`;
-- :mod:`.maps`: the maps of the results (:func:`plot_all`).
+- :mod:`smodrive.sweep.plan`: the runs of a spec (:func:`expand`), their ids, their check;
+- :mod:`smodrive.sweep.worker`: a run in a Dask worker, reduced to one row;
+- :mod:`smodrive.sweep.store`: OUT, its Parquet parts and ``sweep.json``, read back;
+- :mod:`smodrive.sweep.run`: batches on Dask (or in this process), :func:`run_sweep`;
+- :mod:`smodrive.sweep.maps`: the maps of the results (:func:`plot_all`).
 """
 
 from .axes import STANDARD_COLUMNS, Axis, apply_changes
