@@ -3,7 +3,7 @@ disturbance and its periodic part (Fig. 4), the PLL's bandwidth from the C
 code (Fig. 7), the speed ripple and its harmonics (Table V), the handover
 and peak position errors (Figs. 14, 19-21), the zero crossing (Fig. 22) and
 stability (Fig. 23). Pure functions of a :class:`~smodrive.engine.Result`
-or of design parameters; :mod:`.yao2022` runs the experiments."""
+or of design parameters; :mod:`smodrive.scenarios.yao2022` runs the experiments."""
 
 from __future__ import annotations
 
@@ -86,6 +86,20 @@ def pll_bandwidth_measured(pll: dz.PllPars, n: int = 400_000) -> float:
 
     return float(scipy.optimize.brentq(lambda fr: gain(fr) - 1 / math.sqrt(2), 10.0,
                                        0.45 / pll.T, xtol=1e-6))
+
+
+def injection_reading(r: Result, t_inj: float, w: float) -> dict[str, float]:
+    """The current-injection reading of eq. (60) from a run whose gamma
+    current steps to +5 A at t_inj: the mean delta current over the window w
+    before the step and over w after it (from t_inj + 0.05 s, the step
+    settled); with the true mean errors theta_hat - theta (the sign of (59),
+    docs/errata.md Y9) before and during the injection."""
+    before, after = r.window(t_inj - w, t_inj), r.window(t_inj + 0.05, r.scenario.duration)
+    i_dl1, i_dl2 = np.mean(r["i_dl"][before]), np.mean(r["i_dl"][after])
+    i_g2 = np.mean(r["i_g"][after])
+    return {"inj": float(math.atan((i_dl1 - i_dl2) / i_g2)),
+            "during": -float(np.mean(r.theta_error[after])),
+            "before": -float(np.mean(r.theta_error[before]))}
 
 
 def speed_ripple(r: Result) -> float:
