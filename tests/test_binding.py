@@ -16,12 +16,14 @@ import importlib.util
 import os
 import subprocess
 import sys
+import types
 from pathlib import Path
 
 import pytest
 
 from smodrive.engine import _ffi as F
-from smodrive.engine import CHANNEL_INFO, CHANNELS
+from smodrive.engine import CHANNEL_INFO, CHANNELS, marshal
+from smodrive.scenarios import catalogue
 
 ROOT = Path(__file__).resolve().parents[1]
 real = F.real
@@ -304,3 +306,49 @@ def test_every_channel_has_a_unit_and_a_description():
         assert old not in CHANNELS, old
     assert CHANNEL_INFO["w_M"][0] == "rad/s" and CHANNEL_INFO["theta_r"][0] == "rad"
     assert CHANNEL_INFO["T_e"][0] == "N m" and CHANNEL_INFO["u_alpha"][0] == "V"
+
+
+# ------------------------------------------ drive_config fills every field --
+
+def _scenarios():
+    cat = catalogue()
+    return [cat[n]() for n in ("yang2018.base", "drive.if_start", "yao2022.fig22")]
+
+
+def test_drive_config_sets_every_field_of_the_header():
+    """drive_config builds smd_drive_config from a complete field -> value
+    map (else it raises): every field of the header, the LCL observers' too."""
+    for s in _scenarios():
+        tables = marshal.lcl_observer_tables(s) if s.lcl is not None else None
+        c = marshal.drive_config(s, tables)
+        assert isinstance(c, F.DriveConfig)
+        if tables is not None:
+            assert c.smo.n == c.lin.n == tables[0].shape[0] and c.smo.table and c.lin.table
+
+
+def test_drive_config_fails_loudly_on_a_field_the_header_gains(monkeypatch):
+    """A field added to smd_drive_config (the mirror is regenerated from the
+    header) that drive_config does not set raises, naming it, instead of
+    going to C as 0."""
+
+    class Grown(ct.Structure):
+        _c_name_ = "smd_drive_config"
+        _fields_ = list(F.DriveConfig._fields_) + [("w_new_limit", real)]
+
+    monkeypatch.setattr(marshal._ffi, "DriveConfig", Grown)
+    with pytest.raises(RuntimeError, match=r"unset: w_new_limit \("):
+        marshal.drive_config(_scenarios()[0])
+
+
+def test_drive_config_fails_loudly_when_an_assignment_is_dropped():
+    """marshal.py with one field's assignment deleted (a planted slip, run
+    as a copy of the module): the call raises naming the field."""
+    src = (ROOT / "src/smodrive/engine/marshal.py").read_text()
+    line = "        osc_i=k.osc_i, osc_rel=k.osc_rel,\n"
+    assert src.count(line) == 1
+    mod = types.ModuleType("smodrive.engine._planted_marshal")
+    mod.__package__ = "smodrive.engine"
+    exec(compile(src.replace(line, "        osc_i=k.osc_i,\n"), "planted_marshal", "exec"),
+         mod.__dict__)
+    with pytest.raises(RuntimeError, match=r"drive_config .* smd_drive_config .*unset: osc_rel"):
+        mod.drive_config(_scenarios()[0])
