@@ -12,6 +12,7 @@ the log channels are described.
 from __future__ import annotations
 
 import ctypes as ct
+import dataclasses
 import importlib.util
 import os
 import subprocess
@@ -21,7 +22,10 @@ from pathlib import Path
 
 import pytest
 
+from smodrive.design import cheader, yao2022
+from smodrive.design.observer_layout import OBSERVER_FIELDS
 from smodrive.engine import _ffi as F
+from smodrive.engine._structs import DESIGN_FIELDS
 from smodrive.engine import CHANNEL_INFO, CHANNELS, marshal
 from smodrive.scenarios import catalogue
 
@@ -352,3 +356,38 @@ def test_drive_config_fails_loudly_when_an_assignment_is_dropped():
          mod.__dict__)
     with pytest.raises(RuntimeError, match=r"drive_config .* smd_drive_config .*unset: osc_rel"):
         mod.drive_config(_scenarios()[0])
+
+
+# ------------------------------------------------ observer-table layout --
+
+def test_observer_layout_is_the_one_list():
+    """ObserverMatrices, DesignTables, MATRIX_FIELDS, cheader.REALTIME_FIELDS
+    and the packing (the headers' @design annotations) all come from
+    OBSERVER_FIELDS."""
+    names = tuple(n for n, *_ in OBSERVER_FIELDS)
+    assert yao2022.MATRIX_FIELDS == names
+    assert [f.name for f in dataclasses.fields(yao2022.ObserverMatrices)] == ["w", *names]
+    assert [f.name for f in dataclasses.fields(yao2022.DesignTables)] == [
+        "speeds_rpm", "w", *names, "plant", "design"]
+    assert cheader.REALTIME_FIELDS == ("w",) + tuple(n for n, _, _, rt in OBSERVER_FIELDS if rt)
+    assert marshal.packing_errors() == []
+    packed = [name for rows in DESIGN_FIELDS.values() for _, name, _ in rows]
+    assert set(packed) <= set(names) and len(packed) == len(set(packed))
+    # the C models hold exactly what is packed, in C order
+    for c_name, rows in DESIGN_FIELDS.items():
+        assert [r[0] for r in rows] == [n for n, *_ in F.MIRRORS[c_name]._fields_]
+
+
+@pytest.mark.parametrize("planted,what", [
+    ((("Ft", "T_r", ((2, 6), (2, 5))),), "12 in T_r"),       # a block of the wrong size
+    ((("Ft", "T_rr", ((2, 6), (2, 6))),), "no real field"),  # a design field that is not
+    ((("Ft", "N_2", None),), "no real field"),               # an integer field
+    ((("Ft", "G", None),), "36 in G"),                       # a whole field of another size
+    ((("Ft", "H", ((2, 6), (2, 6))),), "outside H"),          # a block outside the field
+])
+def test_packing_check_catches_a_drifted_annotation(planted, what):
+    """An @design annotation that does not fit the design list (what the
+    import-time check of smodrive.engine.marshal reports)."""
+    rows = tuple(r if r[0] != "Ft" else planted[0] for r in DESIGN_FIELDS["smd_lcl_model"])
+    errors = marshal.packing_errors({"smd_lcl_model": rows})
+    assert len(errors) == 1 and errors[0].startswith("smd_lcl_model.Ft: ") and what in errors[0]

@@ -5,15 +5,18 @@ and packed in the C layouts) and the reference profiles."""
 
 from __future__ import annotations
 
+import ctypes as ct
 import dataclasses
 import functools
 
 import numpy as np
 
 from ..design import yao2022 as dz
+from ..design.observer_layout import OBSERVER_FIELDS
 from ..model import LCL_TABLE_RPM, LclFilterPars, MotorPars, ParameterError, Profile, Scenario
 from .channels import CURRENT, LAWS, POSITION, START
 from . import _ffi
+from ._structs import DESIGN_FIELDS
 
 TABLE_RPM = np.arange(-LCL_TABLE_RPM, LCL_TABLE_RPM + 1.0, 1000.0)  # LCL observer tables, r/min
 
@@ -77,6 +80,53 @@ def plant_config(s: Scenario) -> _ffi.PlantConfig:
     return c
 
 
+def _block(a: np.ndarray, block) -> np.ndarray:
+    """Design array `a` at one speed, or its block ((r0, r1), (c0, c1))."""
+    if block is None:
+        return np.asarray(a)
+    (r0, r1), (c0, c1) = block
+    return np.asarray(a)[r0:r1, c0:c1]
+
+
+def _pack(t: dz.DesignTables, k: int, fields) -> np.ndarray:
+    """Row k of a table model: its design fields (DESIGN_FIELDS, the header's
+    @design annotations) in C order, row-major."""
+    return np.concatenate([_block(getattr(t, name)[k], block).ravel()
+                           for _, name, block in fields])
+
+
+def packing_errors(design_fields=None) -> list[str]:
+    """Every C array of a table model whose design field (its @design
+    annotation) is not in OBSERVER_FIELDS, not real, or of another size."""
+    design_fields = DESIGN_FIELDS if design_fields is None else design_fields
+    layout = {name: (shape, kind) for name, shape, kind, _ in OBSERVER_FIELDS}
+    errors = []
+    for c_name, fields in design_fields.items():
+        cls = _ffi.MIRRORS[c_name]
+        for c_field, name, block in fields:
+            n_c = getattr(cls, c_field).size // ct.sizeof(_ffi.real)
+            if name not in layout or layout[name][1] != "f":
+                errors.append(f"{c_name}.{c_field}: @design({name}) is no real field of "
+                              "OBSERVER_FIELDS")
+                continue
+            shape = layout[name][0]
+            if block is not None and (len(shape) != 2 or block[0][1] > shape[0]
+                                      or block[1][1] > shape[1]):
+                errors.append(f"{c_name}.{c_field}: block {block} outside {name} {shape}")
+                continue
+            n_d = _block(np.zeros(shape), block).size
+            if n_d != n_c:
+                errors.append(f"{c_name}.{c_field}: {n_c} reals in C, {n_d} in {name}"
+                              f"{'' if block is None else str(list(block))} {shape}")
+    return errors
+
+
+if packing_errors():
+    raise ImportError("smodrive: the observer tables' layout in the headers (@design) "
+                      "disagrees with smodrive.design.observer_layout:\n  "
+                      + "\n  ".join(packing_errors()))
+
+
 @functools.lru_cache(maxsize=8)
 def observer_tables(plant, design) -> tuple[np.ndarray, np.ndarray, float, float]:
     """The LCL observers' tables for `plant`
@@ -89,13 +139,8 @@ def observer_tables(plant, design) -> tuple[np.ndarray, np.ndarray, float, float
     m = np.zeros((n, _ffi.N_MODEL), dtype=np.float32)
     lin = np.zeros((n, _ffi.N_LIN), dtype=np.float32)
     for k in range(n):
-        parts = [t.G[k].ravel(), t.H[k].ravel(), t.F[k].ravel(), t.T_r[k][2:, 2:].ravel(),
-                 t.H_c[k].ravel(), t.D1[k].ravel(), t.D2[k].ravel(), t.Gamma_c[k].ravel(),
-                 t.Gamma_1[k].ravel(), t.Gamma_2[k].ravel(), t.G_s[k].ravel(),
-                 t.K_c[k].ravel(), t.K_y[k].ravel(), [t.k[k]]]
-        m[k] = np.concatenate(parts)
-        lin[k] = np.concatenate([t.L_s[k].ravel(), t.Theta[k].ravel(), t.Theta_y[k].ravel(),
-                                 t.Theta_u[k].ravel()])
+        m[k] = _pack(t, k, DESIGN_FIELDS["smd_lcl_model"])
+        lin[k] = _pack(t, k, DESIGN_FIELDS["smd_linobs_model"])
     if not (np.all(np.isfinite(m)) and np.all(np.isfinite(lin))):
         raise ParameterError("observer design produced non-finite matrices")
     m.flags.writeable = lin.flags.writeable = False
