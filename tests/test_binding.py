@@ -391,3 +391,13 @@ def test_packing_check_catches_a_drifted_annotation(planted, what):
     rows = tuple(r if r[0] != "Ft" else planted[0] for r in DESIGN_FIELDS["smd_lcl_model"])
     errors = marshal.packing_errors({"smd_lcl_model": rows})
     assert len(errors) == 1 and errors[0].startswith("smd_lcl_model.Ft: ") and what in errors[0]
+
+
+def test_fuzz_seeds_are_current():
+    """fuzz/make_seeds.py --check: the committed seeds are what the seed
+    writer gives from the generated field list and the package (a change of
+    smd_drive_config's fuzz format needs the seeds written again)."""
+    res = subprocess.run([sys.executable, str(ROOT / "fuzz" / "make_seeds.py"), "--check"],
+                         capture_output=True, text=True, cwd=ROOT,
+                         env={**os.environ, "PYTHONPATH": str(ROOT / "src")})
+    assert res.returncode == 0, res.stderr
