@@ -24,6 +24,7 @@ import pytest
 
 from smodrive.design import cheader, yao2022
 from smodrive.design.observer_layout import OBSERVER_FIELDS
+from smodrive.engine import _codes
 from smodrive.engine import _ffi as F
 from smodrive.engine._structs import DESIGN_FIELDS
 from smodrive.engine import CHANNEL_INFO, CHANNELS, marshal
@@ -401,3 +402,49 @@ def test_fuzz_seeds_are_current():
                          capture_output=True, text=True, cwd=ROOT,
                          env={**os.environ, "PYTHONPATH": str(ROOT / "src")})
     assert res.returncode == 0, res.stderr
+
+
+# ------------------------------------------------------ plant field codes --
+
+def test_each_plant_field_code_is_the_one_smd_plant_init_returns():
+    """The enum smd_plant_field_code (the schema of the codes, their names
+    and scenario fields) against smd_plant_init's checks: each field made
+    bad in turn gives the code the enum names for it."""
+    cat = catalogue()
+    plain = marshal.plant_config(cat["yang2018.base"]())
+    lcl = marshal.plant_config(cat["drive.lcl_encoder"]())
+    nan = float("nan")
+    cases = {}  # code -> (config, field, bad value, index)
+    for name in ("R_s", "L_s", "psi_r", "n_p", "J", "B", "u_dc", "T_sw", "t_dead", "adc_noise",
+                 "adc_full_scale", "w_brake_eps", "k_fan", "w_M0", "theta_r0"):
+        cases[name] = (plain, name, nan, None)
+    for name in ("L1", "L2o", "C1"):
+        cases[name] = (lcl, name, nan, None)
+    for name in ("adc_gain", "adc_offset"):
+        cases[name] = (plain, name, nan, 0)
+    for name in ("adc_gain_i1", "adc_offset_i1"):
+        cases[name] = (lcl, name, nan, 2)
+    cases.update({"lcl": (plain, "lcl", 2, None), "pwm_mode": (plain, "pwm_mode", 7, None),
+                  "adc_bits": (plain, "adc_bits", 25, None),
+                  "i_d0/i_q0": (plain, "i_q0", 2e5, None),
+                  "uc_d0/uc_q0": (lcl, "uc_d0", nan, None),
+                  "i1_d0/i1_q0": (lcl, "i1_q0", -2e5, None),
+                  "dead_time_model": (lcl, "dead_time_model", 1, None),
+                  "adc_n_oversample": (plain, "adc_n_oversample", 65, None)})
+    buf = (ct.c_double * (F.lib.smd_sizeof_plant() // 8 + 1))()
+    assert F.lib.smd_plant_init(buf, ct.byref(plain)) == _codes.SMD_PF_OK
+    assert F.lib.smd_plant_init(buf, ct.byref(lcl)) == _codes.SMD_PF_OK
+    codes = {name: code for code, name in _codes.PLANT_FIELD_NAMES.items()}
+    checked = set()
+    for name, (base, field, value, index) in cases.items():
+        c = type(base).from_buffer_copy(base)
+        if index is None:
+            setattr(c, field, value)
+        else:
+            getattr(c, field)[index] = value
+        assert F.lib.smd_plant_init(buf, ct.byref(c)) == codes[name], name
+        assert F.lib.smd_plant_field(codes[name]).decode() == name
+        checked.add(codes[name])
+    # every code but ok and the filter's modes (a property of several fields)
+    assert checked == set(range(1, _codes.SMD_PF_N)) - {_codes.SMD_PF_MODES}
+    assert F.lib.smd_plant_field(_codes.SMD_PF_N) == b"unknown"
