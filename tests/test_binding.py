@@ -269,6 +269,29 @@ def test_check_fails_on_a_header_change_not_regenerated(tmp_path):
                                          "sim/src/smd_log_names.h"]
 
 
+@pytest.mark.parametrize("header,old,new,what", [
+    ("core/include/smodrive/smd_drive.h", "    int restart_window;",
+     "    smd_real w_new;\n    int restart_window;", "smd_drive_config.w_new has no @fuzz"),
+    ("sim/include/smdsim/smd_engine.h", "    SMD_LOG_N\n",
+     "    SMD_LOG_NEW,\n    SMD_LOG_N\n", "SMD_LOG_NEW has no @log"),
+    ("sim/include/smdsim/smd_plant.h", "    SMD_PF_N ",
+     "    SMD_PF_NEW = 32, /* @scenario(motor.R_s) */\n    SMD_PF_N ", 'SMD_PF_NEW has no "name"'),
+    ("core/include/smodrive/smd_lcl_smo.h", "@design(K_y)", "", "smd_lcl_model.Ky has no @design"),
+])
+def test_a_declaration_without_its_annotation_stops_the_generator(header, old, new, what,
+                                                                   tmp_path):
+    """A field or entry added to a boundary without the annotation its other
+    copies need is refused, named, instead of generating a partial copy."""
+    for rel in GEN.HEADERS:
+        (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / rel).write_text((ROOT / rel).read_text())
+    h = tmp_path / header
+    assert old in h.read_text()
+    h.write_text(h.read_text().replace(old, new, 1))
+    with pytest.raises(SystemExit, match=what):
+        GEN.outputs(tmp_path)
+
+
 def test_gen_layout_mirrors_what_the_binding_mirrors():
     gen = GEN
     assert set(gen.MIRRORED) == set(F.MIRRORS)
