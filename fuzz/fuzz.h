@@ -1,7 +1,8 @@
 /*
  * Shared by the libFuzzer targets of fuzz/: a reader that turns the fuzz
  * input into integers and reals, and the decoder of a drive configuration
- * (fuzz_drive.c, fuzz_engine.c). fuzz/make_seeds.py writes the same format.
+ * (fuzz_drive.c, fuzz_engine.c; generated, fz_drive_config.h).
+ * fuzz/make_seeds.py writes the same format.
  *
  * Format (little endian; past the end every read gives zero bytes):
  *   u8, u16, u32         plain bytes
@@ -210,53 +211,20 @@ static inline int fz_lcl_source(int position)
     return position == SMD_POS_LCL_SMO_PLL || position == SMD_POS_LCL_LINEAR;
 }
 
-/* The lead's protection and fault handling (smd_drive.h: SMD_FAULT_LATCHED,
- * smd_drive_clear_faults): its fields are decoded whenever they are present
- * in the input, and used when the header has them. */
+/* The lead's fault handling (smd_drive.h: SMD_FAULT_LATCHED,
+ * smd_drive_clear_faults): used when the header has it. */
 #if defined(SMD_FAULT_LATCHED) && !defined(FZ_NO_FAULT_API)
 #define FZ_FAULT_API 1
 #else
 #define FZ_FAULT_API 0
 #endif
 
-/* A drive configuration, every field from the input (in the order of
- * smd_drive_config), the observer tables only for an LCL source. */
-static inline void fz_drive_config(fz *f, smd_drive_config *c, fz_tables *t)
+/* The LCL observers of a drive configuration (smd_drive_config.smo and .lin,
+ * the call its @fuzz annotation names): the law and gains, then for an LCL
+ * source one grid for both tables and the tables; *t is zeroed by the caller. */
+static inline void fz_lcl_observers(fz *f, smd_drive_config *c, fz_tables *t)
 {
     int n;
-    double prot[6];
-    int prot_i[2];
-    memset(c, 0, sizeof *c);
-    c->current = fz_int(f, 0, 2);
-    c->position = fz_int(f, 0, 3);
-    c->start = fz_int(f, 0, 2);
-    c->lcl = fz_int(f, 0, 1);
-    c->T_sp = fz_r(f, 1e-6, 1e-3);
-    c->L_s_hat = fz_r(f, 0.0, 0.1);
-    c->R_s_hat = fz_r(f, 0.0, 10.0);
-    c->psi_r_hat = fz_r(f, 0.0, 1.0);
-    c->lambda_min = fz_r(f, 0.0, 1e4);
-    c->l = fz_r(f, 0.0, 1e4);
-    c->w_c = fz_r(f, 0.0, 1e4);
-    c->rho = fz_r(f, 0.0, 10.0);
-    c->smdo_euler = fz_int(f, 0, 1);
-    c->w_lpf = fz_r(f, 0.0, 2000.0);
-    c->w_hys = fz_r(f, 0.0, 100.0);
-    c->w_max = fz_r(f, 0.0, 3e4);
-    c->k_p_i = fz_r(f, 0.0, 10.0);
-    c->k_i_i = fz_r(f, 0.0, 1e5);
-    c->L_dec = fz_r(f, 0.0, 0.1);
-    c->R_v = fz_r(f, 0.0, 10.0);
-    c->emf_ff = fz_int(f, 0, 1);
-    c->speed_loop = fz_int(f, 0, 1);
-    c->k_p_w = fz_r(f, 0.0, 1.0);
-    c->k_i_w = fz_r(f, 0.0, 100.0);
-    c->i_max = fz_r(f, 0.0, 100.0);
-    c->speed_decimation = fz_int(f, 1, 1000);
-    c->k_theta = fz_r(f, 0.0, 2.0);
-    c->k_omega = fz_r(f, 0.0, 1e3);
-    c->k_a = fz_r(f, 0.0, 1e4);
-    /* the LCL observers: law and gains, one grid for both tables */
     c->smo.T_sp = (fz_u8(f) & 1) ? fz_r(f, 1e-6, 1e-3) : c->T_sp;
     c->smo.law = fz_int(f, 0, 2);
     c->smo.Q1 = fz_r(f, -1.0, 1.0);
@@ -264,7 +232,6 @@ static inline void fz_drive_config(fz *f, smd_drive_config *c, fz_tables *t)
     c->smo.bw_rel2 = fz_r(f, 0.0, 2.0);
     c->smo.bw_rel3 = fz_r(f, 0.0, 2.0);
     c->smo.w_bp_min = fz_r(f, 0.0, 5000.0);
-    memset(t, 0, sizeof *t);
     if (fz_lcl_source(c->position)) {
         n = fz_int(f, 0, 6);
         c->smo.w_min = c->lin.w_min = fz_r(f, -2e4, 2e4);
@@ -277,41 +244,14 @@ static inline void fz_drive_config(fz *f, smd_drive_config *c, fz_tables *t)
             c->lin.table = t->lin;
         }
     }
-    c->handover = fz_int(f, 0, 2000);
-    c->i_start = fz_r(f, 0.0, 100.0);
-    c->a_start = fz_r(f, 0.0, 1e6);
-    c->w_handover = fz_r(f, 0.0, 3e4);
-    c->svm_limit = fz_int(f, 0, 1);
-    c->t_dead_comp = fz_r(f, 0.0, 1e-4);
-    c->i_dtc = fz_r(f, 0.0, 10.0);
-    /* protection: present when the flag byte is odd (0 in the seeds of the
-     * paper configurations: protection off) */
-    memset(prot, 0, sizeof prot);
-    prot_i[0] = prot_i[1] = 0;
-    if (fz_u8(f) & 1) {
-        prot[0] = fz_real(f, 0.0, 200.0);   /* i_trip */
-        prot[1] = fz_real(f, 0.0, 600.0);   /* u_dc_min */
-        prot[2] = fz_real(f, 0.0, 1000.0);  /* u_dc_max */
-        prot_i[0] = fz_int(f, 0, 1);         /* safe_state */
-        prot_i[1] = fz_int(f, 0, 2000);      /* lock_samples */
-        prot[3] = fz_real(f, 0.0, 10.0);    /* lock_ratio */
-        prot[4] = fz_real(f, 0.0, 1000.0);  /* w_lock_min */
-        prot[5] = fz_real(f, 0.0, 1000.0);  /* w_if_enter */
-    }
-#if FZ_FAULT_API
-    c->i_trip = (smd_real)prot[0];
-    c->u_dc_min = (smd_real)prot[1];
-    c->u_dc_max = (smd_real)prot[2];
-    c->safe_state = prot_i[0];
-    c->lock_samples = prot_i[1];
-    c->lock_ratio = (smd_real)prot[3];
-    c->w_lock_min = (smd_real)prot[4];
-    c->w_if_enter = (smd_real)prot[5];
-#else
-    fz_use(prot[0] + prot[1] + prot[2] + prot[3] + prot[4] + prot[5]);
-    fz_use((double)prot_i[0] + (double)prot_i[1]);
-#endif
 }
+
+/* A drive configuration, every field from the input in the order of
+ * smd_drive_config, the observer tables only for an LCL source:
+ * fz_drive_config(f, c, t), generated from the header's @fuzz annotations
+ * by tools/gen_layout.py (fuzz/make_seeds.py writes the same format from
+ * the same list, fuzz/drive_fields.py). */
+#include "fz_drive_config.h"
 
 /* Every field of the view (reads them all). */
 static inline void fz_use_view(const smd_drive_view *v)

@@ -11,7 +11,12 @@ core/test/drive_fixture.h (written out here). The LCL tables are cut to 3
 rows around the scenario's speed (the table clamps outside), so that a seed
 stays a few kB.
 
-    .venv/bin/python fuzz/make_seeds.py        # rewrites seed-* only
+    .venv/bin/python fuzz/make_seeds.py          # rewrites seed-* only
+    .venv/bin/python fuzz/make_seeds.py --check  # exit 1 naming every stale seed
+
+The drive configuration's field order and ranges are fuzz/drive_fields.py,
+generated with the decoder fuzz/fz_drive_config.h from the header
+(tools/gen_layout.py).
 
 Files not named seed-* (regression inputs of fixed findings, crash-*) are
 left alone.
@@ -22,10 +27,14 @@ from __future__ import annotations
 import math
 import struct
 import sys
+import tempfile
 from pathlib import Path
+
+from drive_fields import DRIVE_FIELDS  # generated from smd_drive_config (tools/gen_layout.py)
 
 ROOT = Path(__file__).resolve().parent
 CORPUS = ROOT / "corpus"
+OUT = CORPUS  # where write() puts the seeds (a temporary directory for --check)
 
 # ---------------------------------------------------------------- format --
 
@@ -82,45 +91,16 @@ class W:
 
 
 def write(target: str, name: str, data: bytes) -> None:
-    d = CORPUS / target
+    d = OUT / target
     d.mkdir(parents=True, exist_ok=True)
     (d / f"seed-{name}").write_bytes(data)
 
 
 # ------------------------------------------------------ drive (fuzz.h) --
 
-DRIVE_FIELDS = [  # (name, kind) in the order of fz_drive_config
-    ("current", (0, 2)), ("position", (0, 3)), ("start", (0, 2)), ("lcl", (0, 1)),
-    ("T_sp", "r"), ("L_s_hat", "r"), ("R_s_hat", "r"), ("psi_r_hat", "r"),
-    ("lambda_min", "r"), ("l", "r"), ("w_c", "r"), ("rho", "r"), ("smdo_euler", (0, 1)),
-    ("w_lpf", "r"), ("w_hys", "r"), ("w_max", "r"),
-    ("k_p_i", "r"), ("k_i_i", "r"), ("L_dec", "r"), ("R_v", "r"), ("emf_ff", (0, 1)),
-    ("speed_loop", (0, 1)), ("k_p_w", "r"), ("k_i_w", "r"), ("i_max", "r"),
-    ("speed_decimation", (1, 1000)),
-    ("k_theta", "r"), ("k_omega", "r"), ("k_a", "r"),
-]
-TAIL_FIELDS = [
-    ("handover", (0, 2000)), ("i_start", "r"), ("a_start", "r"), ("w_handover", "r"),
-    ("svm_limit", (0, 1)), ("t_dead_comp", "r"), ("i_dtc", "r"),
-]
-PROTECTION = [("i_trip", "r"), ("u_dc_min", "r"), ("u_dc_max", "r"), ("safe_state", (0, 1)),
-              ("lock_samples", (0, 2000)), ("lock_ratio", "r"), ("w_lock_min", "r"),
-              ("w_if_enter", "r")]
-
-
-def put_fields(w: W, cfg: dict, fields, real) -> None:
-    for name, kind in fields:
-        v = cfg[name]
-        if kind == "r":
-            real(float(v))
-        else:
-            w.int(int(v), *kind)
-
-
-def put_drive(w: W, cfg: dict, tables=None, protection: bool = False) -> None:
-    """cfg: the fields of smd_drive_config by name (smo_* for the
-    sliding-mode config); tables: (models (n, 113), lin (n, 56), w_min, dw)."""
-    put_fields(w, cfg, DRIVE_FIELDS, w.f32)
+def put_lcl_observers(w: W, cfg: dict, tables) -> None:
+    """smd_drive_config.smo and .lin as fz_lcl_observers (fuzz.h) reads them:
+    smo.T_sp = T_sp, law and gains, and for an LCL source the tables."""
     w.u8(0)  # smo.T_sp = T_sp
     w.int(int(cfg.get("smo_law", 0)), 0, 2)
     for name in ("smo_Q1", "smo_Q2", "smo_bw_rel2", "smo_bw_rel3", "smo_w_bp_min"):
@@ -135,12 +115,25 @@ def put_drive(w: W, cfg: dict, tables=None, protection: bool = False) -> None:
             for x in lin[k]:
                 w.f32(float(x))
         w.u8(0)  # the tables are given (0xFF: NULL)
-    put_fields(w, cfg, TAIL_FIELDS, w.f32)
-    if protection:
-        w.u8(1)
-        put_fields(w, cfg, PROTECTION, w.f32)
-    else:
-        w.u8(0)
+
+
+def put_drive(w: W, cfg: dict, tables=None, protection: bool = False) -> None:
+    """The drive configuration in the order of fz_drive_config (DRIVE_FIELDS,
+    generated from the header with it). cfg: the fields of smd_drive_config
+    by name, smo_* those of its sliding-mode config (a field cfg lacks is 0:
+    off); tables: (models (n, 113), lin (n, 56), w_min, dw). protection: the
+    flagged fields (protection and supervision) follow; else they are 0."""
+    for name, kind, args in DRIVE_FIELDS:
+        if kind == "flag":
+            w.u8(1 if protection else 0)
+            if not protection:
+                return
+        if kind == "int":
+            w.int(int(cfg.get(name, 0)), *args)
+        elif kind == "real":
+            w.f32(float(cfg.get(name, 0.0)))
+        elif kind == "call":
+            {"fz_lcl_observers": put_lcl_observers}[args[0]](w, cfg, tables)
 
 
 # the yang2018 Table I drive of core/test/drive_fixture.h
@@ -282,11 +275,7 @@ def scenario_drive(s, sim):
     """(config dict, sliced tables or None) of scenario s"""
     tables = sim.lcl_observer_tables(s) if s.lcl is not None else None
     c = sim.drive_config(s, tables)
-    cfg = {}
-    for name, _ in DRIVE_FIELDS + TAIL_FIELDS:
-        cfg[name] = getattr(c, name)
-    for name, _ in PROTECTION:
-        cfg[name] = getattr(c, name, 0)
+    cfg = {name: getattr(c, name) for name, kind, _ in DRIVE_FIELDS if kind in ("int", "real")}
     for name in ("law", "Q1", "Q2", "bw_rel2", "bw_rel3", "w_bp_min"):
         cfg["smo_" + name] = getattr(c.smo, name)
     if tables is not None:
@@ -365,7 +354,7 @@ def plant_seeds(cat, sim) -> None:
     write("fuzz_plant", "rejected-nan", w.bytes())
 
 
-def engine_seeds(cat, sim) -> None:
+def engine_seeds(cat, sim, n_log: int) -> None:
     for name in ("yang2018.base", "yang2018.fig7a", "drive.pi_encoder", "drive.if_start",
                  "yao2022.steady.100k", "yao2022.fig14", "drive.lcl_encoder"):
         s = cat[name]()
@@ -383,12 +372,10 @@ def engine_seeds(cat, sim) -> None:
         w.u8(1 + 4).u8(1)              # split samples, one with a log row
         w.u8(4).u8(255)                # 256 samples, a row every second one
         w.u8(2).u8(0).f64(0.01)        # a profile value
-        w.u8(3).u8(16).f64(s.T_sp).f64(0.1).f64(10.0).f64(10.0).f64(0.1).int(3, -1, SMD_LOG_N)
+        w.u8(3).u8(16).f64(s.T_sp).f64(0.1).f64(10.0).f64(10.0).f64(0.1).int(3, -1, n_log)
         w.int(5, -1, 400)              # a row of the layout table
         write("fuzz_engine", name.replace(".", "-"), w.bytes())
 
-
-SMD_LOG_N = 44
 
 # ------------------------------------------------------- LCL observers --
 
@@ -497,20 +484,37 @@ def math_seeds() -> None:
     write("fuzz_math", "table-interp", w.bytes())
 
 
-def main() -> int:
-    block_seeds()
-    math_seeds()
+def seeds(corpus: Path) -> dict[str, bytes]:
+    """Every seed-* file under corpus: relative path -> bytes."""
+    return {str(f.relative_to(corpus)): f.read_bytes() for f in sorted(corpus.glob("*/seed-*"))}
+
+
+def main(argv: list[str] | None = None) -> int:
+    global OUT
+    argv = sys.argv[1:] if argv is None else argv
+    check = "--check" in argv
     try:
-        from smodrive import simulate as sim
+        from smodrive.engine import marshal as sim
+        from smodrive.engine.channels import CHANNELS
         from smodrive.scenarios import catalogue
     except ImportError as exc:  # the package is needed for the scenario seeds
         print(f"smodrive not importable ({exc}): run with the project's .venv", file=sys.stderr)
         return 1
-    cat = catalogue()
-    drive_seeds(cat, sim)
-    plant_seeds(cat, sim)
-    engine_seeds(cat, sim)
-    lcl_seeds(cat, sim)
+    with tempfile.TemporaryDirectory() as tmp:
+        OUT = Path(tmp) if check else CORPUS
+        block_seeds()
+        math_seeds()
+        cat = catalogue()
+        drive_seeds(cat, sim)
+        plant_seeds(cat, sim)
+        engine_seeds(cat, sim, len(CHANNELS))  # SMD_LOG_N
+        lcl_seeds(cat, sim)
+        if check:  # the committed seeds are what this writes
+            new, old = seeds(OUT), seeds(CORPUS)
+            bad = sorted(k for k in set(new) | set(old) if new.get(k) != old.get(k))
+            for k in bad:
+                print(f"fuzz/corpus/{k} is out of date: run fuzz/make_seeds.py", file=sys.stderr)
+            return 1 if bad else 0
     for d in sorted(CORPUS.iterdir()):
         files = list(d.glob("seed-*"))
         print(f"{d.name}: {len(files)} seeds, {sum(f.stat().st_size for f in files)} bytes")

@@ -185,6 +185,35 @@ def test_fig14_ideal_peak_scales_with_the_ramp_rate(monkeypatch):
     assert not c.passed
 
 
+def test_fig14_peak_against_the_ramp_rate(claims):
+    """The curve the claim states (and figure yao2022_fig14_rate draws): with
+    ideal sensors the peak grows with the assumed ramp rate, from 0.0067 rad
+    at 4 kr/min/s to 0.031 at 20; it crosses the paper's 0.02 rad between 12
+    and 14 kr/min/s (12.9, linear), above the rates at which the drive
+    reaches 100 kr/min (10 and below: the voltage limit). The claim rejects
+    the plausible wrong set-up, a faster assumed ramp (14 and 20 kr/min/s,
+    the old 20 among them), and passes the argued 8."""
+    curve = y.fig14_rate_curve()
+    rates = sorted(curve)
+    peaks = [curve[r][0] for r in rates]
+    assert rates == sorted(y.FIG14_RATES) and y.FIG14_RATE in rates
+    assert all(b > a for a, b in zip(peaks, peaks[1:]))
+    assert curve[4e3][0] == pytest.approx(0.0067, abs=0.001)
+    assert curve[20e3][0] == pytest.approx(0.031, abs=0.002)
+    rate_fail = y.crossing_rate(curve, 0.02)
+    assert 12e3 < rate_fail < 14e3
+    assert all(curve[r][1] >= 99e3 for r in rates if r <= 10e3)
+    assert all(curve[r][1] < 99e3 for r in rates if r >= 12e3)
+    c = claims["yao2022.fig14.pos_error_peak_rad"]
+    assert c.passed and c.reproduced == pytest.approx(curve[y.FIG14_RATE][0], rel=1e-12)
+    assert f"exceeds the bound from {rate_fail / 1e3:.1f} kr/min/s" in c.basis
+    for rate in (14e3, 20e3):
+        assert not dataclasses.replace(c, reproduced=curve[rate][0], statement="").passed
+    # the crossing helper: linear between the grid points, inf if never crossed
+    assert y.crossing_rate({1.0: (0.01, 0), 3.0: (0.03, 0)}, 0.02) == pytest.approx(2.0)
+    assert y.crossing_rate({1.0: (0.01, 0), 3.0: (0.015, 0)}, 0.02) == math.inf
+
+
 def test_fig14_voltage_limit_at_100krpm():
     """The reason the ramp is 8 kr/min/s (docs/assumptions.md): in steady
     state at 100 kr/min the LCL drive needs |u| = 31.9 V for the fan's

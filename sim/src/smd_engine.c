@@ -2,13 +2,7 @@
 
 #include <math.h>
 
-static const char *CHANNELS[SMD_LOG_N] = {
-    "t", "w_M", "theta_r", "i_alpha", "i_beta", "i_d", "i_q", "T_e", "T_L", "w_M_ref",
-    "i_d_ref", "i_q_ref", "theta_hat", "w_hat", "u_d_hat_alpha", "u_d_hat_beta", "u_alpha",
-    "u_beta", "u_cmd_alpha", "u_cmd_beta", "i_a_meas", "i_b_meas", "i_hat_alpha",
-    "i_hat_beta", "lambda", "i_g", "i_dl", "theta_err_est", "e_hat_g", "e_hat_dl", "s_g",
-    "s_dl", "d_hat_g", "d_hat_dl", "v_g", "v_dl", "i1_alpha", "i1_beta", "uc_alpha",
-    "uc_beta", "lin_e_alpha", "lin_e_beta", "phase", "status", "fault"};
+#include "smd_log_names.h" /* CHANNELS[], generated from enum smd_log_channel */
 
 const char *smd_log_channel_name(int ch)
 {

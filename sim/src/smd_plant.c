@@ -9,14 +9,7 @@
 
 static int bad(double x, double lo, double hi) { return !(isfinite(x) && x >= lo && x <= hi); }
 
-/* Field codes of smd_plant_init (1-based, in the order they are checked). */
-static const char *FIELDS[] = {
-    "ok", "R_s", "L_s", "psi_r", "n_p", "J", "B", "lcl", "L1", "L2o", "C1", "u_dc", "T_sw",
-    "pwm_mode", "t_dead", "adc_gain", "adc_offset", "adc_gain_i1", "adc_offset_i1",
-    "adc_noise", "adc_bits", "adc_full_scale", "w_brake_eps", "k_fan", "w_M0", "theta_r0",
-    "i_d0/i_q0", "uc_d0/uc_q0", "i1_d0/i1_q0",
-    "R_s/L1/L2o/L_s/C1 (repeated or unstable filter modes)", "dead_time_model",
-    "adc_n_oversample"};
+#include "smd_plant_fields.h" /* FIELDS[]: the names of smd_plant_field_code */
 
 const char *smd_plant_field(int code)
 {

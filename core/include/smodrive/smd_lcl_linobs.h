@@ -17,11 +17,12 @@
 extern "C" {
 #endif
 
+/* Matrices at one speed, row-major; @design(...) as for smd_lcl_model. */
 typedef struct smd_linobs_model {
-    smd_real L[16];     /* 4x4 */
-    smd_real Theta[16]; /* 4x4 */
-    smd_real Ky[16];    /* 4x4 */
-    smd_real Ku[8];     /* 4x2 */
+    smd_real L[16];     /* 4x4 @design(L_s) */
+    smd_real Theta[16]; /* 4x4 @design(Theta) */
+    smd_real Ky[16];    /* 4x4 @design(Theta_y) */
+    smd_real Ku[8];     /* 4x2 @design(Theta_u) */
 } smd_linobs_model;
 
 /* The table is owned by the caller and must outlive the params. */

@@ -26,22 +26,25 @@
 extern "C" {
 #endif
 
-/* Matrices at one speed, row-major. */
+/* Matrices at one speed, row-major. @design(...) names the field of the
+ * offline design (smodrive.design.observer_layout) each array holds, or its
+ * block [rows, cols]; the binding packs the tables by it (tools/gen_layout.py). */
 typedef struct smd_lcl_model {
-    smd_real G[36];  /* 6x6, eq. (7) */
-    smd_real H[12];  /* 6x2, eq. (7) (input matrix) */
-    smd_real F[12];  /* 6x2, eq. (7) (EMF matrix) */
-    smd_real Ft[16]; /* 4x4: [y1; y2] = Ft [i1_err; i2_err], lower block of T_r, eq. (14)-(15) */
-    smd_real Hc[4];  /* augmented state matrix H of eq. (16), (21) */
-    smd_real D1[4];  /* eq. (16), (21) */
-    smd_real D2[4];
-    smd_real Gam_c[4]; /* eq. (18) */
-    smd_real Gam_1[4];
-    smd_real Gam_2[4];
-    smd_real Gs[4];  /* reaching-mode matrix of eq. (28) */
-    smd_real Kc[4];  /* equivalent control G_c x_c + G_y y1 + G_u x_u_hat with */
-    smd_real Ky[4];  /* x_u_hat = x_c - L y1 (eq. (23)): Kc x_c + Ky y1 (errata) */
-    smd_real k;      /* EMF adaption gain of eq. (34), (51); also the low-pass (63) */
+    smd_real G[36];  /* 6x6, eq. (7) @design(G) */
+    smd_real H[12];  /* 6x2, eq. (7) (input matrix) @design(H) */
+    smd_real F[12];  /* 6x2, eq. (7) (EMF matrix) @design(F) */
+    smd_real Ft[16]; /* 4x4: [y1; y2] = Ft [i1_err; i2_err], lower block of T_r, eq. (14)-(15)
+                        @design(T_r[2:6, 2:6]) */
+    smd_real Hc[4];  /* augmented state matrix H of eq. (16), (21) @design(H_c) */
+    smd_real D1[4];  /* eq. (16), (21) @design(D1) */
+    smd_real D2[4];  /* @design(D2) */
+    smd_real Gam_c[4]; /* eq. (18) @design(Gamma_c) */
+    smd_real Gam_1[4]; /* @design(Gamma_1) */
+    smd_real Gam_2[4]; /* @design(Gamma_2) */
+    smd_real Gs[4];  /* reaching-mode matrix of eq. (28) @design(G_s) */
+    smd_real Kc[4];  /* equivalent control G_c x_c + G_y y1 + G_u x_u_hat with @design(K_c) */
+    smd_real Ky[4];  /* x_u_hat = x_c - L y1 (eq. (23)): Kc x_c + Ky y1 (errata) @design(K_y) */
+    smd_real k;      /* EMF adaption gain of eq. (34), (51); also the low-pass (63) @design(k) */
 } smd_lcl_model;
 
 #define SMD_LCL_SMO_DELAY 256 /* longest band-pass delay line, samples */

@@ -100,36 +100,78 @@ typedef float smd_real;
 #define SMD_INV_SQRT3 SMD_R(0.57735026918962576451)
 
 /* Status returned by every init and setter. Each parameter error names the
- * offending field so that a caller (or the Python binding) can report it. */
+ * offending field so that a caller (or the Python binding) can report it;
+ * @scenario(...) lists the fields of a smodrive scenario behind an init's
+ * refusal (tools/gen_layout.py writes them into the binding). */
 typedef enum smd_status {
     SMD_OK = 0,
     SMD_ERR_NULL = 1,          /* a pointer argument is NULL */
-    SMD_ERR_TS = 2,            /* sampling period T_sp not in (0, 1] s */
-    SMD_ERR_L = 3,             /* inductance estimate not in (0, 10] H */
-    SMD_ERR_R = 4,             /* resistance estimate not in [0, 1000] ohm */
-    SMD_ERR_PSI = 5,           /* PM flux estimate not in [0, 100] Wb */
-    SMD_ERR_LAMBDA = 6,        /* SMDO lambda_min not in [0, 1e7] A/s */
-    SMD_ERR_L_GAIN = 7,        /* SMDO proportional gain l not in (0, 1e7] 1/s */
-    SMD_ERR_WC = 8,            /* SMDO filter gain omega_c not in (0, 1e7] rad/s */
-    SMD_ERR_RHO = 9,           /* SMDO boundary layer rho not in (0, 1e3] A */
-    SMD_ERR_KP = 10,           /* PI proportional gain not in [0, 1e6] */
-    SMD_ERR_KI = 11,           /* PI integral gain not in [0, 1e9] */
-    SMD_ERR_LIMIT = 12,        /* a limit is not positive and finite */
-    SMD_ERR_MODE = 13,         /* unknown mode or enumeration value */
-    SMD_ERR_STABILITY = 14,    /* the discrete loop would be unstable */
-    SMD_ERR_WLPF = 15,         /* speed low-pass bandwidth not in (0, pi/T_sp) */
+    SMD_ERR_TS = 2,            /* sampling period T_sp not in (0, 1] s @scenario(T_sp) */
+    SMD_ERR_L = 3,             /* inductance estimate not in (0, 10] H
+                                  @scenario(controller.L_s_hat) */
+    SMD_ERR_R = 4,             /* resistance estimate not in [0, 1000] ohm
+                                  @scenario(controller.R_s_hat) */
+    SMD_ERR_PSI = 5,           /* PM flux estimate not in [0, 100] Wb
+                                  @scenario(controller.psi_r_hat) */
+    SMD_ERR_LAMBDA = 6,        /* SMDO lambda_min not in [0, 1e7] A/s
+                                  @scenario(controller.lambda_min) */
+    SMD_ERR_L_GAIN = 7,        /* SMDO proportional gain l not in (0, 1e7] 1/s
+                                  @scenario(controller.l) */
+    SMD_ERR_WC = 8,            /* SMDO filter gain omega_c not in (0, 1e7] rad/s
+                                  @scenario(controller.w_c) */
+    SMD_ERR_RHO = 9,           /* SMDO boundary layer rho not in (0, 1e3] A
+                                  @scenario(controller.rho) */
+    SMD_ERR_KP = 10,           /* PI proportional gain not in [0, 1e6]
+                                  @scenario(controller.speed_bw, controller.J_hat,
+                                  controller.psi_r_pi, motor.n_p, controller.k_theta,
+                                  controller.k_omega, controller.k_a) */
+    SMD_ERR_KI = 11,           /* PI integral gain not in [0, 1e9]
+                                  @scenario(controller.speed_bw, controller.J_hat,
+                                  controller.psi_r_pi, motor.n_p, controller.k_theta,
+                                  controller.k_omega, controller.k_a) */
+    SMD_ERR_LIMIT = 12,        /* a limit is not positive and finite
+                                  @scenario(controller.i_max, controller.bw_rel,
+                                  controller.w_M_bp_min) */
+    SMD_ERR_MODE = 13,         /* unknown mode or enumeration value
+                                  @scenario(controller.current, controller.position,
+                                  controller.start, controller.law, inverter.svm_limit) */
+    SMD_ERR_STABILITY = 14,    /* the discrete loop would be unstable
+                                  @scenario(controller.l, controller.lambda_min,
+                                  controller.rho, controller.w_c, controller.w_M_max,
+                                  controller.Q, T_sp, controller.k_theta, controller.k_omega,
+                                  controller.k_a) */
+    SMD_ERR_WLPF = 15,         /* speed low-pass bandwidth not in (0, pi/T_sp)
+                                  @scenario(controller.w_lpf, T_sp) */
     SMD_ERR_NONFINITE = 16,    /* a step produced NaN or Inf; outputs were zeroed */
-    SMD_ERR_DECIMATION = 17,   /* speed-loop decimation not in [1, 1000] */
-    SMD_ERR_WHYS = 18,         /* direction hysteresis not in [0, 1e5] rad/s */
-    SMD_ERR_WMAX = 19,         /* speed-estimate limit not in (w_hys, pi/T_sp] rad/s */
-    SMD_ERR_DEADTIME = 20,     /* dead-time compensation not in [0, T_sp/4], or i_dtc <= 0 */
-    SMD_ERR_HANDOVER = 21,     /* handover sample count negative */
+    SMD_ERR_DECIMATION = 17,   /* speed-loop decimation not in [1, 1000]
+                                  @scenario(controller.speed_decimation) */
+    SMD_ERR_WHYS = 18,         /* direction hysteresis not in [0, 1e5] rad/s
+                                  @scenario(controller.w_hys) */
+    SMD_ERR_WMAX = 19,         /* speed-estimate limit not in (w_hys, pi/T_sp] rad/s
+                                  @scenario(controller.w_M_max, controller.w_hys, motor.n_p,
+                                  T_sp) */
+    SMD_ERR_DEADTIME = 20,     /* dead-time compensation not in [0, T_sp/4], or i_dtc <= 0
+                                  @scenario(controller.t_dead_comp, controller.i_dtc, T_sp) */
+    SMD_ERR_HANDOVER = 21,     /* handover sample count negative
+                                  @scenario(controller.t_handover) */
     SMD_ERR_DMIN = 22,         /* minimum duty not in [0, 0.49] */
-    SMD_ERR_TABLE = 23,        /* observer table: fewer than 2 entries, or bad grid */
-    SMD_ERR_COMBINATION = 24,  /* the drive's parts do not fit together (smd_drive.h) */
-    SMD_ERR_CURRENT_PI = 25,   /* current PI: k_p_i, k_i_i, L_dec or R_v out of range */
-    SMD_ERR_START = 26,        /* start-up: i_start, a_start or w_handover out of range */
-    SMD_ERR_PROTECTION = 27,   /* protection or loss-of-lock setting out of range */
+    SMD_ERR_TABLE = 23,        /* observer table: fewer than 2 entries, or bad grid
+                                  @scenario(controller.position, lcl, T_sp) */
+    SMD_ERR_COMBINATION = 24,  /* the drive's parts do not fit together (smd_drive.h)
+                                  @scenario(controller.current, controller.position,
+                                  controller.R_v, lcl) */
+    SMD_ERR_CURRENT_PI = 25,   /* current PI: k_p_i, k_i_i, L_dec or R_v out of range
+                                  @scenario(controller.current_bw, controller.k_p_i,
+                                  controller.k_i_i, controller.L_dec, controller.R_v) */
+    SMD_ERR_START = 26,        /* start-up: i_start, a_start or w_handover out of range
+                                  @scenario(controller.i_start, controller.a_M_start,
+                                  controller.w_M_handover, T_sp) */
+    SMD_ERR_PROTECTION = 27,   /* protection or loss-of-lock setting out of range
+                                  @scenario(controller.i_trip, controller.u_dc_min_ratio,
+                                  controller.u_dc_max_ratio, controller.safe_state,
+                                  controller.t_lock, controller.lock_ratio,
+                                  controller.w_M_lock_min, controller.w_M_if_enter,
+                                  inverter.u_dc) */
     SMD_ERR_FAULT = 28         /* a step: a fault is active, the outputs are the safe state
                                   (smd_drive_out.fault says which) */
 } smd_status;

@@ -46,52 +46,71 @@ typedef struct smd_engine_start {
     double i_q0;       /* speed-loop integrator (the current that carries the load), A */
 } smd_engine_start;
 
+/* The log channels: one double each in a row, in this order. Each entry's
+ * comment is the channel's schema, @log(name, unit) and its meaning;
+ * tools/gen_layout.py generates from it the names smd_log_channel_name gives
+ * (sim/src/smd_log_names.h) and the Python names, units and meanings
+ * (src/smodrive/engine/_codes.py). */
 enum smd_log_channel {
-    SMD_LOG_T = 0,       /* time t_k, s */
-    SMD_LOG_W_M,         /* true mechanical speed, rad/s */
-    SMD_LOG_THETA_R,     /* true electrical angle, rad */
-    SMD_LOG_I_ALPHA,     /* true motor current (i_2 with the filter), A */
-    SMD_LOG_I_BETA,
-    SMD_LOG_I_D,         /* true motor current in the true rotor frame, A */
-    SMD_LOG_I_Q,
-    SMD_LOG_T_E,         /* mean electromagnetic torque over [t_k, t_k+1), N m */
-    SMD_LOG_T_L,         /* load torque over [t_k, t_k+1), N m */
-    SMD_LOG_W_M_REF,     /* speed reference, rad/s (mechanical) */
-    SMD_LOG_I_D_REF,     /* controller's current reference, A */
-    SMD_LOG_I_Q_REF,
-    SMD_LOG_THETA_HAT,   /* angle used by the controller at k, rad */
-    SMD_LOG_W_HAT,       /* speed used by the controller at k, electrical rad/s */
-    SMD_LOG_UD_ALPHA,    /* SMDO disturbance estimate u_d_hat^{k+1}, V */
-    SMD_LOG_UD_BETA,
-    SMD_LOG_U_ALPHA,     /* mean inverter voltage applied over [t_k, t_k+1), V */
-    SMD_LOG_U_BETA,
-    SMD_LOG_UCMD_ALPHA,  /* voltage commanded for the next period (after the limit), V */
-    SMD_LOG_UCMD_BETA,
-    SMD_LOG_I_A_MEAS,    /* ADC motor phase currents, A */
-    SMD_LOG_I_B_MEAS,
-    SMD_LOG_IHAT_ALPHA,  /* SMDO current prediction i_hat^{k+1}, A */
-    SMD_LOG_IHAT_BETA,
-    SMD_LOG_LAMBDA,      /* SMDO adapted gain, A/s */
-    SMD_LOG_I_G,         /* PI: measured motor current in its frame, A (0 with DBPC) */
-    SMD_LOG_I_DL,
-    SMD_LOG_THETA_ERR,   /* LCL sources: angle error of yao2022 eq. (47), rad */
-    SMD_LOG_E_G,         /* LCL sliding-mode observer: EMF estimate, controller frame, V */
-    SMD_LOG_E_DL,
-    SMD_LOG_S_G,         /* its switching function s(k), eq. (18) */
-    SMD_LOG_S_DL,
-    SMD_LOG_DHAT_G,      /* its periodic-disturbance compensation, eq. (35) */
-    SMD_LOG_DHAT_DL,
-    SMD_LOG_V_G,         /* its disturbance part v(k-1) */
-    SMD_LOG_V_DL,
-    SMD_LOG_I1_ALPHA,    /* true inverter-side current (= motor current without filter), A */
-    SMD_LOG_I1_BETA,
-    SMD_LOG_UC_ALPHA,    /* true capacitor voltage (LCL), V */
-    SMD_LOG_UC_BETA,
-    SMD_LOG_LIN_E_ALPHA, /* linear observer's EMF estimate, stationary frame, V */
-    SMD_LOG_LIN_E_BETA,
-    SMD_LOG_PHASE,       /* start-up phase: 0 forced, 1 encoder, 2 position source */
-    SMD_LOG_STATUS,      /* controller status code */
-    SMD_LOG_FAULT,       /* controller fault word (smd_drive_out.fault) */
+    SMD_LOG_T = 0,       /* @log(t, s) time of sample k */
+    SMD_LOG_W_M,         /* @log(w_M, rad/s) true mechanical speed */
+    SMD_LOG_THETA_R,     /* @log(theta_r, rad) true electrical angle */
+    SMD_LOG_I_ALPHA,     /* @log(i_alpha, A) true motor current (i_2 with the filter), alpha */
+    SMD_LOG_I_BETA,      /* @log(i_beta, A) true motor current, beta */
+    SMD_LOG_I_D,         /* @log(i_d, A) true motor current in the true rotor frame, d */
+    SMD_LOG_I_Q,         /* @log(i_q, A) true motor current in the true rotor frame, q */
+    SMD_LOG_T_E,         /* @log(T_e, N m) mean electromagnetic torque over [t_k, t_k+1) */
+    SMD_LOG_T_L,         /* @log(T_L, N m) mean load torque over [t_k, t_k+1) (friction B w
+                          * excluded) */
+    SMD_LOG_W_M_REF,     /* @log(w_M_ref, rad/s) mechanical speed reference */
+    SMD_LOG_I_D_REF,     /* @log(i_d_ref, A) controller's current reference, d */
+    SMD_LOG_I_Q_REF,     /* @log(i_q_ref, A) controller's current reference, q */
+    SMD_LOG_THETA_HAT,   /* @log(theta_hat, rad) angle the controller uses at k */
+    SMD_LOG_W_HAT,       /* @log(w_hat, rad/s) electrical speed the controller uses at k */
+    SMD_LOG_UD_ALPHA,    /* @log(u_d_hat_alpha, V) SMDO disturbance estimate u_d_hat^{k+1},
+                          * alpha */
+    SMD_LOG_UD_BETA,     /* @log(u_d_hat_beta, V) SMDO disturbance estimate, beta */
+    SMD_LOG_U_ALPHA,     /* @log(u_alpha, V) mean inverter voltage over [t_k, t_k+1), alpha */
+    SMD_LOG_U_BETA,      /* @log(u_beta, V) mean inverter voltage, beta */
+    SMD_LOG_UCMD_ALPHA,  /* @log(u_cmd_alpha, V) voltage commanded for the next period (after
+                          * the limit), alpha */
+    SMD_LOG_UCMD_BETA,   /* @log(u_cmd_beta, V) voltage commanded for the next period, beta */
+    SMD_LOG_I_A_MEAS,    /* @log(i_a_meas, A) ADC motor phase current a */
+    SMD_LOG_I_B_MEAS,    /* @log(i_b_meas, A) ADC motor phase current b */
+    SMD_LOG_IHAT_ALPHA,  /* @log(i_hat_alpha, A) SMDO current prediction i_hat^{k+1}, alpha */
+    SMD_LOG_IHAT_BETA,   /* @log(i_hat_beta, A) SMDO current prediction, beta */
+    SMD_LOG_LAMBDA,      /* @log(lambda, A/s) SMDO adapted gain, eq. (37) */
+    SMD_LOG_I_G,         /* @log(i_g, A) PI current control: measured motor current in its
+                          * frame, gamma (d); 0 with DBPC */
+    SMD_LOG_I_DL,        /* @log(i_dl, A) PI current control: measured motor current in its
+                          * frame, delta (q) */
+    SMD_LOG_THETA_ERR,   /* @log(theta_err_est, rad) LCL sources: estimated angle error,
+                          * yao2022 eq. (47) */
+    SMD_LOG_E_G,         /* @log(e_hat_g, V) LCL sliding-mode observer: EMF estimate, gamma */
+    SMD_LOG_E_DL,        /* @log(e_hat_dl, V) LCL sliding-mode observer: EMF estimate, delta */
+    SMD_LOG_S_G,         /* @log(s_g, A) LCL sliding-mode observer: switching function s(k),
+                          * eq. (18), gamma */
+    SMD_LOG_S_DL,        /* @log(s_dl, A) switching function s(k), delta */
+    SMD_LOG_DHAT_G,      /* @log(d_hat_g, A) periodic-disturbance compensation, eq. (35),
+                          * gamma */
+    SMD_LOG_DHAT_DL,     /* @log(d_hat_dl, A) periodic-disturbance compensation, delta */
+    SMD_LOG_V_G,         /* @log(v_g, A) disturbance part v(k-1) of the attraction function,
+                          * gamma */
+    SMD_LOG_V_DL,        /* @log(v_dl, A) disturbance part v(k-1), delta */
+    SMD_LOG_I1_ALPHA,    /* @log(i1_alpha, A) true inverter-side current (motor current
+                          * without filter), alpha */
+    SMD_LOG_I1_BETA,     /* @log(i1_beta, A) true inverter-side current, beta */
+    SMD_LOG_UC_ALPHA,    /* @log(uc_alpha, V) true filter-capacitor voltage (0 without
+                          * filter), alpha */
+    SMD_LOG_UC_BETA,     /* @log(uc_beta, V) true filter-capacitor voltage, beta */
+    SMD_LOG_LIN_E_ALPHA, /* @log(lin_e_alpha, V) linear observer's EMF estimate, eq. (65),
+                          * alpha */
+    SMD_LOG_LIN_E_BETA,  /* @log(lin_e_beta, V) linear observer's EMF estimate, beta */
+    SMD_LOG_PHASE,       /* @log(phase) start-up phase: 0 forced (I/f), 1 encoder handover,
+                          * 2 position source */
+    SMD_LOG_STATUS,      /* @log(status) controller status code of the step (smd_status) */
+    SMD_LOG_FAULT,       /* @log(fault) controller fault word of the step
+                          * (smd_drive_out.fault, FAULT_BITS) */
     SMD_LOG_N
 };
 

@@ -109,7 +109,60 @@ typedef struct smd_plant {
     int solver;           /* 0: smd_spmsm_step, 1: smd_spmsm_step_clamp, 2: smd_lcl_step */
 } smd_plant;
 
-/* Returns 0 or a positive code naming the first bad field (smd_plant_field). */
+/* The codes of smd_plant_init: 0 or the first bad field, in the order it
+ * checks them. Each entry's comment is the code's schema: the name
+ * smd_plant_field gives (the string) and @scenario(...), the fields of a
+ * smodrive scenario behind it; tools/gen_layout.py generates the names table
+ * (sim/src/smd_plant_fields.h) and the binding's map from them. */
+typedef enum smd_plant_field_code {
+    SMD_PF_OK = 0,                /* "ok" */
+    SMD_PF_R_S = 1,               /* "R_s" @scenario(motor.R_s) */
+    SMD_PF_L_S = 2,               /* "L_s" @scenario(motor.L_s) */
+    SMD_PF_PSI_R = 3,             /* "psi_r" @scenario(motor.psi_r) */
+    SMD_PF_N_P = 4,               /* "n_p" @scenario(motor.n_p) */
+    SMD_PF_J = 5,                 /* "J" @scenario(motor.J) */
+    SMD_PF_B = 6,                 /* "B" @scenario(motor.B) */
+    SMD_PF_LCL = 7,               /* "lcl" @scenario(lcl) */
+    SMD_PF_L1 = 8,                /* "L1" @scenario(lcl.L1) */
+    SMD_PF_L2O = 9,               /* "L2o" @scenario(lcl.L2o) */
+    SMD_PF_C1 = 10,               /* "C1" @scenario(lcl.C1) */
+    SMD_PF_U_DC = 11,             /* "u_dc" @scenario(inverter.u_dc) */
+    SMD_PF_T_SW = 12,             /* "T_sw" @scenario(T_sp) */
+    SMD_PF_PWM_MODE = 13,         /* "pwm_mode" @scenario(inverter.pwm) */
+    SMD_PF_T_DEAD = 14,           /* "t_dead" @scenario(inverter.t_dead) */
+    SMD_PF_ADC_GAIN = 15,         /* "adc_gain" @scenario(adc.gain) */
+    SMD_PF_ADC_OFFSET = 16,       /* "adc_offset" @scenario(adc.offset) */
+    SMD_PF_ADC_GAIN_I1 = 17,      /* "adc_gain_i1" @scenario(adc.gain_i1) */
+    SMD_PF_ADC_OFFSET_I1 = 18,    /* "adc_offset_i1" @scenario(adc.offset_i1) */
+    SMD_PF_ADC_NOISE = 19,        /* "adc_noise" @scenario(adc.noise) */
+    SMD_PF_ADC_BITS = 20,         /* "adc_bits" @scenario(adc.bits) */
+    SMD_PF_ADC_FULL_SCALE = 21,   /* "adc_full_scale" @scenario(adc.full_scale) */
+    SMD_PF_W_BRAKE_EPS = 22,      /* "w_brake_eps" @scenario(load.w_brake_eps) */
+    SMD_PF_K_FAN = 23,            /* "k_fan" @scenario(load.k_fan) */
+    SMD_PF_W_M0 = 24,             /* "w_M0" @scenario(w_M0) */
+    SMD_PF_THETA_R0 = 25,         /* "theta_r0" @scenario(theta_r0) */
+    SMD_PF_I_DQ0 = 26,            /* "i_d0/i_q0": a warm start's q current, T_L(0) / k_t
+                                   * @scenario(warm_start, w_M0, load.T_ext, load.T_brake,
+                                   * load.k_fan, motor.B, motor.psi_r, motor.n_p) */
+    SMD_PF_UC_DQ0 = 27,           /* "uc_d0/uc_q0": a warm start's capacitor voltage
+                                   * @scenario(warm_start, w_M0, load.T_ext, load.T_brake,
+                                   * load.k_fan, motor.B, motor.psi_r, motor.n_p, motor.R_s,
+                                   * motor.L_s, lcl.L2o) */
+    SMD_PF_I1_DQ0 = 28,           /* "i1_d0/i1_q0": a warm start's inverter-side current
+                                   * @scenario(warm_start, w_M0, load.T_ext, load.T_brake,
+                                   * load.k_fan, motor.B, motor.psi_r, motor.n_p, motor.R_s,
+                                   * motor.L_s, lcl.L2o, lcl.C1) */
+    SMD_PF_MODES = 29,            /* "R_s/L1/L2o/L_s/C1 (repeated or unstable filter modes)"
+                                   * (smd_lcl_setup) @scenario(motor.R_s, motor.L_s,
+                                   * lcl.L1, lcl.L2o, lcl.C1) */
+    SMD_PF_DEAD_TIME_MODEL = 30,  /* "dead_time_model" (clamp: without the filter only)
+                                   * @scenario(inverter.dead_time_model, lcl) */
+    SMD_PF_ADC_N_OVERSAMPLE = 31, /* "adc_n_oversample" @scenario(adc.n_oversample) */
+    SMD_PF_N                      /* the number of codes */
+} smd_plant_field_code;
+
+/* Returns 0 or a positive code naming the first bad field (smd_plant_field,
+ * smd_plant_field_code). */
 int smd_plant_init(smd_plant *p, const smd_plant_config *c);
 const char *smd_plant_field(int code);
 

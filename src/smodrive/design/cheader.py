@@ -31,16 +31,16 @@ from pathlib import Path
 
 import numpy as np
 
+from .observer_layout import OBSERVER_FIELDS
 from .yao2022 import DesignTables
 
 __all__ = ["REALTIME_FIELDS", "write_c_header", "format_c_header"]
 
-REALTIME_FIELDS: tuple[str, ...] = (
-    "w", "G", "H", "F", "T_r", "B", "H_c", "D1", "D2", "Gamma_c", "Gamma_1", "Gamma_2", "G_s",
-    "K_c", "K_y",
-    "k", "a1_2", "a2_2", "a1_3", "a2_3", "N_2", "N_3", "L_s", "Theta", "Theta_y", "Theta_u",
-)
-"""Fields the real-time observers need (analysis-only ``G_c, G_u, G_y, G_sm`` left out)."""
+REALTIME_FIELDS: tuple[str, ...] = ("w",) + tuple(
+    name for name, _, _, realtime in OBSERVER_FIELDS if realtime)
+"""Fields the real-time observers need: the speed and the real-time ones of
+:data:`smodrive.design.observer_layout.OBSERVER_FIELDS` (analysis-only ``G_c,
+G_u, G_y, G_sm, L`` left out)."""
 
 _UNITS = {"speeds": "mechanical speed, r/min", "w": "electrical speed, rad/s"}
 

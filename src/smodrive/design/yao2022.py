@@ -69,6 +69,7 @@ from .lcl_model import (
     w_to_rpm,
     zoh,
 )
+from .observer_layout import OBSERVER_FIELDS
 
 __all__ = [
     "I2",
@@ -425,11 +426,30 @@ def linear_observer(plant: DesignPlant, w: float, poles: Sequence[float]) -> Lin
 # ---------------------------------------------------------------------------
 
 
-@dataclass(frozen=True)
+def _observer_fields(*head: tuple[str, str], per_speed: bool):
+    """Class decorator: a frozen dataclass whose fields are `head`, then every
+    field of OBSERVER_FIELDS (an array per speed, or at one speed an array, a
+    float or an int by its shape and kind), then the class's own."""
+
+    def wrap(cls):
+        own = dict(cls.__dict__.get("__annotations__", {}))
+        ann = dict(head)
+        for name, shape, kind, _ in OBSERVER_FIELDS:
+            ann[name] = ("np.ndarray" if per_speed or shape else
+                         "int" if kind == "i" else "float")
+        cls.__annotations__ = {**ann, **own}
+        return dataclass(frozen=True)(cls)
+
+    return wrap
+
+
+@_observer_fields(("w", "float"), per_speed=False)
 class ObserverMatrices:
     """Everything the real-time observer needs at one electrical speed.
 
-    Matrices (shapes without the speed axis):
+    The fields after ``w`` are those of
+    :data:`smodrive.design.observer_layout.OBSERVER_FIELDS`, in its order and
+    shapes; their meanings (shapes without the speed axis):
 
     ``G`` (6,6), ``H`` (6,2), ``F`` (6,2): model (5)-(7), observer (9).
     ``T_r`` (6,6): eq. (14); the observer uses its lower-right ``F_t`` (4,4) block.
@@ -451,41 +471,10 @@ class ObserverMatrices:
     ``w``: electrical speed (rad/s).
     """
 
-    w: float
-    G: np.ndarray
-    H: np.ndarray
-    F: np.ndarray
-    T_r: np.ndarray
-    B: np.ndarray
-    H_c: np.ndarray
-    D1: np.ndarray
-    D2: np.ndarray
-    Gamma_c: np.ndarray
-    Gamma_1: np.ndarray
-    Gamma_2: np.ndarray
-    G_s: np.ndarray
-    G_c: np.ndarray
-    G_u: np.ndarray
-    G_y: np.ndarray
-    G_sm: np.ndarray
-    L: np.ndarray
-    K_c: np.ndarray
-    K_y: np.ndarray
-    k: float
-    a1_2: float
-    a2_2: float
-    a1_3: float
-    a2_3: float
-    N_2: int
-    N_3: int
-    L_s: np.ndarray
-    Theta: np.ndarray
-    Theta_y: np.ndarray
-    Theta_u: np.ndarray
 
-
-MATRIX_FIELDS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(ObserverMatrices) if f.name != "w")
-"""Fields of :class:`ObserverMatrices` stored per speed in :class:`DesignTables`."""
+MATRIX_FIELDS: tuple[str, ...] = tuple(name for name, *_ in OBSERVER_FIELDS)
+"""Fields of :class:`ObserverMatrices` stored per speed in :class:`DesignTables`
+(:data:`smodrive.design.observer_layout.OBSERVER_FIELDS`)."""
 
 
 def design_point(plant: DesignPlant, w: float,
@@ -529,7 +518,7 @@ def design_point(plant: DesignPlant, w: float,
     )
 
 
-@dataclass(frozen=True)
+@_observer_fields(("speeds_rpm", "np.ndarray"), ("w", "np.ndarray"), per_speed=True)
 class DesignTables:
     """Speed-indexed lookup tables of :class:`ObserverMatrices`.
 
@@ -539,38 +528,6 @@ class DesignTables:
     ``plant`` and ``design`` are the inputs the tables were designed from.
     """
 
-    speeds_rpm: np.ndarray
-    w: np.ndarray
-    G: np.ndarray
-    H: np.ndarray
-    F: np.ndarray
-    T_r: np.ndarray
-    B: np.ndarray
-    H_c: np.ndarray
-    D1: np.ndarray
-    D2: np.ndarray
-    Gamma_c: np.ndarray
-    Gamma_1: np.ndarray
-    Gamma_2: np.ndarray
-    G_s: np.ndarray
-    G_c: np.ndarray
-    G_u: np.ndarray
-    G_y: np.ndarray
-    G_sm: np.ndarray
-    L: np.ndarray
-    K_c: np.ndarray
-    K_y: np.ndarray
-    k: np.ndarray
-    a1_2: np.ndarray
-    a2_2: np.ndarray
-    a1_3: np.ndarray
-    a2_3: np.ndarray
-    N_2: np.ndarray
-    N_3: np.ndarray
-    L_s: np.ndarray
-    Theta: np.ndarray
-    Theta_y: np.ndarray
-    Theta_u: np.ndarray
     plant: DesignPlant
     design: ObserverDesignPars = dataclasses.field(default_factory=ObserverDesignPars)
 
@@ -608,6 +565,10 @@ def design_tables(plant: DesignPlant, speeds_rpm: Sequence[float] | np.ndarray |
     w = np.asarray(rpm_to_w(n, plant.motor.n_p))
     points = [design_point(plant, float(wi), design) for wi in w]
     cols = {name: np.array([getattr(p, name) for p in points]) for name in MATRIX_FIELDS}
+    for name, shape, kind, _ in OBSERVER_FIELDS:  # the layout the tables promise
+        if cols[name].shape[1:] != shape or cols[name].dtype.kind != kind:
+            raise AssertionError(f"design field {name}: shape {cols[name].shape[1:]} "
+                                 f"{cols[name].dtype}, the layout says {shape} {kind}")
     return DesignTables(speeds_rpm=n, w=w, plant=plant, design=design, **cols)
 
 

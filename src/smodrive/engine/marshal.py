@@ -5,15 +5,18 @@ and packed in the C layouts) and the reference profiles."""
 
 from __future__ import annotations
 
+import ctypes as ct
 import dataclasses
 import functools
 
 import numpy as np
 
 from ..design import yao2022 as dz
+from ..design.observer_layout import OBSERVER_FIELDS
 from ..model import LCL_TABLE_RPM, LclFilterPars, MotorPars, ParameterError, Profile, Scenario
 from .channels import CURRENT, LAWS, POSITION, START
 from . import _ffi
+from ._structs import DESIGN_FIELDS
 
 TABLE_RPM = np.arange(-LCL_TABLE_RPM, LCL_TABLE_RPM + 1.0, 1000.0)  # LCL observer tables, r/min
 
@@ -77,6 +80,53 @@ def plant_config(s: Scenario) -> _ffi.PlantConfig:
     return c
 
 
+def _block(a: np.ndarray, block) -> np.ndarray:
+    """Design array `a` at one speed, or its block ((r0, r1), (c0, c1))."""
+    if block is None:
+        return np.asarray(a)
+    (r0, r1), (c0, c1) = block
+    return np.asarray(a)[r0:r1, c0:c1]
+
+
+def _pack(t: dz.DesignTables, k: int, fields) -> np.ndarray:
+    """Row k of a table model: its design fields (DESIGN_FIELDS, the header's
+    @design annotations) in C order, row-major."""
+    return np.concatenate([_block(getattr(t, name)[k], block).ravel()
+                           for _, name, block in fields])
+
+
+def packing_errors(design_fields=None) -> list[str]:
+    """Every C array of a table model whose design field (its @design
+    annotation) is not in OBSERVER_FIELDS, not real, or of another size."""
+    design_fields = DESIGN_FIELDS if design_fields is None else design_fields
+    layout = {name: (shape, kind) for name, shape, kind, _ in OBSERVER_FIELDS}
+    errors = []
+    for c_name, fields in design_fields.items():
+        cls = _ffi.MIRRORS[c_name]
+        for c_field, name, block in fields:
+            n_c = getattr(cls, c_field).size // ct.sizeof(_ffi.real)
+            if name not in layout or layout[name][1] != "f":
+                errors.append(f"{c_name}.{c_field}: @design({name}) is no real field of "
+                              "OBSERVER_FIELDS")
+                continue
+            shape = layout[name][0]
+            if block is not None and (len(shape) != 2 or block[0][1] > shape[0]
+                                      or block[1][1] > shape[1]):
+                errors.append(f"{c_name}.{c_field}: block {block} outside {name} {shape}")
+                continue
+            n_d = _block(np.zeros(shape), block).size
+            if n_d != n_c:
+                errors.append(f"{c_name}.{c_field}: {n_c} reals in C, {n_d} in {name}"
+                              f"{'' if block is None else str(list(block))} {shape}")
+    return errors
+
+
+if packing_errors():
+    raise ImportError("smodrive: the observer tables' layout in the headers (@design) "
+                      "disagrees with smodrive.design.observer_layout:\n  "
+                      + "\n  ".join(packing_errors()))
+
+
 @functools.lru_cache(maxsize=8)
 def observer_tables(plant, design) -> tuple[np.ndarray, np.ndarray, float, float]:
     """The LCL observers' tables for `plant`
@@ -89,13 +139,8 @@ def observer_tables(plant, design) -> tuple[np.ndarray, np.ndarray, float, float
     m = np.zeros((n, _ffi.N_MODEL), dtype=np.float32)
     lin = np.zeros((n, _ffi.N_LIN), dtype=np.float32)
     for k in range(n):
-        parts = [t.G[k].ravel(), t.H[k].ravel(), t.F[k].ravel(), t.T_r[k][2:, 2:].ravel(),
-                 t.H_c[k].ravel(), t.D1[k].ravel(), t.D2[k].ravel(), t.Gamma_c[k].ravel(),
-                 t.Gamma_1[k].ravel(), t.Gamma_2[k].ravel(), t.G_s[k].ravel(),
-                 t.K_c[k].ravel(), t.K_y[k].ravel(), [t.k[k]]]
-        m[k] = np.concatenate(parts)
-        lin[k] = np.concatenate([t.L_s[k].ravel(), t.Theta[k].ravel(), t.Theta_y[k].ravel(),
-                                 t.Theta_u[k].ravel()])
+        m[k] = _pack(t, k, DESIGN_FIELDS["smd_lcl_model"])
+        lin[k] = _pack(t, k, DESIGN_FIELDS["smd_linobs_model"])
     if not (np.all(np.isfinite(m)) and np.all(np.isfinite(lin))):
         raise ParameterError("observer design produced non-finite matrices")
     m.flags.writeable = lin.flags.writeable = False
@@ -136,65 +181,86 @@ def lcl_observer_tables(s: Scenario, design=None):
             "speed axis)") from None
 
 
+def _every_field(cls, values: dict, who: str):
+    """Mirror `cls` with every field set from `values` (field -> value). A
+    field of the C struct that `values` lacks, or a name it does not have,
+    raises: a field added to the header fails loudly here instead of being
+    left 0 (the mirrors are generated from the header)."""
+    names = [n for n, *_ in cls._fields_]
+    missing = [n for n in names if n not in values]
+    unknown = [n for n in values if n not in names]
+    if missing or unknown:
+        raise RuntimeError(
+            f"{who} does not fill {cls._c_name_} field by field: "
+            + "; ".join(([f"unset: {', '.join(missing)}"] if missing else [])
+                        + ([f"no such field: {', '.join(unknown)}"] if unknown else []))
+            + f" (the fields are those of the C header, mirrored in {cls.__module__})")
+    c = cls()
+    for n in names:
+        setattr(c, n, values[n])
+    return c
+
+
 def drive_config(s: Scenario, tables=None) -> _ffi.DriveConfig:
-    """The drive's C config (SI units, electrical angles and speeds). For
-    the LCL observers `tables` (from :func:`lcl_observer_tables`) must be
+    """The drive's C config (SI units, electrical angles and speeds), every
+    field of smd_drive_config set (a field left unset raises RuntimeError).
+    For the LCL observers `tables` (from :func:`lcl_observer_tables`) must be
     kept alive as long as the config is in use."""
     k, T = s.controller, s.T_sp
     n_p = s.motor.n_p
-    c = _ffi.DriveConfig()
-    c.current, c.position, c.start = CURRENT[k.current], POSITION[k.position], START[k.start]
-    c.lcl = 0 if s.lcl is None else 1
-    c.T_sp = T
-    c.L_s_hat, c.R_s_hat, c.psi_r_hat = k.L_s_hat, k.R_s_hat, k.psi_r_hat
-    c.lambda_min, c.l, c.w_c, c.rho = k.lambda_min, k.l, k.w_c, k.rho
-    c.smdo_euler = 1 if k.smdo_euler else 0
-    c.w_lpf, c.w_hys = k.w_lpf, k.w_hys
-    c.w_max = k.w_M_max * n_p
-    c.k_p_i, c.k_i_i = k.current_pi_gains()
-    c.L_dec = s.L_dec
-    c.R_v = k.R_v
-    c.emf_ff = 1 if k.emf_ff else 0
-    c.speed_loop = 1 if k.speed_loop else 0
-    c.k_p_w, c.k_i_w = k.pi_gains(n_p)
-    c.i_max = k.i_max
-    c.speed_decimation = k.speed_decimation
-    c.k_theta, c.k_omega, c.k_a = k.k_theta, k.k_omega, k.k_a
+    sensorless = k.position != "encoder"
+    k_p_i, k_i_i = k.current_pi_gains()
+    k_p_w, k_i_w = k.pi_gains(n_p)
     if tables is not None:
         m, lin, w_min, dw = tables
-        c.smo = _ffi.SmoConfig(T_sp=T, law=LAWS[k.law], table=m.ctypes.data, n=m.shape[0],
-                               w_min=w_min, dw=dw, Q1=k.Q[0], Q2=k.Q[1], bw_rel2=k.bw_rel[0],
-                               bw_rel3=k.bw_rel[1], w_bp_min=k.w_M_bp_min * n_p)
-        c.lin = _ffi.LinConfig(table=lin.ctypes.data, n=lin.shape[0], w_min=w_min, dw=dw)
-    c.handover = int(round(k.t_handover / T)) if k.start == "handover" else 0
-    c.i_start = k.i_start
-    c.a_start = k.a_M_start * n_p
-    c.w_handover = k.w_M_handover * n_p
-    c.svm_limit = 1 if s.inverter.svm_limit == "hexagon" else 0
-    c.t_dead_comp = k.t_dead_comp
-    c.i_dtc = k.i_dtc
-    c.i_trip = min(2.5 * k.i_max, 1e5) if k.i_trip is None else k.i_trip
-    c.u_dc_min = k.u_dc_min_ratio * s.inverter.u_dc
-    c.u_dc_max = k.u_dc_max_ratio * s.inverter.u_dc
-    c.safe_state = 1 if k.safe_state == "pwm_off" else 0
-    sensorless = k.position != "encoder"
-    c.lock_samples = int(round(k.t_lock / T)) if sensorless else 0
-    c.lock_ratio = k.lock_ratio
-    c.w_lock_min = k.w_M_lock_min * n_p
-    c.w_if_enter = k.w_M_if_enter * n_p
-    c.a_ref = k.a_M_ref * n_p
-    c.dwell = int(round(k.t_dwell / T))
-    c.chatter_max = k.chatter_max
-    c.chatter_window = max(1, int(round(k.t_chatter / T)))
-    c.track_samples = int(round(k.t_track / T)) if k.speed_loop else 0
-    c.w_track = k.w_M_track * n_p
-    c.forced_samples = int(round(k.t_forced / T)) if (k.start == "if" or k.w_M_if_enter > 0) \
-        else 0
-    c.osc_i, c.osc_rel = k.osc_i, k.osc_rel
-    c.osc_samples = int(round(k.t_osc / T)) if k.osc_i > 0 else 0
-    c.restart_max = k.restart_max if (k.start == "if" and k.position == "smdo_emf") else 0
-    c.restart_window = max(1, int(round(k.t_restart / T)))
-    return c
+        smo = _every_field(_ffi.SmoConfig, dict(
+            T_sp=T, law=LAWS[k.law], table=m.ctypes.data, n=m.shape[0], w_min=w_min, dw=dw,
+            Q1=k.Q[0], Q2=k.Q[1], bw_rel2=k.bw_rel[0], bw_rel3=k.bw_rel[1],
+            w_bp_min=k.w_M_bp_min * n_p), "drive_config")
+        lin_c = _every_field(_ffi.LinConfig, dict(
+            table=lin.ctypes.data, n=lin.shape[0], w_min=w_min, dw=dw), "drive_config")
+    else:  # no LCL observer: their configs all 0
+        smo, lin_c = _ffi.SmoConfig(), _ffi.LinConfig()
+    return _every_field(_ffi.DriveConfig, dict(
+        current=CURRENT[k.current], position=POSITION[k.position], start=START[k.start],
+        lcl=0 if s.lcl is None else 1,
+        T_sp=T,
+        L_s_hat=k.L_s_hat, R_s_hat=k.R_s_hat, psi_r_hat=k.psi_r_hat,
+        lambda_min=k.lambda_min, l=k.l, w_c=k.w_c, rho=k.rho,
+        smdo_euler=1 if k.smdo_euler else 0,
+        w_lpf=k.w_lpf, w_hys=k.w_hys, w_max=k.w_M_max * n_p,
+        k_p_i=k_p_i, k_i_i=k_i_i, L_dec=s.L_dec, R_v=k.R_v,
+        emf_ff=1 if k.emf_ff else 0,
+        speed_loop=1 if k.speed_loop else 0,
+        k_p_w=k_p_w, k_i_w=k_i_w, i_max=k.i_max,
+        speed_decimation=k.speed_decimation,
+        k_theta=k.k_theta, k_omega=k.k_omega, k_a=k.k_a,
+        smo=smo, lin=lin_c,
+        handover=int(round(k.t_handover / T)) if k.start == "handover" else 0,
+        i_start=k.i_start, a_start=k.a_M_start * n_p, w_handover=k.w_M_handover * n_p,
+        svm_limit=1 if s.inverter.svm_limit == "hexagon" else 0,
+        t_dead_comp=k.t_dead_comp, i_dtc=k.i_dtc,
+        i_trip=min(2.5 * k.i_max, 1e5) if k.i_trip is None else k.i_trip,
+        u_dc_min=k.u_dc_min_ratio * s.inverter.u_dc,
+        u_dc_max=k.u_dc_max_ratio * s.inverter.u_dc,
+        safe_state=1 if k.safe_state == "pwm_off" else 0,
+        lock_samples=int(round(k.t_lock / T)) if sensorless else 0,
+        lock_ratio=k.lock_ratio,
+        w_lock_min=k.w_M_lock_min * n_p,
+        w_if_enter=k.w_M_if_enter * n_p,
+        a_ref=k.a_M_ref * n_p,
+        dwell=int(round(k.t_dwell / T)),
+        chatter_max=k.chatter_max,
+        chatter_window=max(1, int(round(k.t_chatter / T))),
+        track_samples=int(round(k.t_track / T)) if k.speed_loop else 0,
+        w_track=k.w_M_track * n_p,
+        forced_samples=(int(round(k.t_forced / T)) if (k.start == "if" or k.w_M_if_enter > 0)
+                        else 0),
+        osc_i=k.osc_i, osc_rel=k.osc_rel,
+        osc_samples=int(round(k.t_osc / T)) if k.osc_i > 0 else 0,
+        restart_max=k.restart_max if (k.start == "if" and k.position == "smdo_emf") else 0,
+        restart_window=max(1, int(round(k.t_restart / T))),
+    ), "drive_config")
 
 
 def profiles(s: Scenario) -> _ffi.Profiles:

@@ -28,7 +28,7 @@ import numpy as np
 from ..design.yao2022 import ObserverDesignPars
 from ..model import ParameterError, Scenario
 from .channels import CHANNELS
-from . import _ffi
+from . import _codes, _ffi
 from .marshal import _warm_i_q0, drive_config, lcl_observer_tables, plant_config, profiles
 from .result import FaultReport, Result
 
@@ -45,45 +45,13 @@ def _wrap_pi(x: float) -> float:
 # The C plant's field codes (smd_plant_field) and the controller's init
 # statuses (smd_status) as the scenario fields behind them: the C names
 # (T_sw, i_d0/i_q0, omega_c, k_p, w_max, ...) are the structs', not the user's.
-_WARM = ("warm_start", "w_M0", "load.T_ext", "load.T_brake", "load.k_fan", "motor.B",
-         "motor.psi_r", "motor.n_p")
-_PLANT_FIELDS: dict[int, tuple[str, ...]] = {
-    1: ("motor.R_s",), 2: ("motor.L_s",), 3: ("motor.psi_r",), 4: ("motor.n_p",),
-    5: ("motor.J",), 6: ("motor.B",), 7: ("lcl",), 8: ("lcl.L1",), 9: ("lcl.L2o",),
-    10: ("lcl.C1",), 11: ("inverter.u_dc",), 12: ("T_sp",), 13: ("inverter.pwm",),
-    14: ("inverter.t_dead",), 15: ("adc.gain",), 16: ("adc.offset",), 17: ("adc.gain_i1",),
-    18: ("adc.offset_i1",), 19: ("adc.noise",), 20: ("adc.bits",), 21: ("adc.full_scale",),
-    22: ("load.w_brake_eps",), 23: ("load.k_fan",), 24: ("w_M0",), 25: ("theta_r0",),
-    26: _WARM,  # the warm start's q current, T_L(0) / k_t
-    27: _WARM + ("motor.R_s", "motor.L_s", "lcl.L2o"),  # ... its capacitor voltage
-    28: _WARM + ("motor.R_s", "motor.L_s", "lcl.L2o", "lcl.C1"),  # ... its i_1
-    29: ("motor.R_s", "motor.L_s", "lcl.L1", "lcl.L2o", "lcl.C1"),
-    30: ("inverter.dead_time_model", "lcl"),  # clamp: the machine without the filter only
-    31: ("adc.n_oversample",),
-}
-_SPEED_PI = ("controller.speed_bw", "controller.J_hat", "controller.psi_r_pi", "motor.n_p")
-_PLL = ("controller.k_theta", "controller.k_omega", "controller.k_a")
-_DRIVE_FIELDS: dict[int, tuple[str, ...]] = {
-    2: ("T_sp",), 3: ("controller.L_s_hat",), 4: ("controller.R_s_hat",),
-    5: ("controller.psi_r_hat",), 6: ("controller.lambda_min",), 7: ("controller.l",),
-    8: ("controller.w_c",), 9: ("controller.rho",), 10: _SPEED_PI + _PLL,
-    11: _SPEED_PI + _PLL, 12: ("controller.i_max", "controller.bw_rel", "controller.w_M_bp_min"),
-    13: ("controller.current", "controller.position", "controller.start", "controller.law",
-         "inverter.svm_limit"),
-    14: ("controller.l", "controller.lambda_min", "controller.rho", "controller.w_c",
-         "controller.w_M_max", "controller.Q", "T_sp") + _PLL,
-    15: ("controller.w_lpf", "T_sp"), 17: ("controller.speed_decimation",),
-    18: ("controller.w_hys",), 19: ("controller.w_M_max", "controller.w_hys", "motor.n_p", "T_sp"),
-    20: ("controller.t_dead_comp", "controller.i_dtc", "T_sp"), 21: ("controller.t_handover",),
-    23: ("controller.position", "lcl", "T_sp"),
-    24: ("controller.current", "controller.position", "controller.R_v", "lcl"),
-    25: ("controller.current_bw", "controller.k_p_i", "controller.k_i_i", "controller.L_dec",
-         "controller.R_v"),
-    26: ("controller.i_start", "controller.a_M_start", "controller.w_M_handover", "T_sp"),
-    27: ("controller.i_trip", "controller.u_dc_min_ratio", "controller.u_dc_max_ratio",
-         "controller.safe_state", "controller.t_lock", "controller.lock_ratio",
-         "controller.w_M_lock_min", "controller.w_M_if_enter", "inverter.u_dc"),
-}
+# Both maps are generated from the headers' @scenario annotations (_codes).
+_PLANT_FIELDS: dict[int, tuple[str, ...]] = _codes.PLANT_FIELDS
+_DRIVE_FIELDS: dict[int, tuple[str, ...]] = _codes.DRIVE_FIELDS
+# the warm start's codes: the state that carries the load at t = 0
+_WARM_CODES = {1000 + _codes.SMD_PF_I_DQ0: "a q current of {i_q0:.4g} A (beyond +-1e5 A)",
+               1000 + _codes.SMD_PF_UC_DQ0: "a filter-capacitor voltage beyond +-1e5 V",
+               1000 + _codes.SMD_PF_I1_DQ0: "an inverter-side current beyond +-1e5 A"}
 _PROFILES = ("w_M_ref", "load.T_ext", "load.T_brake", "i_d_ref", "i_q_ref", "i_d_sin_amp",
              "i_d_sin_freq", "theta_r0", "w_M0")
 
@@ -116,12 +84,10 @@ def _with_values(s: Scenario, names: tuple[str, ...]) -> str:
 
 def _describe(rc: int, s: Scenario) -> str:
     """The engine's refusal `rc` in the scenario's fields."""
-    if rc in (1026, 1027, 1028):
+    if rc in _WARM_CODES:
         i_q0 = _warm_i_q0(s)
         k_t = s.motor.k_t
-        what = {1026: f"a q current of {i_q0:.4g} A (beyond +-1e5 A)",
-                1027: "a filter-capacitor voltage beyond +-1e5 V",
-                1028: "an inverter-side current beyond +-1e5 A"}[rc]
+        what = _WARM_CODES[rc].format(i_q0=i_q0)
         return (f"the warm start (warm_start = true) would need {what} to carry the load at "
                 f"t = 0: load torque {i_q0 * k_t:.4g} N m (load.T_ext + load.T_brake at t = 0, "
                 f"load.k_fan w_M0 |w_M0|, motor.B w_M0; w_M0 = {s.w_M0:.4g} rad/s) over the "

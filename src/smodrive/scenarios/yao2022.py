@@ -21,7 +21,7 @@ from .. import firmware, plots
 from ..analysis import metrics
 from ..analysis import pwm as pwm_an
 from ..design import yao2022 as dz
-from ..engine import lcl_observer_tables
+from ..engine import Result, lcl_observer_tables, simulate
 from ..model import (
     RPM,
     AdcCfg,
@@ -377,24 +377,61 @@ def run_table5(progress: ProgressFn) -> Outcome:
 # r/min per s after the handover (assumed; the paper gives none): 80 % of the
 # fastest ramp the 65 V bus allows at 100 kr/min (docs/assumptions.md)
 FIG14_RATE = 8e3
+# the ramp rates of the peak-against-rate curve (ideal sensors), r/min per s
+FIG14_RATES = (4e3, 6e3, 8e3, 10e3, 12e3, 14e3, 16e3, 20e3)
 
 
-def fig14_scenario(ideal: bool = False) -> Scenario:
-    """0 -> 100 kr/min; `ideal`: exact, noiseless, unquantised current sensors
-    (the paper's Fig. 14 is a MATLAB simulation)."""
-    t_up = 1.1 + 95e3 / FIG14_RATE
+def fig14_scenario(ideal: bool = False, rate: float | None = None) -> Scenario:
+    """0 -> 100 kr/min at `rate` r/min per s after the handover (None:
+    FIG14_RATE); `ideal`: exact, noiseless, unquantised current sensors (the
+    paper's Fig. 14 is a MATLAB simulation)."""
+    rate = FIG14_RATE if rate is None else rate
+    t_up = 1.1 + 95e3 / rate
+    name = "yao2022.fig14.ideal" if ideal else "yao2022.fig14"
     return BASE.replace(
-        name="yao2022.fig14.ideal" if ideal else "yao2022.fig14", duration=t_up + 0.3,
+        name=name if rate == FIG14_RATE else f"{name}.{rate / 1e3:g}k_per_s", duration=t_up + 0.3,
         w_M0=0.0, controller=dataclasses.replace(BASE.controller, start="if"),
         w_M_ref=Profile((0.0, 1.1, t_up), (5e3, 5e3, 100e3)).scaled(RPM), log_stride=2,
         adc=IDEAL_ADC if ideal else ADC,
     )
 
 
+def fig14_rate_curve(progress: ProgressFn | None = None,
+                     runs: dict[float, Result] | None = None) -> dict[float, tuple[float, float]]:
+    """With ideal sensors, for each rate of FIG14_RATES: (peak position error
+    from 0.1 s after the handover, rad; mean speed over the last 0.1 s,
+    r/min). `runs`: results already simulated, by rate."""
+    out = {}
+    for rate in FIG14_RATES:
+        r = (runs or {}).get(rate)
+        if r is None:
+            r = simulate(fig14_scenario(ideal=True, rate=rate))
+        out[rate] = (peak_after_handover(r), end_speed_rpm(r))
+        if progress is not None:
+            progress("yao2022.fig14 rate curve", (FIG14_RATES.index(rate) + 1) / len(FIG14_RATES))
+    return out
+
+
+def crossing_rate(curve: dict[float, tuple[float, float]], bound: float) -> float:
+    """The ramp rate at which the curve's peak first exceeds `bound`, linear
+    between the grid points (inf if it never does)."""
+    rates = sorted(curve)
+    for lo, hi in zip(rates, rates[1:]):
+        p_lo, p_hi = curve[lo][0], curve[hi][0]
+        if p_lo <= bound < p_hi:
+            return lo + (hi - lo) * (bound - p_lo) / (p_hi - p_lo)
+    return float("inf") if curve[rates[0]][0] <= bound else rates[0]
+
+
 @EXPERIMENTS("yao2022.fig14", "Acceleration 0 -> 100 kr/min")
 def run_fig14(progress: ProgressFn) -> Outcome:
     s_id = fig14_scenario(ideal=True)
     r_id = _sim(s_id, progress)
+    curve = fig14_rate_curve(progress, runs={FIG14_RATE: r_id})
+    bound = SPECS["yao2022.fig14.pos_error_peak_rad"].tolerance
+    rate_fail = crossing_rate(curve, bound)
+    end_min = SPECS["yao2022.fig14.end_speed_rpm"].tolerance
+    short = [rate for rate in sorted(curve) if curve[rate][1] < end_min]
     s = fig14_scenario()
     r = _sim(s, progress)
     st = over_seeds_multi(s, {"peak": peak_after_handover, "end": end_speed_rpm,
@@ -404,7 +441,12 @@ def run_fig14(progress: ProgressFn) -> Outcome:
     peak, end = st["peak"], st["end"]
     claims = [
         claim("yao2022.fig14.pos_error_peak_rad", peak_after_handover(r_id),
-              t_handover=handover_time(r_id), rate_krpm_s=FIG14_RATE / 1e3),
+              t_handover=handover_time(r_id), rate_krpm_s=FIG14_RATE / 1e3,
+              curve=", ".join(f"{rate / 1e3:g}: {p:.4f}" for rate, (p, _) in sorted(curve.items())),
+              rate_fail=rate_fail / 1e3,
+              rate_short=short[0] / 1e3 if short else float("inf"),
+              allows=": every rate of the grid at which it reaches 100 kr/min passes"
+              if all(curve[k][0] <= bound for k in curve if curve[k][1] >= end_min) else ""),
         claim("yao2022.fig14.pos_error_peak_rad_adc", peak.percentile(PCT),
               rate_krpm_s=FIG14_RATE / 1e3, late=st["late"].median, **seed_fields(peak)),
         claim("yao2022.fig14.end_speed_rpm", end.percentile(PCT),
@@ -425,7 +467,33 @@ def run_fig14(progress: ProgressFn) -> Outcome:
              ("phase", [("phase", "0 open loop, 1 sensorless")])]),
             fig_dir, "yao2022_fig14_16")
 
-    return Outcome(claims, {s_id.name: r_id, s.name: r}, [("yao2022_fig14_16", plot)])
+    def plot_rate(fig_dir):
+        from matplotlib.figure import Figure
+
+        with plots.style():
+            fig = Figure(figsize=(5.5, 3.2))
+            ax = fig.subplots()
+            rates = np.array(sorted(curve)) / 1e3
+            peaks = np.array([curve[k][0] for k in sorted(curve)])
+            reach = np.array([curve[k][1] >= end_min for k in sorted(curve)])
+            ax.plot(rates, peaks, "k-", lw=0.8)
+            ax.plot(rates[reach], peaks[reach], "ko", ms=4, label="reaches 100 kr/min")
+            ax.plot(rates[~reach], peaks[~reach], "o", mfc="none", mec="C3", ms=5,
+                    label=f"stops below {end_min / 1e3:g} kr/min (voltage limit)")
+            ax.axhline(bound, color="C0", ls=":", label=f"paper (Fig. 14): {bound:g} rad")
+            ax.axvline(FIG14_RATE / 1e3, color="0.5", ls="--",
+                       label=f"assumed ramp {FIG14_RATE / 1e3:g} kr/min/s")
+            if math.isfinite(rate_fail):
+                ax.plot([rate_fail / 1e3], [bound], "x", color="C3", ms=7,
+                        label=f"exceeds the bound from {rate_fail / 1e3:.1f} kr/min/s")
+            ax.set_xlabel("ramp rate after the handover (kr/min per s)")
+            ax.set_ylabel("peak position error (rad)")
+            ax.set_title("Fig. 14: peak error against the assumed ramp rate (ideal sensors)")
+            ax.legend(fontsize=6, loc="upper left")
+        return plots.save(fig, fig_dir, "yao2022_fig14_rate")
+
+    return Outcome(claims, {s_id.name: r_id, s.name: r},
+                   [("yao2022_fig14_16", plot), ("yao2022_fig14_rate", plot_rate)])
 
 
 # ------------------------------------------------------ Figs. 19-21 ---------
