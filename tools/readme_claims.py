@@ -35,7 +35,8 @@ SHORT = {
     "yao2022.fig14.pos_error_peak_rad": "PLL takes up the assumed ramp slowly",
     "yao2022.fig14.pos_error_peak_rad_adc": "ADC noise at 5-10 kr/min",
     "yao2022.fig14.end_speed_rpm": "inverter voltage limit",
-    "yao2022.fig22.reversal_pos_error_peak_rad": "ADC noise just outside the crossing band",
+    "yao2022.fig22.reversal_pos_error_peak_rad": "ADC noise at 3-5 kr/min: no seed within 0.1 "
+                                                 "rad (0.069 without the noise)",
     "yao2022.fig22.crossing_pos_error_peak_rad": "no back EMF within +-3 kr/min",
     "yao2022.fig23.linear_observer_stable": "linear observer keeps its poles",
     "yao2022.fig23.smo_stable": "capacitance error biases the angle by 0.105 rad",

@@ -19,6 +19,9 @@ from ..engine import Result, _ffi
 from ..model import RPM, Scenario
 
 STABLE_SPEED, STABLE_ANGLE = 0.01, 0.1  # the bounds of _stable (fig23_basis)
+# rad: the largest position error the paper presents as good estimation (Fig. 19,
+# 'still within 0.1 rd'); the bound of the Fig. 22 claim (its basis)
+GOOD_ANGLE = 0.1
 SETTLE, WINDOW = 0.1, 0.2  # steady-state runs: settle, then measure
 
 
