@@ -45,7 +45,8 @@ REQUIRED = (
 KNOWN_FAILING = {
     **{f"yao2022.table5.ripple_rpm_{law}_{t}": "the PLL attenuates the chattering"
        for law in ("baseline", "proposed") for t in ("30k", "60k", "100k")},
-    "yao2022.table5.ripple_reduction_100k": "ripple set by noise, not chattering",
+    "yao2022.table5.ripple_reduction_100k": "ripple set by the ADC noise and quantisation, "
+                                            "the same with either law",
     **{f"yao2022.fig10.pos_error_vs_paper_rad_{t}": "no dead time in the simulated inverter: "
        "35 ns uncompensated give the paper's 30 and 60 kr/min readings" for t in ("30k", "60k")},
     "yao2022.fig14.pos_error_peak_rad_adc": "ADC noise at 5-10 kr/min after the handover",
@@ -491,6 +492,32 @@ def test_table5_needs_more_angle_ripple_than_eq47_can_give():
         assert g_c == pytest.approx(g_tf, rel=1e-6)
         assert 1100 * y.RPM / g_tf == pytest.approx(need, abs=0.05)
         assert 1100 * y.RPM / g_tf > 2 * math.pi  # beyond any angle, let alone pi/2
+
+
+def test_table5_ripple_ratio_is_set_by_the_adc_noise(claims):
+    """The reason the ripple-ratio claim states, measured: at 100 kr/min the
+    PLL's estimation error n_hat - n is the same with either law (RMS within
+    15 %). Removing the ADC noise and quantisation (gains kept) brings
+    the ratio within the claim's tolerance of the paper's 0.545 (0.66);
+    removing the noise alone, quantisation kept, does not (0.79): both are
+    the cause."""
+    c = claims["yao2022.table5.ripple_reduction_100k"]
+    assert not c.passed
+    parts = {law: y.ripple_parts(simulate(y.steady(100e3, law))) for law in y.LAWS}
+    e_b, e_p = parts["tde17"]["err_rms"], parts["proposed"]["err_rms"]
+    assert abs(e_p / e_b - 1) < 0.15
+    assert c.reproduced == pytest.approx(parts["proposed"]["ripple"] / parts["tde17"]["ripple"])
+
+    def ratio(adc):
+        rip = {law: y.speed_ripple(simulate(y.steady(100e3, law).replace(adc=adc)))
+               for law in y.LAWS}
+        return rip["proposed"] / rip["tde17"]
+
+    quiet = ratio(GAINS_ONLY)
+    assert abs(quiet - c.paper) <= c.tolerance
+    assert f"the ratio to {quiet:.2f}" in c.statement
+    quantised = ratio(dataclasses.replace(y.ADC, noise=0.0))
+    assert abs(quantised - c.paper) > c.tolerance
 
 
 def test_table6_without_the_target_toolchain_is_not_measured(monkeypatch):

@@ -28,8 +28,8 @@ SHORT = {
                                         "14.4 deg)",
     **{f"yao2022.table5.ripple_rpm_{law}_{t}": "the PLL (50) cannot pass such ripple (errata Y12)"
        for law in ("baseline", "proposed") for t in ("30k", "60k", "100k")},
-    "yao2022.table5.ripple_reduction_100k": "ripple set by noise (the 2 f_e / 3 f_e lines: next "
-                                            "claim)",
+    "yao2022.table5.ripple_reduction_100k": "ripple made by ADC noise and quantisation, alike "
+                                            "for both laws (0.66 without them; errata Y12)",
     **{f"yao2022.fig10.pos_error_vs_paper_rad_{t}": "no dead time simulated: 35 ns uncompensated "
        "give the paper's 30 and 60 kr/min readings (errata Y13)" for t in ("30k", "60k")},
     "yao2022.fig14.pos_error_peak_rad": "PLL takes up the assumed ramp slowly",

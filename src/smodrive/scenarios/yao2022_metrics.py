@@ -112,6 +112,29 @@ def speed_ripple(r: Result) -> float:
     return float((n_hat.max() - n_hat.min()) / 2)
 
 
+def ripple_parts(r: Result, spectra: bool = False) -> dict[str, float]:
+    """The steady-state speed ripple of a run and what it is made of (r/min):
+    the estimated speed's half peak-to-peak (`ripple`, :func:`speed_ripple`),
+    the true speed's (`wander`) and the RMS of the estimation error n_hat - n
+    (`err_rms`); with `spectra`, the share of the error's power within the
+    PLL's bandwidth (`err_in_pll`) and of the true speed's below 50 Hz
+    (`wander_below_50`)."""
+    m = r.window(SETTLE, r.scenario.duration)
+    n_hat, n = r.n_hat_rpm[m], r.n_rpm[m]
+    out = {"ripple": float((n_hat.max() - n_hat.min()) / 2),
+           "wander": float((n.max() - n.min()) / 2), "err_rms": float(np.std(n_hat - n))}
+    if spectra:
+        f = np.fft.rfftfreq(n.size, r.scenario.T_sp * r.log_stride)
+
+        def share(x: np.ndarray, f_max: float) -> float:
+            p = np.abs(np.fft.rfft(x - np.mean(x))) ** 2
+            return float(np.sum(p[f < f_max]) / np.sum(p))
+
+        out["err_in_pll"] = share(n_hat - n, dz.pll_bandwidth_hz(dz.PllPars()))
+        out["wander_below_50"] = share(n, 50.0)
+    return out
+
+
 def harmonic_ripple(r: Result, n: float) -> float:
     """RSS of the 2 f_e and 3 f_e lines of the estimated speed in steady state
     (r/min), the components the paper's FFTs of Figs. 12-13 single out."""
