@@ -40,8 +40,7 @@ SHORT = {
     "yao2022.fig22.crossing_pos_error_peak_rad": "no back EMF within +-3 kr/min",
     "yao2022.fig23.linear_observer_stable": "linear observer keeps its poles",
     "yao2022.fig4.comp_error_ratio_18_over_17": "periodic disturbance is the 2 f_e line alone",
-    "yao2022.table6.cycles_reaching_law": "sin/cos and band-pass coefficient updates",
-    "yao2022.table6.cycles_pll": "atan2 of the position error (102 cycles)",
+    "yao2022.table6.cycles_worst_call": "the step exceeds the 50 us period at its worst",
 }
 
 

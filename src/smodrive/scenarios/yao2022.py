@@ -686,8 +686,6 @@ def run_fig23(progress: ProgressFn) -> Outcome:
 
 # ------------------------------------------------------------- Table VI -----
 
-# Table VI's rows (in the claim ids) and the parts of smodrive.firmware they count
-TABLE6_PARTS = {"observer": "prediction", "reaching_law": "reaching_law", "pll": "pll"}
 # what the largest costs on the Cortex-M4F are, for the claims' reasons
 TABLE6_COSTS = {
     "smd_lcl_smo_model": "interpolating all 113 floats of the observer model between "
@@ -702,37 +700,54 @@ TABLE6_COSTS = {
 }
 
 
+def table6_worst(rows: dict) -> dict[str, float]:
+    """From the Table VI rows of smodrive.firmware.table6_cycles: each part's
+    worst call at the pessimistic end of the timing range (its worst nominal
+    call scaled by its mean's pessimistic / nominal ratio: the calls of a
+    part take the same path and differ little) and their sum, an upper bound
+    on the worst call of the whole step (the parts' worst calls may come
+    from different samples)."""
+    out = {part: r.worst * r.high / r.nominal for part, r in rows.items()}
+    out["step"] = sum(out[part] for part in rows)
+    return out
+
+
 @EXPERIMENTS("yao2022.table6", "Execution cost")
 def run_table6(progress: ProgressFn) -> Outcome:
-    why = {}
+    budget = firmware.BUDGET["yao2022"]
+    paper = {part: float(c) for part, c in firmware.TABLE6_PAPER.items()}
     missing = ""
     try:
         rows, by_fn = firmware.table6_cycles(lcl_observer_tables(steady(100e3)), "fmath")
-        cycles = {part: r.nominal for part, r in rows.items()}
-        bounds = {part: (r.low, r.high) for part, r in rows.items()}
-        for part, fns in by_fn.items():
-            cost: dict[str, float] = {}
-            for fn, c in fns.items():
-                if not fn.startswith("blk_"):  # the test harness around the part
-                    label = TABLE6_COSTS.get(fn, fn)
-                    cost[label] = cost.get(label, 0.0) + c
-            top = sorted(cost.items(), key=lambda kv: -kv[1])[:4]
-            why[part] = ("the largest costs: " + ", ".join(f"{k} {c:.0f}" for k, c in top)
-                         + " cycles; the paper does not say whether its count includes the "
-                         "model's speed interpolation, the band-pass updates, sin/cos and "
-                         "atan2 (docs/errata.md)")
     except (firmware.TargetError, OSError, subprocess.SubprocessError) as exc:
         # toolchain or emulator missing: not measured (neither pass nor fail),
         # with the reason
-        missing = str(exc)
-        cycles = {part: float("nan") for part in firmware.TABLE6_PAPER}
-        bounds = {part: (float("nan"), float("nan")) for part in firmware.TABLE6_PAPER}
-        why = {part: str(exc) for part in firmware.TABLE6_PAPER}
+        missing, rows, by_fn = str(exc), {}, {}
     progress("yao2022.table6", 1.0)
-    claims = [claim("yao2022.table6.cycles_{row}", cycles[part], row=row,
-                    part=part.replace("_", " "), low=bounds[part][0], high=bounds[part][1],
-                    why=why[part], not_measured=missing)
-              for row, part in TABLE6_PARTS.items()]
+    if missing:
+        nan = float("nan")
+        parts, worst, costs, spread = "not measured", {"step": nan}, "not measured", nan
+    else:
+        worst = table6_worst(rows)
+        parts = "; ".join(
+            f"{part.replace('_', ' ')} {r.nominal:.0f} [{r.low:.0f}, {r.high:.0f}], worst "
+            f"{worst[part]:.0f} (paper {paper[part]:.0f} on the C28x; ours "
+            f"{r.nominal / paper[part]:.1f} times)" for part, r in rows.items())
+        spread = max(r.worst / r.nominal - 1.0 for r in rows.values())
+        cost: dict[str, float] = {}
+        for fns in by_fn.values():
+            for fn, c in fns.items():
+                if not fn.startswith("blk_"):  # the test harness around the parts
+                    label = TABLE6_COSTS.get(fn, fn)
+                    cost[label] = cost.get(label, 0.0) + c
+        costs = ", ".join(f"{k} {c:.0f}" for k, c in
+                          sorted(cost.items(), key=lambda kv: -kv[1])[:5])
+    total = sum(r.nominal for r in rows.values()) if rows else float("nan")
+    claims = [claim("yao2022.table6.cycles_worst_call", worst["step"], tolerance=budget,
+                    parts=parts, total=total, paper_total=sum(paper.values()),
+                    ratio=total / sum(paper.values()), share=worst["step"] / budget,
+                    left=budget - worst["step"],
+                    costs=costs, budget=budget, spread=spread, not_measured=missing)]
     return Outcome(claims)
 
 
