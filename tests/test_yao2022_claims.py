@@ -8,6 +8,7 @@ or the number the reason quotes is verified.
 from __future__ import annotations
 
 import functools
+import itertools
 import json
 import math
 import re
@@ -195,7 +196,7 @@ def test_fig14_peak_against_the_ramp_rate(claims):
     rates = sorted(curve)
     peaks = [curve[r][0] for r in rates]
     assert rates == sorted(y.FIG14_RATES) and y.FIG14_RATE in rates
-    assert all(b > a for a, b in zip(peaks, peaks[1:]))
+    assert all(b > a for a, b in itertools.pairwise(peaks))
     assert curve[4e3][0] == pytest.approx(0.0067, abs=0.001)
     assert curve[20e3][0] == pytest.approx(0.031, abs=0.002)
     rate_fail = y.crossing_rate(curve, 0.02)
@@ -418,13 +419,13 @@ def test_fig23_stable_apart_from_the_bias(claims):
     assert claims["yao2022.fig23.smo_stable"].passed and c.passed
     s = y.fig23_scenario("smo")
     nominal = simulate(s.with_controller(C1_hat_ratio=1.0))
-    ok, dn, err = y._stable(nominal)
+    ok, _, err = y._stable(nominal)
     assert ok == 1 and err < 0.02
     half = simulate(s.with_controller(C1_hat_ratio=0.5))
     assert y._stable(half)[0] == 0
     turned = dataclasses.replace(nominal, data=nominal.data.copy())
     turned.data[:, CHANNELS.index("theta_hat")] += 0.3
-    ok, dn, err = y._stable(turned)
+    ok, _, err = y._stable(turned)
     assert ok == 1 and 0.25 < err < 0.5
     for wrong in (y.mean_angle_error(turned), y.mean_angle_error(nominal)):
         assert not dataclasses.replace(c, reproduced=wrong, statement="").passed

@@ -11,6 +11,7 @@ gains, regular-sampled carrier PWM), not from injected sinusoids.
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 import subprocess
 from typing import Callable
@@ -435,7 +436,7 @@ def crossing_rate(curve: dict[float, tuple[float, float]], bound: float) -> floa
     """The ramp rate at which the curve's peak first exceeds `bound`, linear
     between the grid points (inf if it never does)."""
     rates = sorted(curve)
-    for lo, hi in zip(rates, rates[1:]):
+    for lo, hi in itertools.pairwise(rates):
         p_lo, p_hi = curve[lo][0], curve[hi][0]
         if p_lo <= bound < p_hi:
             return lo + (hi - lo) * (bound - p_lo) / (p_hi - p_lo)

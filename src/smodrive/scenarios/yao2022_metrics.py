@@ -260,7 +260,7 @@ def _observer_dc_error(s: Scenario, th: float) -> tuple[float, np.ndarray, np.nd
     M = dz.design_point(est, w, dz.ObserverDesignPars(Q=tuple(c.Q)))
     meas = np.concatenate([rot @ i1, rot @ i2])
     # unknowns z = [x_hat (6), x_c (2), e_hat (2)]; y = F_t (x_hat[2:6] - meas)
-    sel = lambda a, b: np.eye(10)[a:b]  # noqa: E731
+    sel = lambda a, b: np.eye(10)[a:b]
     Ft = M.T_r[2:, 2:]
     Y, y0 = Ft @ sel(2, 6), -Ft @ meas
     Xc, Eh, X = sel(6, 8), sel(8, 10), sel(0, 6)
