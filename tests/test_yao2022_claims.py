@@ -162,7 +162,7 @@ def test_fig14_peak_is_adc_noise(claims):
     assert claims["yao2022.fig14.pos_error_peak_rad"].reproduced < 0.02
 
 
-def test_fig14_ideal_peak_scales_with_the_ramp_rate(monkeypatch):
+def test_fig14_ideal_peak_scales_with_the_ramp_rate():
     """The numbers docs/assumptions.md and the basis quote: with ideal
     sensors the peak is about 0.016 rad at 10 kr/min/s and 0.032 rad at 20
     (so the paper's 0.02 bounds the rate the reproduction may assume), and
@@ -170,13 +170,11 @@ def test_fig14_ideal_peak_scales_with_the_ramp_rate(monkeypatch):
     end-speed claim rejects it."""
     got = {}
     for rate in (10e3, 20e3):
-        monkeypatch.setattr(y, "FIG14_RATE", rate)
-        r = simulate(y.fig14_scenario(ideal=True))
+        r = simulate(y.fig14_scenario(ideal=True, rate=rate))
         got[rate] = (y.peak_after_handover(r), y.end_speed_rpm(r))
     assert got[10e3][0] == pytest.approx(0.016, abs=0.002)
     assert got[20e3][0] == pytest.approx(0.032, abs=0.003)
-    monkeypatch.setattr(y, "FIG14_RATE", 20e3)
-    r = simulate(y.fig14_scenario())
+    r = simulate(y.fig14_scenario(rate=20e3))
     assert y.end_speed_rpm(r) == pytest.approx(94.5e3, abs=500)
     c = y.claim("yao2022.fig14.end_speed_rpm", y.end_speed_rpm(r), rate_krpm_s=20.0, t_end=0.0,
                 end_ideal=got[20e3][1], n_seeds=1, median=0.0, worst=0.0, worst_seed=1,
