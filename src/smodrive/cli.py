@@ -39,7 +39,7 @@ from rich.text import Text
 
 from . import firmware, plots
 from . import sweep as sw
-from .claims import count
+from .claims import count, describe_counts
 from .engine import FAULT_BITS, LATCHED_FAULTS, SimulationError, export, log_plan, simulate
 from .engine.export import write_npz
 from .firmware import header as fw_header
@@ -288,6 +288,7 @@ def reproduce(papers: tuple[str, ...], out: Path) -> None:
          + (f", {n['not measured']} not measured (report.md says why)"
             if n["not measured"] else "")
          + f"; report: {out / 'report.md'}; {rep.samples:,} samples in {rep.seconds:.1f} s")
+    _say(f"by kind: {describe_counts(rep.claims)}")
 
 
 def _f(x: float | None) -> str:
