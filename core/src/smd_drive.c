@@ -620,145 +620,218 @@ static void switch_phase(smd_drive_state *s, int phase)
     s->chatter += SMD_R(1.0);
 }
 
-/* One sample of the composed drive on good inputs (smd_drive_step checks
- * them before and the state after). */
-static smd_status control(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
-                          smd_drive_out *out)
-{
-    const smd_real T = p->T_sp;
-    smd_status st;
-    smd_cplx i_s_ab = smd_ab2_to_ab(in->i_a, in->i_b);
-    smd_cplx i1_ab = p->lcl ? smd_ab2_to_ab(in->i1_a, in->i1_b) : i_s_ab;
-    smd_cplx u_ref;
-    smd_real theta_o = s->theta, w_o = s->w; /* frame predicted for k */
-    smd_real theta_k, w_k, theta_next, w_next, w_ref;
-    const int settled = s->phase_samples >= p->dwell;
+/* ------------------------------------------------------------ the step */
 
-    s->i_s_ab = i_s_ab;
-    s->u_ab = s->u_ab_next; /* the voltage computed last time is the one applied now */
+/* One sample's values, passed from each step of control() to the next (the
+ * measured currents stay in control() and go by pointer to the steps that
+ * read them: a smd_cplx argument is copied where the call is). */
+typedef struct sample {
+    smd_real T;                   /* the sampling period T_sp */
+    smd_real w_ref;               /* the speed reference, slew-limited */
+    int settled;                  /* dwell samples since the last start-up switch */
+    smd_real theta_o, w_o;        /* the frame predicted for k */
+    smd_real theta_k, w_k;        /* the frame of k */
+    smd_real theta_next, w_next;  /* the frame of k+1 */
+} sample;
+
+/* The speed reference of the sample: the input, or slew-limited at a_ref. */
+static smd_real slew_reference(const smd_drive_params *p, smd_drive_state *s, smd_real w_ref,
+                               smd_real T)
+{
     if (p->a_ref > SMD_R(0.0)) {
-        /* the speed reference slew-limited at a_ref */
-        smd_real dw = in->w_ref - s->w_ref_r, step = p->a_ref * T;
+        smd_real dw = w_ref - s->w_ref_r, step = p->a_ref * T;
         s->w_ref_r += dw > step ? step : (dw < -step ? -step : dw);
     } else {
-        s->w_ref_r = in->w_ref;
+        s->w_ref_r = w_ref;
     }
-    w_ref = s->w_ref_r;
+    return s->w_ref_r;
+}
+
+/* 0. The sample: the measured current i_s_ab kept, the voltage applied now
+ * (computed last time), the frame predicted for k, the speed reference. */
+static void take_sample(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
+                        const smd_cplx *i_s_ab, sample *x)
+{
+    x->T = p->T_sp;
+    x->theta_o = s->theta;
+    x->w_o = s->w;
+    x->settled = s->phase_samples >= p->dwell;
+    s->i_s_ab = *i_s_ab;
+    s->u_ab = s->u_ab_next; /* the voltage computed last time is the one applied now */
+    x->w_ref = slew_reference(p, s, in->w_ref, x->T);
     if (!s->primed) {
         /* The SMDO's current starts at the first sample, so that a start
          * under load does not begin with a large sliding error. */
-        s->smdo.i_s_hat = i_s_ab;
+        s->smdo.i_s_hat = *i_s_ab;
         s->primed = 1;
     }
+}
 
-    /* 1. the position source's estimates at k */
-    st = source_observe(p, s, &i1_ab, &i_s_ab, theta_o, w_o);
+/* The direction of the forced current: dir_f, or the start's (0: a start
+ * waiting for its reference). */
+static int forced_dir(const smd_drive_state *s) { return s->dir_f != 0 ? s->dir_f : s->start_dir; }
 
-    /* 2. the frame of sample k */
-    if (s->phase == SMD_PHASE_FORCED && s->dir_f == 0 && s->start_dir == 0 &&
-        in->w_ref != SMD_R(0.0)) {
-        /* an I/f start begins when the reference asks for a speed (no current
-         * before), toward its sign; from rest the forced current (q axis of
-         * the forced frame) starts 60 deg behind theta0 in that direction,
-         * where it gives half its torque: loaded or not, the rotor's
-         * equilibrium on the stable side is at most 30 deg away (0.5 of the
-         * torque either way), and it swings by that at most, not by the 90
-         * deg a start at full torque gives a light rotor (smd_drive.h) */
-        s->start_dir = in->w_ref < SMD_R(0.0) ? -1 : 1;
-        if (s->w_f == SMD_R(0.0) && s->i_dq_ref.im == SMD_R(0.0)) {
-            s->theta_f = smd_wrap_pi(s->theta_f - (smd_real)s->start_dir * SMD_PI / SMD_R(3.0));
-            theta_o = s->theta_f;
-        }
+/* An I/f start begins when the reference asks for a speed (no current
+ * before), toward its sign; from rest the forced current (q axis of the
+ * forced frame) starts 60 deg behind theta0 in that direction, where it
+ * gives half its torque: loaded or not, the rotor's equilibrium on the
+ * stable side is at most 30 deg away (0.5 of the torque either way), and it
+ * swings by that at most, not by the 90 deg a start at full torque gives a
+ * light rotor (smd_drive.h). */
+static void begin_start(smd_drive_state *s, smd_real w_ref, sample *x)
+{
+    s->start_dir = w_ref < SMD_R(0.0) ? -1 : 1;
+    if (s->w_f == SMD_R(0.0) && s->i_dq_ref.im == SMD_R(0.0)) {
+        s->theta_f = smd_wrap_pi(s->theta_f - (smd_real)s->start_dir * SMD_PI / SMD_R(3.0));
+        x->theta_o = s->theta_f;
     }
+}
+
+/* 2. The frame of sample k: forced (I/f), the encoder's during a handover,
+ * or the source's. */
+static void frame_now(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
+                      sample *x)
+{
     if (s->phase == SMD_PHASE_FORCED) {
-        theta_k = theta_o;
-        w_k = w_o;
+        if (s->dir_f == 0 && s->start_dir == 0 && in->w_ref != SMD_R(0.0)) {
+            begin_start(s, in->w_ref, x);
+        }
+        x->theta_k = x->theta_o;
+        x->w_k = x->w_o;
     } else if (s->phase == SMD_PHASE_ENCODER) {
-        theta_k = in->theta_enc;
-        w_k = in->w_enc;
+        x->theta_k = in->theta_enc;
+        x->w_k = in->w_enc;
     } else {
-        source_frame(p, s, in, theta_o, w_o, &theta_k, &w_k);
+        source_frame(p, s, in, x->theta_o, x->w_o, &x->theta_k, &x->w_k);
     }
+}
 
-    /* 3. the frame of sample k+1 (forced angle, PLL), start-up transitions */
-    if (s->phase == SMD_PHASE_SOURCE && p->w_if_enter > SMD_R(0.0) && settled &&
-        SMD_FABS(w_k) < p->w_if_enter &&
-        (SMD_FABS(w_ref) < p->w_handover || w_ref * w_k < SMD_R(0.0))) {
-        /* sensorless below w_if_enter on the way through zero: back to the
-         * forced frame, from where the source is now, driven toward the
-         * reference's target; the forced current i_start (q axis of the
-         * forced frame, sign dir_f) is placed so that its q component in the
-         * source's frame is the current that was flowing, on the stable side
-         * (dir_f sin(theta_f - theta) < 0): the torque does not step, and
-         * the rotor does not swing about the forced angle */
-        smd_real c, sn;
-        switch_phase(s, SMD_PHASE_FORCED);
-        s->dir_f = (in->w_ref - w_k) < SMD_R(0.0) ? -1 : 1;
-        c = p->i_start > SMD_R(0.0) ? (smd_real)s->dir_f * s->i_dq_ref.im / p->i_start
-                                    : SMD_R(1.0);
-        c = c > SMD_R(1.0) ? SMD_R(1.0) : (c < SMD_R(-1.0) ? SMD_R(-1.0) : c);
-        sn = SMD_SQRT(SMD_R(1.0) - c * c);
-        s->theta_f = smd_wrap_pi(theta_k - (smd_real)s->dir_f * SMD_ATAN2(sn, c));
-        s->w_f = w_k;
-    }
-    if (s->phase == SMD_PHASE_FORCED) {
-        if (p->start == SMD_START_IF && s->dir_f == 0) {
-            /* the start from standstill: the I/f ramp in the reference's direction */
-            /* (0: waiting); no farther than the reference asks (below the
-             * handover speed the drive stays on I/f there) */
-            const smd_real lim = SMD_FABS(in->w_ref);
-            s->w_f += (smd_real)s->start_dir * p->a_start * T;
-            if ((smd_real)s->start_dir * s->w_f > lim) {
-                s->w_f = (smd_real)s->start_dir * lim;
-            }
-        } else {
-            /* follow the reference at a_start, through zero */
-            smd_real dw = w_ref - s->w_f;
-            smd_real step = p->a_start * T;
-            s->w_f += dw > step ? step : (dw < -step ? -step : dw);
-        }
-        s->theta_f = smd_wrap_pi(s->theta_f + s->w_f * T);
-        theta_next = s->theta_f;
-        w_next = s->w_f;
-        if (p->a_ref > SMD_R(0.0)) {
-            /* the slew-limited reference goes on from the forced speed: at
-             * the handover from where the rotor is, not from where a ramp
-             * that the forced phase did not follow would be */
-            s->w_ref_r = s->w_f;
-        }
-        /* the source must agree before it takes over (source_agrees) */
-        const smd_real sg = (s->dir_f != 0 ? s->dir_f : s->start_dir) < 0 ? SMD_R(-1.0)
-                                                                         : SMD_R(1.0);
-        const int agree = source_agrees(p, s, sg, theta_k, s->w_f);
-        if (agree && ((s->dir_f == 0 && (smd_real)s->start_dir * s->w_f >= p->w_handover) ||
-                      (s->dir_f != 0 && settled && SMD_FABS(s->w_f) >= p->w_handover &&
-                       s->w_f * w_ref > SMD_R(0.0)))) {
-            /* handover: the PLL starts on the observer's angle (forced angle
-             * plus the measured angle error) at the forced speed, the speed
-             * loop on the current that was flowing, seen in the source's
-             * frame (the forced current's q component there) */
-            smd_real d_src = source_offset(p, s, theta_k);
-            switch_phase(s, SMD_PHASE_SOURCE);
-            source_take_over(p, s, theta_k, w_k, T, &theta_next, &w_next);
-            smd_pi_reset(&s->speed_pi, s->i_dq_ref.im * SMD_COS(d_src));
-            s->count = 0;
-        }
-    } else if (s->phase == SMD_PHASE_ENCODER) {
-        theta_next = smd_wrap_pi(in->theta_enc + in->w_enc * T);
-        w_next = in->w_enc;
-        s->samples++;
-        if (s->samples >= p->handover && isfinite(theta_next) && isfinite(w_next)) {
-            /* (a non-finite encoder sample would stay in the PLL for good:
-             * the handover waits for a finite one) */
-            switch_phase(s, SMD_PHASE_SOURCE);
-            source_take_over_encoder(s, theta_next, w_next);
+/* Sensorless below w_if_enter on the way through zero: back to the forced
+ * frame, from where the source is now, driven toward the reference's target
+ * (w_ref, the input); the forced current i_start (q axis of the forced
+ * frame, sign dir_f) is placed so that its q component in the source's
+ * frame is the current that was flowing, on the stable side (dir_f
+ * sin(theta_f - theta) < 0): the torque does not step, and the rotor does
+ * not swing about the forced angle. */
+static void return_to_forced(const smd_drive_params *p, smd_drive_state *s, smd_real w_ref,
+                             const sample *x)
+{
+    smd_real c, sn;
+    switch_phase(s, SMD_PHASE_FORCED);
+    s->dir_f = (w_ref - x->w_k) < SMD_R(0.0) ? -1 : 1;
+    c = p->i_start > SMD_R(0.0) ? (smd_real)s->dir_f * s->i_dq_ref.im / p->i_start
+                                : SMD_R(1.0);
+    c = c > SMD_R(1.0) ? SMD_R(1.0) : (c < SMD_R(-1.0) ? SMD_R(-1.0) : c);
+    sn = SMD_SQRT(SMD_R(1.0) - c * c);
+    s->theta_f = smd_wrap_pi(x->theta_k - (smd_real)s->dir_f * SMD_ATAN2(sn, c));
+    s->w_f = x->w_k;
+}
+
+/* The forced speed: the start from standstill ramps at a_start in the
+ * reference's direction (0: waiting), no farther than the reference (the
+ * input w_in) asks (below the handover speed the drive stays on I/f there);
+ * a return to I/f follows the reference w_ref at a_start, through zero. */
+static void ramp_forced(const smd_drive_params *p, smd_drive_state *s, smd_real w_in,
+                        smd_real w_ref, smd_real T)
+{
+    if (p->start == SMD_START_IF && s->dir_f == 0) {
+        const smd_real lim = SMD_FABS(w_in);
+        s->w_f += (smd_real)s->start_dir * p->a_start * T;
+        if ((smd_real)s->start_dir * s->w_f > lim) {
+            s->w_f = (smd_real)s->start_dir * lim;
         }
     } else {
-        source_next(p, s, theta_k, w_k, &theta_next, &w_next);
+        smd_real dw = w_ref - s->w_f;
+        smd_real step = p->a_start * T;
+        s->w_f += dw > step ? step : (dw < -step ? -step : dw);
     }
-    source_reframe(p, s, theta_next, theta_o, w_o, T);
+}
 
-    /* 4. current reference: forced, speed loop or input */
+/* Whether the source takes over from the forced phase: it agrees, and the
+ * start reached the handover speed, or a return to I/f, settled, did in the
+ * reference's direction. */
+static int handover_due(const smd_drive_params *p, const smd_drive_state *s, const sample *x)
+{
+    const smd_real sg = forced_dir(s) < 0 ? SMD_R(-1.0) : SMD_R(1.0);
+    const int agree = source_agrees(p, s, sg, x->theta_k, s->w_f);
+    return agree && ((s->dir_f == 0 && (smd_real)s->start_dir * s->w_f >= p->w_handover) ||
+                     (s->dir_f != 0 && x->settled && SMD_FABS(s->w_f) >= p->w_handover &&
+                      s->w_f * x->w_ref > SMD_R(0.0)));
+}
+
+/* The handover from the forced phase: the source takes over (its PLL on the
+ * observer's angle at the forced speed), the speed loop on the current that
+ * was flowing, seen in the source's frame (the forced current's q component
+ * there). */
+static void hand_over(const smd_drive_params *p, smd_drive_state *s, sample *x)
+{
+    smd_real d_src = source_offset(p, s, x->theta_k);
+    switch_phase(s, SMD_PHASE_SOURCE);
+    source_take_over(p, s, x->theta_k, x->w_k, x->T, &x->theta_next, &x->w_next);
+    smd_pi_reset(&s->speed_pi, s->i_dq_ref.im * SMD_COS(d_src));
+    s->count = 0;
+}
+
+/* The frame of k+1 in the forced phase: the forced angle turned at the
+ * forced speed, until the source takes over. */
+static void forced_next(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
+                        sample *x)
+{
+    ramp_forced(p, s, in->w_ref, x->w_ref, x->T);
+    s->theta_f = smd_wrap_pi(s->theta_f + s->w_f * x->T);
+    x->theta_next = s->theta_f;
+    x->w_next = s->w_f;
+    if (p->a_ref > SMD_R(0.0)) {
+        /* the slew-limited reference goes on from the forced speed: at the
+         * handover from where the rotor is, not from where a ramp that the
+         * forced phase did not follow would be */
+        s->w_ref_r = s->w_f;
+    }
+    if (handover_due(p, s, x)) {
+        hand_over(p, s, x);
+    }
+}
+
+/* The frame of k+1 during a handover: the encoder's one sample on; after
+ * `handover` samples the source takes over (a non-finite encoder sample
+ * would stay in the PLL for good: the handover waits for a finite one). */
+static void encoder_next(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
+                         sample *x)
+{
+    x->theta_next = smd_wrap_pi(in->theta_enc + in->w_enc * x->T);
+    x->w_next = in->w_enc;
+    s->samples++;
+    if (s->samples >= p->handover && isfinite(x->theta_next) && isfinite(x->w_next)) {
+        switch_phase(s, SMD_PHASE_SOURCE);
+        source_take_over_encoder(s, x->theta_next, x->w_next);
+    }
+}
+
+/* 3. The frame of sample k+1 (forced angle, encoder, PLL) and the start-up
+ * transitions. */
+static void frame_next(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
+                       sample *x)
+{
+    if (s->phase == SMD_PHASE_SOURCE && p->w_if_enter > SMD_R(0.0) && x->settled &&
+        SMD_FABS(x->w_k) < p->w_if_enter &&
+        (SMD_FABS(x->w_ref) < p->w_handover || x->w_ref * x->w_k < SMD_R(0.0))) {
+        return_to_forced(p, s, in->w_ref, x);
+    }
+    if (s->phase == SMD_PHASE_FORCED) {
+        forced_next(p, s, in, x);
+    } else if (s->phase == SMD_PHASE_ENCODER) {
+        encoder_next(p, s, in, x);
+    } else {
+        source_next(p, s, x->theta_k, x->w_k, &x->theta_next, &x->w_next);
+    }
+    source_reframe(p, s, x->theta_next, x->theta_o, x->w_o, x->T);
+}
+
+/* 4. The current reference: forced, from the speed loop or the input; each
+ * axis clamped to +-i_max. */
+static void current_reference(const smd_drive_params *p, smd_drive_state *s,
+                              const smd_drive_in *in, const sample *x)
+{
     if (s->phase == SMD_PHASE_FORCED) {
         /* on the q axis of the forced frame, in the direction the forced
          * speed is driven (the start: the reference's) */
@@ -771,7 +844,7 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
         s->i_dq_ref.re = in->i_dq_ref.re;
         if (p->speed_loop) {
             if (s->count == 0) {
-                s->i_dq_ref.im = smd_pi_step(&p->speed_pi, &s->speed_pi, w_ref - w_k);
+                s->i_dq_ref.im = smd_pi_step(&p->speed_pi, &s->speed_pi, x->w_ref - x->w_k);
             }
             s->count = (s->count + 1) % p->speed_decimation;
         } else {
@@ -780,47 +853,70 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
     }
     s->i_dq_ref.re = clampr(s->i_dq_ref.re, p->i_max);
     s->i_dq_ref.im = clampr(s->i_dq_ref.im, p->i_max);
+}
 
-    /* 5. the SMDO (robust DBPC, and the smdo_emf source) */
+/* 5. The SMDO, eq. (34)-(39), when robust DBPC or the smdo_emf source needs
+ * it: i_hat^{k+1}, u_d_hat^{k+1}. Returns st, or the SMDO's error. */
+static smd_status observe_disturbance(const smd_drive_params *p, smd_drive_state *s,
+                                      const smd_cplx *i_s_ab, const sample *x, smd_status st)
+{
     if (p->use_smdo) {
-        smd_status ss = smd_smdo_step(&p->smdo, &s->smdo, i_s_ab, s->u_ab, w_k);
+        smd_status ss = smd_smdo_step(&p->smdo, &s->smdo, *i_s_ab, s->u_ab, x->w_k);
         if (ss != SMD_OK) {
             st = ss;
         }
     }
+    return st;
+}
 
-    /* 6. current control */
+/* The current PI in the frame of k with cross-coupling decoupling, EMF
+ * feed-forward and (LCL) active damping by a virtual resistance on the
+ * capacitor current i_1 - i_2; its voltage in the stationary frame at the
+ * middle of the application period. */
+static smd_cplx current_pi(const smd_drive_params *p, smd_drive_state *s, const smd_cplx *i_s_ab,
+                           const smd_cplx *i1_ab, const sample *x)
+{
+    const smd_real T = x->T, theta_k = x->theta_k, w_k = x->w_k;
+    const smd_cplx i2 = s->i_dq = smd_ab_to_dq(*i_s_ab, theta_k);
+    const smd_cplx e = smd_csub(s->i_dq_ref, i2);
+    const smd_cplx x_i = smd_cadd(s->x_i, smd_cscale(e, p->k_i_i * T));
+    smd_cplx u = smd_cadd(smd_cscale(e, p->k_p_i), x_i);
+    u = smd_cadd(u, smd_cscale(smd_cj(i2), w_k * p->L_dec));
+    if (p->emf_ff && s->phase != SMD_PHASE_FORCED) {
+        u = smd_cadd(u, source_emf_dq(p, s, theta_k, w_k));
+    }
+    if (p->lcl) {
+        u = smd_csub(u, smd_cscale(smd_csub(smd_ab_to_dq(*i1_ab, theta_k), i2), p->R_v));
+    }
+    s->x_i = x_i;
+    return smd_dq_to_ab(u, theta_k + SMD_R(1.5) * w_k * T);
+}
+
+/* 6. Current control: DBPC eq. (8)-(9), robust DBPC eq. (7) and (42), or
+ * the PI; the voltage reference in the stationary frame. */
+static smd_cplx current_control(const smd_drive_params *p, smd_drive_state *s,
+                                const smd_cplx *i_s_ab, const smd_cplx *i1_ab, const sample *x)
+{
     switch (p->current) {
     case SMD_CC_DBPC:
-        u_ref = smd_dbpc_conventional(&p->dbpc, i_s_ab, s->u_ab, s->i_dq_ref, theta_k, w_k);
-        break;
+        return smd_dbpc_conventional(&p->dbpc, *i_s_ab, s->u_ab, s->i_dq_ref, x->theta_k,
+                                     x->w_k);
     case SMD_CC_ROBUST_DBPC: {
-        smd_cplx i_ref_k2 = smd_dbpc_ref_k2(&p->dbpc, s->i_dq_ref, theta_k, w_k);
-        u_ref = smd_dbpc_robust(&p->dbpc, s->smdo.i_s_hat, s->smdo.u_d_hat, i_ref_k2);
-        break;
+        smd_cplx i_ref_k2 = smd_dbpc_ref_k2(&p->dbpc, s->i_dq_ref, x->theta_k, x->w_k);
+        return smd_dbpc_robust(&p->dbpc, s->smdo.i_s_hat, s->smdo.u_d_hat, i_ref_k2);
     }
-    default: {
-        /* PI in the frame of k with cross-coupling decoupling, EMF
-         * feed-forward and (LCL) active damping by a virtual resistance on
-         * the capacitor current i_1 - i_2 */
-        const smd_cplx i2 = s->i_dq = smd_ab_to_dq(i_s_ab, theta_k);
-        const smd_cplx e = smd_csub(s->i_dq_ref, i2);
-        const smd_cplx x_i = smd_cadd(s->x_i, smd_cscale(e, p->k_i_i * T));
-        smd_cplx u = smd_cadd(smd_cscale(e, p->k_p_i), x_i);
-        u = smd_cadd(u, smd_cscale(smd_cj(i2), w_k * p->L_dec));
-        if (p->emf_ff && s->phase != SMD_PHASE_FORCED) {
-            u = smd_cadd(u, source_emf_dq(p, s, theta_k, w_k));
-        }
-        if (p->lcl) {
-            u = smd_csub(u, smd_cscale(smd_csub(smd_ab_to_dq(i1_ab, theta_k), i2), p->R_v));
-        }
-        s->x_i = x_i;
-        /* to the stationary frame at the middle of the application period */
-        u_ref = smd_dq_to_ab(u, theta_k + SMD_R(1.5) * w_k * T);
-        break;
+    default: return current_pi(p, s, i_s_ab, i1_ab, x);
     }
-    }
+}
 
+/* The duties of the voltage reference u_ref: one that is not finite is
+ * replaced by zero (the PI's integrators too) and the status st by
+ * SMD_ERR_NONFINITE; the modulator's limit with the PI's anti-windup; the
+ * dead-time compensation. */
+static smd_status modulate(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
+                           smd_drive_out *out, const sample *x, smd_cplx u_ref, smd_status st)
+{
+    const smd_real T = x->T, theta_k = x->theta_k, w_k = x->w_k;
     if (!smd_cfinite(u_ref)) {
         st = SMD_ERR_NONFINITE;
         u_ref = smd_c(SMD_R(0.0), SMD_R(0.0));
@@ -844,25 +940,58 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
         smd_ab_to_abc(i_mid, i_abc);
         smd_svm_deadtime_comp(out->d_abc, i_abc, p->dtc_ratio, p->i_dtc);
     }
+    return st;
+}
 
-    /* a jump of the SMDO's angle (SMD_FAULT_ANGLE_JUMP): on the source for
-     * more than lock_samples, above w_lock_min, the angle used moved by more
-     * than 45 deg from the last one turned at the last speed (the LCL
-     * sources' PLL filters their observer's angle: no jump to see there) */
+/* A jump of the source's angle (SMD_FAULT_ANGLE_JUMP): on the source for
+ * more than lock_samples, above w_lock_min, the angle used moved by more
+ * than 45 deg from the last one turned at the last speed. */
+static void check_jump(const smd_drive_params *p, smd_drive_state *s, const sample *x)
+{
     s->jumped = 0;
-    if (s->phase == SMD_PHASE_SOURCE && source_can_jump(p) &&
-        p->lock_samples > 0 && s->phase_samples > p->lock_samples &&
-        SMD_FABS(w_k) >= p->w_lock_min) {
-        const smd_real d = smd_wrap_pi(theta_k - s->theta_k - s->w_k * T);
+    if (s->phase == SMD_PHASE_SOURCE && source_can_jump(p) && p->lock_samples > 0 &&
+        s->phase_samples > p->lock_samples && SMD_FABS(x->w_k) >= p->w_lock_min) {
+        const smd_real d = smd_wrap_pi(x->theta_k - s->theta_k - s->w_k * x->T);
         s->jumped = SMD_FABS(d) > SMD_PI / SMD_R(4.0);
     }
-    s->theta_k = theta_k;
-    s->w_k = w_k;
-    s->theta = theta_next;
-    s->w = w_next;
+}
+
+/* The end of the sample: the frames of k and k+1 kept for the next one. */
+static void end_sample(const smd_drive_params *p, smd_drive_state *s, const sample *x)
+{
+    check_jump(p, s, x);
+    s->theta_k = x->theta_k;
+    s->w_k = x->w_k;
+    s->theta = x->theta_next;
+    s->w = x->w_next;
     if (s->phase_samples < 2000000000) {
         s->phase_samples++;
     }
+}
+
+/* One sample of the composed drive on good inputs (smd_drive_step checks
+ * them before and the state after), in its steps. */
+static smd_status control(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
+                          smd_drive_out *out)
+{
+    const smd_cplx i_s_ab = smd_ab2_to_ab(in->i_a, in->i_b);
+    const smd_cplx i1_ab = p->lcl ? smd_ab2_to_ab(in->i1_a, in->i1_b) : i_s_ab;
+    sample x;
+    smd_status st;
+    take_sample(p, s, in, &i_s_ab, &x);
+    /* 1. the position source's estimates at k */
+    st = source_observe(p, s, &i1_ab, &i_s_ab, x.theta_o, x.w_o);
+    /* 2. the frame of sample k */
+    frame_now(p, s, in, &x);
+    /* 3. the frame of k+1, start-up transitions */
+    frame_next(p, s, in, &x);
+    /* 4. the current reference: forced, speed loop or input */
+    current_reference(p, s, in, &x);
+    /* 5. the SMDO */
+    st = observe_disturbance(p, s, &i_s_ab, &x, st);
+    /* 6. current control, and the duties */
+    st = modulate(p, s, in, out, &x, current_control(p, s, &i_s_ab, &i1_ab, &x), st);
+    end_sample(p, s, &x);
     return st;
 }
 
