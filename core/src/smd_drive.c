@@ -629,9 +629,12 @@ typedef struct sample {
     smd_real T;                   /* the sampling period T_sp */
     smd_real w_ref;               /* the speed reference, slew-limited */
     int settled;                  /* dwell samples since the last start-up switch */
-    smd_real theta_o, w_o;        /* the frame predicted for k */
-    smd_real theta_k, w_k;        /* the frame of k */
-    smd_real theta_next, w_next;  /* the frame of k+1 */
+    smd_real theta_o;             /* the frame predicted for k */
+    smd_real w_o;
+    smd_real theta_k;             /* the frame of k */
+    smd_real w_k;
+    smd_real theta_next;          /* the frame of k+1 */
+    smd_real w_next;
 } sample;
 
 /* The speed reference of the sample: the input, or slew-limited at a_ref. */
@@ -856,10 +859,11 @@ static void current_reference(const smd_drive_params *p, smd_drive_state *s,
 }
 
 /* 5. The SMDO, eq. (34)-(39), when robust DBPC or the smdo_emf source needs
- * it: i_hat^{k+1}, u_d_hat^{k+1}. Returns st, or the SMDO's error. */
+ * it: i_hat^{k+1}, u_d_hat^{k+1}. Returns st_in, or the SMDO's error. */
 static smd_status observe_disturbance(const smd_drive_params *p, smd_drive_state *s,
-                                      const smd_cplx *i_s_ab, const sample *x, smd_status st)
+                                      const smd_cplx *i_s_ab, const sample *x, smd_status st_in)
 {
+    smd_status st = st_in;
     if (p->use_smdo) {
         smd_status ss = smd_smdo_step(&p->smdo, &s->smdo, *i_s_ab, s->u_ab, x->w_k);
         if (ss != SMD_OK) {
@@ -876,7 +880,9 @@ static smd_status observe_disturbance(const smd_drive_params *p, smd_drive_state
 static smd_cplx current_pi(const smd_drive_params *p, smd_drive_state *s, const smd_cplx *i_s_ab,
                            const smd_cplx *i1_ab, const sample *x)
 {
-    const smd_real T = x->T, theta_k = x->theta_k, w_k = x->w_k;
+    const smd_real T = x->T;
+    const smd_real theta_k = x->theta_k;
+    const smd_real w_k = x->w_k;
     const smd_cplx i2 = s->i_dq = smd_ab_to_dq(*i_s_ab, theta_k);
     const smd_cplx e = smd_csub(s->i_dq_ref, i2);
     const smd_cplx x_i = smd_cadd(s->x_i, smd_cscale(e, p->k_i_i * T));
@@ -910,13 +916,16 @@ static smd_cplx current_control(const smd_drive_params *p, smd_drive_state *s,
 }
 
 /* The duties of the voltage reference u_ref: one that is not finite is
- * replaced by zero (the PI's integrators too) and the status st by
+ * replaced by zero (the PI's integrators too) and the status st_in by
  * SMD_ERR_NONFINITE; the modulator's limit with the PI's anti-windup; the
  * dead-time compensation. */
 static smd_status modulate(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
-                           smd_drive_out *out, const sample *x, smd_cplx u_ref, smd_status st)
+                           smd_drive_out *out, const sample *x, smd_cplx u_ref, smd_status st_in)
 {
-    const smd_real T = x->T, theta_k = x->theta_k, w_k = x->w_k;
+    smd_status st = st_in;
+    const smd_real T = x->T;
+    const smd_real theta_k = x->theta_k;
+    const smd_real w_k = x->w_k;
     if (!smd_cfinite(u_ref)) {
         st = SMD_ERR_NONFINITE;
         u_ref = smd_c(SMD_R(0.0), SMD_R(0.0));
