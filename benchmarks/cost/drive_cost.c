@@ -9,8 +9,9 @@
  *
  * Configuration: the yang2018 defaults of smodrive (ControllerCfg() with the
  * Table I motor, T_sp = 100 us, speed PI at 60 rad/s, dead-time compensation
- * 2 us); inputs: a steady state at 1500 r/min (628.3 electrical rad/s) with the
- * rated-load current 6.4 A on the q axis, a little ripple, so that every
+ * 2 us): the example configuration (smodrive/smd_example.h) with those
+ * changed. Inputs: a steady state at 1500 r/min (628.3 electrical rad/s) with
+ * the rated-load current 6.4 A on the q axis, a little ripple, so that every
  * block of the mode runs its normal path (the sensorless mode after handover).
  */
 #include <math.h>
@@ -18,6 +19,7 @@
 #include <string.h>
 
 #include "smodrive/smd_drive.h"
+#include "smodrive/smd_example.h"
 
 #define N 1000
 
@@ -28,31 +30,17 @@ static smd_drive_config config(int mode)
     /* yang2018's conventional, robust and sensorless drives */
     static const int current[3] = {SMD_CC_DBPC, SMD_CC_ROBUST_DBPC, SMD_CC_ROBUST_DBPC};
     static const int position[3] = {SMD_POS_ENCODER, SMD_POS_ENCODER, SMD_POS_SMDO_EMF};
-    memset(&c, 0, sizeof c);
+    smd_example_drive_config(&c); /* Table I machine, T_sp = 100 us, the SMDO of Table I */
     c.current = current[mode];
     c.position = position[mode];
-    c.start = SMD_START_RUNNING;
-    c.T_sp = 100e-6f;
-    c.L_s_hat = 23.45e-3f;
-    c.R_s_hat = 2.25f;
-    c.psi_r_hat = 0.4f;
-    c.lambda_min = 800.0f;
-    c.l = 1200.0f;
-    c.w_c = 1500.0f;
-    c.rho = 0.2f;
     c.k_p_w = 2.0f * 60.0f / b;
     c.k_i_w = 60.0f * 60.0f / b;
-    c.i_max = 15.0f;
-    c.speed_decimation = 1;
     c.speed_loop = 1;
     c.w_lpf = 100.0f;
     c.w_hys = 5.0f;
-    c.svm_limit = 1;
     c.w_max = 3000.0f * 0.10471976f * 4.0f;
-    c.handover = 0;
     c.t_dead_comp = 2e-6f;
     c.i_dtc = 0.3f;
-    c.smdo_euler = 0;
     return c;
 }
 

@@ -14,33 +14,29 @@
 
 static int is_flag(int x) { return x == 0 || x == 1; }
 
-static int lcl_source(int position)
+/* ------------------------------------------------------------ position source */
+
+/* The position source (SMD_POS_*): its kind is looked at here and nowhere
+ * else; the rest of the drive asks these source_* functions. */
+
+static int source_is_lcl(int position)
 {
     return position == SMD_POS_LCL_SMO_PLL || position == SMD_POS_LCL_LINEAR;
 }
 
-/* Which parts fit together (SMD_ERR_COMBINATION otherwise). */
-static smd_status check_parts(const smd_drive_config *c)
+/* A sensorless source (every one but the encoder). */
+static int source_sensorless(int position) { return position != SMD_POS_ENCODER; }
+
+/* The SMDO runs for the source (smdo_emf: the angle of its disturbance). */
+static int source_uses_smdo(int position) { return position == SMD_POS_SMDO_EMF; }
+
+/* Whether the source fits the filter (SMD_ERR_COMBINATION otherwise). */
+static int source_fits(const smd_drive_config *c)
 {
-    if (c->current < SMD_CC_PI || c->current > SMD_CC_ROBUST_DBPC ||
-        c->position < SMD_POS_ENCODER || c->position > SMD_POS_LCL_LINEAR ||
-        c->start < SMD_START_RUNNING || c->start > SMD_START_IF || !is_flag(c->lcl) ||
-        !is_flag(c->speed_loop) || !is_flag(c->emf_ff) || !is_flag(c->smdo_euler)) {
-        return SMD_ERR_MODE;
+    if (source_is_lcl(c->position)) {
+        return c->lcl; /* the LCL observers model the filter */
     }
-    if (lcl_source(c->position) && !c->lcl) {
-        return SMD_ERR_COMBINATION; /* the LCL observers model the filter */
-    }
-    if (c->lcl && c->current != SMD_CC_PI) {
-        return SMD_ERR_COMBINATION; /* DBPC of i_2 through the filter is not designed */
-    }
-    if (c->lcl && c->position == SMD_POS_SMDO_EMF) {
-        return SMD_ERR_COMBINATION; /* the SMDO's model (15) has no filter */
-    }
-    if (!c->lcl && c->R_v > SMD_R(0.0)) {
-        return SMD_ERR_COMBINATION; /* active damping needs the filter current i_1 */
-    }
-    return SMD_OK;
+    return !(c->lcl && c->position == SMD_POS_SMDO_EMF); /* the SMDO's model (15) has no filter */
 }
 
 /* The largest |w| a sensorless source can estimate: w_max of smdo_emf, the
@@ -65,6 +61,317 @@ static smd_real source_speed_limit(const smd_drive_config *c)
     return a > b ? a : b;
 }
 
+/* The source's blocks from the config (smd_drive_init). */
+static smd_status source_init(smd_drive_params *p, const smd_drive_config *c)
+{
+    smd_status st = SMD_OK;
+    switch (c->position) {
+    case SMD_POS_SMDO_EMF:
+        st = smd_emf_pos_init(&p->emf, c->T_sp, c->w_lpf, c->w_hys, c->w_max);
+        if (st == SMD_OK) {
+            /* The Euler filter (36) rotates u_d_hat by (1 + j w T) and pulls
+             * it by w_c T: |1 - w_c T + j w T| < 1 must hold for every speed
+             * the estimate can take, or u_d_hat grows without bound. */
+            smd_real a = SMD_R(1.0) - c->w_c * c->T_sp;
+            smd_real b = c->w_max * c->T_sp;
+            if (a * a + b * b >= SMD_R(1.0)) {
+                st = SMD_ERR_STABILITY;
+            }
+        }
+        break;
+    case SMD_POS_LCL_SMO_PLL:
+        st = smd_pll_init(&p->pll, c->T_sp, c->k_theta, c->k_omega, c->k_a);
+        if (st == SMD_OK && !(c->smo.T_sp == c->T_sp)) {
+            st = SMD_ERR_TS;
+        }
+        if (st == SMD_OK) {
+            st = smd_lcl_smo_init(&p->smo, &c->smo);
+        }
+        break;
+    case SMD_POS_LCL_LINEAR:
+        st = smd_pll_init(&p->pll, c->T_sp, c->k_theta, c->k_omega, c->k_a);
+        if (st == SMD_OK) {
+            st = smd_linobs_init(&p->lin, &c->lin);
+        }
+        break;
+    default: break;
+    }
+    return st;
+}
+
+/* The source's state at (theta0, w0) (smd_drive_reset). */
+static void source_reset(const smd_drive_params *p, smd_drive_state *s, smd_real theta0,
+                         smd_real w0)
+{
+    s->pos.theta_err = SMD_R(0.0);
+    smd_pll_reset(&s->pos.pll, theta0, w0);
+    switch (p->position) {
+    case SMD_POS_SMDO_EMF: smd_emf_pos_reset(&s->pos.u.emf, w0); break;
+    case SMD_POS_LCL_SMO_PLL: smd_lcl_smo_reset(&s->pos.u.smo, theta0); break;
+    case SMD_POS_LCL_LINEAR: smd_linobs_reset(&s->pos.u.lin); break;
+    default: break;
+    }
+}
+
+/* The LCL observers in the frame predicted for k (theta_o, w_o): the angle
+ * error of eq. (47) into s->pos.theta_err. */
+static smd_status observe_lcl(const smd_drive_params *p, smd_drive_state *s, smd_cplx i1_ab,
+                              smd_cplx i2_ab, smd_real theta_o, smd_real w_o)
+{
+    smd_status st;
+    if (p->position == SMD_POS_LCL_SMO_PLL) {
+        st = smd_lcl_smo_step(&p->smo, &s->pos.u.smo, i1_ab, i2_ab, s->u_ab, theta_o, w_o);
+        s->pos.theta_err = smd_lcl_smo_theta_err(&s->pos.u.smo, w_o);
+    } else {
+        /* angle of the linear observer's EMF, e = j w psi e^{j theta} */
+        const smd_linobs_state *l = &s->pos.u.lin;
+        smd_real sg;
+        st = smd_linobs_step(&p->lin, &s->pos.u.lin, i1_ab, i2_ab, s->u_ab, w_o);
+        sg = w_o < SMD_R(0.0) ? SMD_R(-1.0) : SMD_R(1.0);
+        s->pos.theta_err = smd_wrap_pi(SMD_ATAN2(-sg * l->x2[2], sg * l->x2[3]) - theta_o);
+        if (st != SMD_OK) {
+            /* the observer was reset (non-finite data): its zero EMF has no
+             * angle, and atan2(0, 0) - theta_o would kick the PLL by up to
+             * pi; no correction this sample, as from the sliding-mode
+             * observer after its reset */
+            s->pos.theta_err = SMD_R(0.0);
+        }
+    }
+    return st;
+}
+
+/* The source's estimates at k. smdo_emf: eq. (44)-(45) from u_d_hat^k,
+ * before the SMDO's update; the LCL observers in the frame predicted for k
+ * (theta_o, w_o): the angle error of eq. (47) into s->pos.theta_err. The
+ * currents by pointer: a smd_cplx argument is copied where the call is, and
+ * only the LCL sources read them. */
+static smd_status source_observe(const smd_drive_params *p, smd_drive_state *s,
+                                 const smd_cplx *i1_ab, const smd_cplx *i2_ab, smd_real theta_o,
+                                 smd_real w_o)
+{
+    smd_status st = SMD_OK;
+    if (p->position == SMD_POS_SMDO_EMF) {
+        smd_emf_pos_step(&p->emf, &s->pos.u.emf, s->smdo.u_d_hat);
+    } else if (source_is_lcl(p->position)) {
+        st = observe_lcl(p, s, *i1_ab, *i2_ab, theta_o, w_o);
+    }
+    return st;
+}
+
+/* The frame of sample k on the source: the encoder's; the SMDO's estimate;
+ * for the PLL sources the one predicted at k-1 (theta_o, w_o). */
+static void source_frame(const smd_drive_params *p, const smd_drive_state *s,
+                         const smd_drive_in *in, smd_real theta_o, smd_real w_o,
+                         smd_real *theta_k, smd_real *w_k)
+{
+    if (p->position == SMD_POS_ENCODER) {
+        *theta_k = in->theta_enc;
+        *w_k = in->w_enc;
+    } else if (p->position == SMD_POS_SMDO_EMF) {
+        *theta_k = s->pos.u.emf.theta_r_hat;
+        *w_k = s->pos.u.emf.w_r_hat;
+    } else {
+        *theta_k = theta_o;
+        *w_k = w_o;
+    }
+}
+
+/* Whether the source agrees to take over from the forced frame theta_k (the
+ * forced speed w_f, the forced current's direction sg): the source's angle
+ * on the stable side of the forced one (with the forced current +-i_start on
+ * the forced q axis the torque is sg K cos(theta_f - theta), stable where
+ * the rotor is ahead of the forced frame in the current's direction, by
+ * less than half a turn; 30 deg behind allowed for a swing) and, for the
+ * SMDO, its speed of the forced speed's sign (a low-speed estimate whose
+ * direction has flipped puts the angle half a turn off). */
+static int source_agrees(const smd_drive_params *p, const smd_drive_state *s, smd_real sg,
+                         smd_real theta_k, smd_real w_f)
+{
+    const smd_real th_src = p->position == SMD_POS_SMDO_EMF ? s->pos.u.emf.theta_r_hat
+                                                             : theta_k + s->pos.theta_err;
+    const smd_real lead = sg * smd_wrap_pi(th_src - theta_k);
+    return lead > -SMD_PI / SMD_R(6.0) && lead < SMD_PI &&
+           (p->position != SMD_POS_SMDO_EMF || s->pos.u.emf.w_r_hat * w_f > SMD_R(0.0));
+}
+
+/* The forced frame's angle theta_k seen from the source's frame. */
+static smd_real source_offset(const smd_drive_params *p, const smd_drive_state *s,
+                              smd_real theta_k)
+{
+    switch (p->position) {
+    case SMD_POS_SMDO_EMF: return smd_wrap_pi(theta_k - s->pos.u.emf.theta_r_hat);
+    case SMD_POS_LCL_SMO_PLL:
+    case SMD_POS_LCL_LINEAR: return -s->pos.theta_err;
+    default: return SMD_R(0.0);
+    }
+}
+
+/* The source takes over from the forced frame (theta_k, w_k): the PLL starts
+ * on the observer's angle (forced angle plus the measured angle error) one
+ * sample (T) on, at the forced speed; the PLL sources' frame of k+1 is the
+ * PLL's. */
+static void source_take_over(const smd_drive_params *p, smd_drive_state *s, smd_real theta_k,
+                             smd_real w_k, smd_real T, smd_real *theta_next, smd_real *w_next)
+{
+    smd_pll_reset(&s->pos.pll, theta_k + s->pos.theta_err + w_k * T, w_k);
+    if (source_is_lcl(p->position)) {
+        *theta_next = s->pos.pll.theta;
+        *w_next = s->pos.pll.w;
+    }
+}
+
+/* The source takes over from the encoder (the end of a handover): the PLL
+ * starts on the encoder's frame of k+1. */
+static void source_take_over_encoder(smd_drive_state *s, smd_real theta_next, smd_real w_next)
+{
+    smd_pll_reset(&s->pos.pll, theta_next, w_next);
+}
+
+/* The frame of k+1 on the source: the PLL sources run eq. (48) on the error
+ * of eq. (47); the others keep the frame of k. */
+static void source_next(const smd_drive_params *p, smd_drive_state *s, smd_real theta_k,
+                        smd_real w_k, smd_real *theta_next, smd_real *w_next)
+{
+    if (source_is_lcl(p->position)) {
+        smd_pll_step(&p->pll, &s->pos.pll, s->pos.theta_err);
+        *theta_next = s->pos.pll.theta;
+        *w_next = s->pos.pll.w;
+    } else {
+        *theta_next = theta_k;
+        *w_next = w_k;
+    }
+}
+
+/* The sliding-mode observer's state reframed by the frame's correction:
+ * theta_next against the prediction theta_o + w_o T. */
+static void source_reframe(const smd_drive_params *p, smd_drive_state *s, smd_real theta_next,
+                           smd_real theta_o, smd_real w_o, smd_real T)
+{
+    if (p->position == SMD_POS_LCL_SMO_PLL) {
+        smd_lcl_smo_reframe(&s->pos.u.smo, smd_wrap_pi(theta_next - theta_o - w_o * T));
+    }
+}
+
+/* The source's back-EMF estimate in the frame of sample k (feed-forward of
+ * the current PI). */
+static smd_cplx source_emf_dq(const smd_drive_params *p, const smd_drive_state *s,
+                              smd_real theta_k, smd_real w_k)
+{
+    switch (p->position) {
+    case SMD_POS_LCL_SMO_PLL:
+        return smd_c(s->pos.u.smo.e_hat[0], s->pos.u.smo.e_hat[1]);
+    case SMD_POS_LCL_LINEAR:
+        return smd_ab_to_dq(smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3]), theta_k);
+    case SMD_POS_SMDO_EMF:
+        /* u_d_hat^{k+1} belongs to the middle of [t_{k+1}, t_{k+2}); the
+         * disturbance of model (15) is minus the EMF, u_d = -j w psi e^{j theta}
+         * (eq. (43)), so the EMF estimate is -u_d_hat */
+        return smd_ab_to_dq(smd_cscale(s->smdo.u_d_hat, SMD_R(-1.0)),
+                            theta_k + SMD_R(1.5) * w_k * p->T_sp);
+    default:
+        return smd_c(SMD_R(0.0), w_k * p->psi_r_hat); /* e = j w psi, rotor frame */
+    }
+}
+
+/* The source's EMF estimate magnitude, V (0 for the encoder). */
+static smd_real source_emf(const smd_drive_params *p, const smd_drive_state *s)
+{
+    switch (p->position) {
+    case SMD_POS_SMDO_EMF: return smd_cabs(s->smdo.u_d_hat);
+    case SMD_POS_LCL_SMO_PLL:
+        return smd_cabs(smd_c(s->pos.u.smo.e_hat[0], s->pos.u.smo.e_hat[1]));
+    case SMD_POS_LCL_LINEAR: return smd_cabs(smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3]));
+    default: return SMD_R(0.0);
+    }
+}
+
+/* Whether the angle the source gives can jump (SMD_FAULT_ANGLE_JUMP): the
+ * SMDO's (the LCL sources' PLL filters their observer's angle: no jump to
+ * see there). */
+static int source_can_jump(const smd_drive_params *p) { return p->position == SMD_POS_SMDO_EMF; }
+
+/* Whether the source restarts on I/f after a lost lock or a failed start
+ * (SMD_FAULT_RESTART): the SMDO's. */
+static int source_can_restart(const smd_drive_params *p)
+{
+    return p->position == SMD_POS_SMDO_EMF;
+}
+
+/* The source from rest at a restart: the SMDO's speed estimate from zero. */
+static void source_restart(const smd_drive_params *p, smd_drive_state *s)
+{
+    if (p->position == SMD_POS_SMDO_EMF) {
+        smd_emf_pos_reset(&s->pos.u.emf, SMD_R(0.0));
+    }
+}
+
+/* Every value of the source's state finite. */
+static int source_finite(const smd_drive_params *p, const smd_drive_state *s)
+{
+    int ok = 1, k;
+    switch (p->position) {
+    case SMD_POS_SMDO_EMF: {
+        const smd_emf_pos_state *e = &s->pos.u.emf;
+        ok = isfinite(e->theta_r_hat) && isfinite(e->w_r_hat) && isfinite(e->w_r_dir) &&
+             isfinite(e->phi_prev) && isfinite(e->w_r_raw);
+        break;
+    }
+    case SMD_POS_LCL_SMO_PLL:
+        for (k = 0; k < 6; k++) ok = ok && isfinite(s->pos.u.smo.x_hat[k]);
+        for (k = 0; k < 2; k++) {
+            ok = ok && isfinite(s->pos.u.smo.e_hat[k]) && isfinite(s->pos.u.smo.x_c[k]) &&
+                 isfinite(s->pos.u.smo.d_hat[k]) && isfinite(s->pos.u.smo.v_prev[k]);
+        }
+        break;
+    case SMD_POS_LCL_LINEAR:
+        for (k = 0; k < 4; k++) ok = ok && isfinite(s->pos.u.lin.z[k]) && isfinite(s->pos.u.lin.x2[k]);
+        break;
+    default: break;
+    }
+    if (source_is_lcl(p->position)) {
+        ok = ok && isfinite(s->pos.pll.theta) && isfinite(s->pos.pll.w) &&
+             isfinite(s->pos.pll.a) && isfinite(s->pos.theta_err);
+    }
+    return ok;
+}
+
+/* The source's internals in the view (the LCL observers'). */
+static void source_view(const smd_drive_params *p, const smd_drive_state *s, smd_drive_view *v)
+{
+    if (p->position == SMD_POS_LCL_SMO_PLL) {
+        const smd_lcl_smo_state *o = &s->pos.u.smo;
+        v->e_hat = smd_c(o->e_hat[0], o->e_hat[1]);
+        v->s = smd_c(o->s[0], o->s[1]);
+        v->d_hat = smd_c(o->d_hat[0], o->d_hat[1]);
+        v->v = smd_c(o->v_prev[0], o->v_prev[1]);
+    } else if (p->position == SMD_POS_LCL_LINEAR) {
+        v->e_lin = smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3]);
+    }
+}
+
+/* ------------------------------------------------------------ init */
+
+/* Which parts fit together (SMD_ERR_COMBINATION otherwise). */
+static smd_status check_parts(const smd_drive_config *c)
+{
+    if (c->current < SMD_CC_PI || c->current > SMD_CC_ROBUST_DBPC ||
+        c->position < SMD_POS_ENCODER || c->position > SMD_POS_LCL_LINEAR ||
+        c->start < SMD_START_RUNNING || c->start > SMD_START_IF || !is_flag(c->lcl) ||
+        !is_flag(c->speed_loop) || !is_flag(c->emf_ff) || !is_flag(c->smdo_euler)) {
+        return SMD_ERR_MODE;
+    }
+    if (!source_fits(c)) {
+        return SMD_ERR_COMBINATION;
+    }
+    if (c->lcl && c->current != SMD_CC_PI) {
+        return SMD_ERR_COMBINATION; /* DBPC of i_2 through the filter is not designed */
+    }
+    if (!c->lcl && c->R_v > SMD_R(0.0)) {
+        return SMD_ERR_COMBINATION; /* active damping needs the filter current i_1 */
+    }
+    return SMD_OK;
+}
+
 static smd_status check_protection(const smd_drive_config *c)
 {
     if (!smd_in_range(c->i_trip, SMD_R(0.0), SMD_R(1e5)) ||
@@ -84,7 +391,7 @@ static smd_status check_protection(const smd_drive_config *c)
     if (c->w_if_enter > SMD_R(0.0) && !(c->w_if_enter < c->w_handover)) {
         return SMD_ERR_PROTECTION;
     }
-    if (c->w_if_enter > SMD_R(0.0) && c->position == SMD_POS_ENCODER) {
+    if (c->w_if_enter > SMD_R(0.0) && !source_sensorless(c->position)) {
         return SMD_ERR_COMBINATION; /* the return to I/f is for sensorless sources */
     }
     if (!smd_in_range(c->a_ref, SMD_R(0.0), SMD_R(1e9)) || c->dwell < 0 || c->dwell > 10000000 ||
@@ -136,7 +443,7 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
     p->start = c->start;
     p->lcl = c->lcl;
     p->T_sp = c->T_sp;
-    p->use_smdo = c->current == SMD_CC_ROBUST_DBPC || c->position == SMD_POS_SMDO_EMF;
+    p->use_smdo = c->current == SMD_CC_ROBUST_DBPC || source_uses_smdo(c->position);
     p->speed_loop = c->speed_loop;
     p->speed_decimation = c->speed_decimation;
     p->handover = c->handover;
@@ -174,42 +481,9 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
             return st;
         }
     }
-    if (c->position == SMD_POS_SMDO_EMF) {
-        st = smd_emf_pos_init(&p->emf, c->T_sp, c->w_lpf, c->w_hys, c->w_max);
-        if (st != SMD_OK) {
-            return st;
-        }
-        /* The Euler filter (36) rotates u_d_hat by (1 + j w T) and pulls it by
-         * w_c T: |1 - w_c T + j w T| < 1 must hold for every speed the
-         * estimate can take, or u_d_hat grows without bound. */
-        {
-            smd_real a = SMD_R(1.0) - c->w_c * c->T_sp;
-            smd_real b = c->w_max * c->T_sp;
-            if (a * a + b * b >= SMD_R(1.0)) {
-                return SMD_ERR_STABILITY;
-            }
-        }
-    }
-    if (lcl_source(c->position)) {
-        st = smd_pll_init(&p->pll, c->T_sp, c->k_theta, c->k_omega, c->k_a);
-        if (st != SMD_OK) {
-            return st;
-        }
-    }
-    if (c->position == SMD_POS_LCL_SMO_PLL) {
-        if (!(c->smo.T_sp == c->T_sp)) {
-            return SMD_ERR_TS;
-        }
-        st = smd_lcl_smo_init(&p->smo, &c->smo);
-        if (st != SMD_OK) {
-            return st;
-        }
-    }
-    if (c->position == SMD_POS_LCL_LINEAR) {
-        st = smd_linobs_init(&p->lin, &c->lin);
-        if (st != SMD_OK) {
-            return st;
-        }
+    st = source_init(p, c);
+    if (st != SMD_OK) {
+        return st;
     }
     if (c->start == SMD_START_IF || c->w_if_enter > SMD_R(0.0)) {
         if (!smd_in_range(c->i_start, SMD_R(0.0), SMD_R(1e5)) ||
@@ -297,14 +571,7 @@ void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real the
     /* The disturbance of a running machine with an exact model is its back
      * EMF, yang2018 eq. (43); starting from it is what a flying start does. */
     smd_smdo_reset(&s->smdo, zero, smd_cj(smd_cscale(smd_cexpj(theta0), -w0 * p->psi_r_hat)));
-    s->pos.theta_err = SMD_R(0.0);
-    smd_pll_reset(&s->pos.pll, theta0, w0);
-    switch (p->position) {
-    case SMD_POS_SMDO_EMF: smd_emf_pos_reset(&s->pos.u.emf, w0); break;
-    case SMD_POS_LCL_SMO_PLL: smd_lcl_smo_reset(&s->pos.u.smo, theta0); break;
-    case SMD_POS_LCL_LINEAR: smd_linobs_reset(&s->pos.u.lin); break;
-    default: break;
-    }
+    source_reset(p, s, theta0, w0);
     s->w_ref_r = w0;
     s->phase_samples = 0;
     s->chatter = SMD_R(0.0);
@@ -345,54 +612,6 @@ static smd_real clampr(smd_real x, smd_real lim)
     return x > lim ? lim : (x < -lim ? -lim : x);
 }
 
-/* The LCL observers, in the frame predicted for sample k (theta_o, w_o):
- * the angle error of eq. (47) into s->pos.theta_err. */
-static smd_status observe_lcl(const smd_drive_params *p, smd_drive_state *s, smd_cplx i1_ab,
-                              smd_cplx i2_ab, smd_real theta_o, smd_real w_o)
-{
-    smd_status st;
-    if (p->position == SMD_POS_LCL_SMO_PLL) {
-        st = smd_lcl_smo_step(&p->smo, &s->pos.u.smo, i1_ab, i2_ab, s->u_ab, theta_o, w_o);
-        s->pos.theta_err = smd_lcl_smo_theta_err(&s->pos.u.smo, w_o);
-    } else {
-        /* angle of the linear observer's EMF, e = j w psi e^{j theta} */
-        const smd_linobs_state *l = &s->pos.u.lin;
-        smd_real sg;
-        st = smd_linobs_step(&p->lin, &s->pos.u.lin, i1_ab, i2_ab, s->u_ab, w_o);
-        sg = w_o < SMD_R(0.0) ? SMD_R(-1.0) : SMD_R(1.0);
-        s->pos.theta_err = smd_wrap_pi(SMD_ATAN2(-sg * l->x2[2], sg * l->x2[3]) - theta_o);
-        if (st != SMD_OK) {
-            /* the observer was reset (non-finite data): its zero EMF has no
-             * angle, and atan2(0, 0) - theta_o would kick the PLL by up to
-             * pi; no correction this sample, as from the sliding-mode
-             * observer after its reset */
-            s->pos.theta_err = SMD_R(0.0);
-        }
-    }
-    return st;
-}
-
-/* The source's back-EMF estimate in the frame of sample k (feed-forward of
- * the current PI). */
-static smd_cplx emf_estimate(const smd_drive_params *p, const smd_drive_state *s,
-                             smd_real theta_k, smd_real w_k)
-{
-    switch (p->position) {
-    case SMD_POS_LCL_SMO_PLL:
-        return smd_c(s->pos.u.smo.e_hat[0], s->pos.u.smo.e_hat[1]);
-    case SMD_POS_LCL_LINEAR:
-        return smd_ab_to_dq(smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3]), theta_k);
-    case SMD_POS_SMDO_EMF:
-        /* u_d_hat^{k+1} belongs to the middle of [t_{k+1}, t_{k+2}); the
-         * disturbance of model (15) is minus the EMF, u_d = -j w psi e^{j theta}
-         * (eq. (43)), so the EMF estimate is -u_d_hat */
-        return smd_ab_to_dq(smd_cscale(s->smdo.u_d_hat, SMD_R(-1.0)),
-                            theta_k + SMD_R(1.5) * w_k * p->T_sp);
-    default:
-        return smd_c(SMD_R(0.0), w_k * p->psi_r_hat); /* e = j w psi, rotor frame */
-    }
-}
-
 /* A switch of the start-up supervisor (counted for SMD_FAULT_CHATTER). */
 static void switch_phase(smd_drive_state *s, int phase)
 {
@@ -401,182 +620,221 @@ static void switch_phase(smd_drive_state *s, int phase)
     s->chatter += SMD_R(1.0);
 }
 
-/* One sample of the composed drive on good inputs (smd_drive_step checks
- * them before and the state after). */
-static smd_status control(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
-                          smd_drive_out *out)
-{
-    const smd_real T = p->T_sp;
-    const int lcl_src = lcl_source(p->position);
-    smd_status st = SMD_OK;
-    smd_cplx i_s_ab = smd_ab2_to_ab(in->i_a, in->i_b);
-    smd_cplx i1_ab = p->lcl ? smd_ab2_to_ab(in->i1_a, in->i1_b) : i_s_ab;
-    smd_cplx u_ref;
-    smd_real theta_o = s->theta, w_o = s->w; /* frame predicted for k */
-    smd_real theta_k, w_k, theta_next, w_next, w_ref;
-    const int settled = s->phase_samples >= p->dwell;
+/* ------------------------------------------------------------ the step */
 
-    s->i_s_ab = i_s_ab;
-    s->u_ab = s->u_ab_next; /* the voltage computed last time is the one applied now */
+/* One sample's values, passed from each step of control() to the next (the
+ * measured currents stay in control() and go by pointer to the steps that
+ * read them: a smd_cplx argument is copied where the call is). */
+typedef struct sample {
+    smd_real T;                   /* the sampling period T_sp */
+    smd_real w_ref;               /* the speed reference, slew-limited */
+    int settled;                  /* dwell samples since the last start-up switch */
+    smd_real theta_o;             /* the frame predicted for k */
+    smd_real w_o;
+    smd_real theta_k;             /* the frame of k */
+    smd_real w_k;
+    smd_real theta_next;          /* the frame of k+1 */
+    smd_real w_next;
+} sample;
+
+/* The speed reference of the sample: the input, or slew-limited at a_ref. */
+static smd_real slew_reference(const smd_drive_params *p, smd_drive_state *s, smd_real w_ref,
+                               smd_real T)
+{
     if (p->a_ref > SMD_R(0.0)) {
-        /* the speed reference slew-limited at a_ref */
-        smd_real dw = in->w_ref - s->w_ref_r, step = p->a_ref * T;
+        smd_real dw = w_ref - s->w_ref_r, step = p->a_ref * T;
         s->w_ref_r += dw > step ? step : (dw < -step ? -step : dw);
     } else {
-        s->w_ref_r = in->w_ref;
+        s->w_ref_r = w_ref;
     }
-    w_ref = s->w_ref_r;
+    return s->w_ref_r;
+}
+
+/* 0. The sample: the measured current i_s_ab kept, the voltage applied now
+ * (computed last time), the frame predicted for k, the speed reference. */
+static void take_sample(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
+                        const smd_cplx *i_s_ab, sample *x)
+{
+    x->T = p->T_sp;
+    x->theta_o = s->theta;
+    x->w_o = s->w;
+    x->settled = s->phase_samples >= p->dwell;
+    s->i_s_ab = *i_s_ab;
+    s->u_ab = s->u_ab_next; /* the voltage computed last time is the one applied now */
+    x->w_ref = slew_reference(p, s, in->w_ref, x->T);
     if (!s->primed) {
         /* The SMDO's current starts at the first sample, so that a start
          * under load does not begin with a large sliding error. */
-        s->smdo.i_s_hat = i_s_ab;
+        s->smdo.i_s_hat = *i_s_ab;
         s->primed = 1;
     }
+}
 
-    /* 1. the position source's estimates at k */
-    if (p->position == SMD_POS_SMDO_EMF) {
-        /* eq. (44)-(45) from u_d_hat^k, before the SMDO's update */
-        smd_emf_pos_step(&p->emf, &s->pos.u.emf, s->smdo.u_d_hat);
-    } else if (lcl_src) {
-        st = observe_lcl(p, s, i1_ab, i_s_ab, theta_o, w_o);
-    }
+/* The direction of the forced current: dir_f, or the start's (0: a start
+ * waiting for its reference). */
+static int forced_dir(const smd_drive_state *s) { return s->dir_f != 0 ? s->dir_f : s->start_dir; }
 
-    /* 2. the frame of sample k */
-    if (s->phase == SMD_PHASE_FORCED && s->dir_f == 0 && s->start_dir == 0 &&
-        in->w_ref != SMD_R(0.0)) {
-        /* an I/f start begins when the reference asks for a speed (no current
-         * before), toward its sign; from rest the forced current (q axis of
-         * the forced frame) starts 60 deg behind theta0 in that direction,
-         * where it gives half its torque: loaded or not, the rotor's
-         * equilibrium on the stable side is at most 30 deg away (0.5 of the
-         * torque either way), and it swings by that at most, not by the 90
-         * deg a start at full torque gives a light rotor (smd_drive.h) */
-        s->start_dir = in->w_ref < SMD_R(0.0) ? -1 : 1;
-        if (s->w_f == SMD_R(0.0) && s->i_dq_ref.im == SMD_R(0.0)) {
-            s->theta_f = smd_wrap_pi(s->theta_f - (smd_real)s->start_dir * SMD_PI / SMD_R(3.0));
-            theta_o = s->theta_f;
-        }
+/* An I/f start begins when the reference asks for a speed (no current
+ * before), toward its sign; from rest the forced current (q axis of the
+ * forced frame) starts 60 deg behind theta0 in that direction, where it
+ * gives half its torque: loaded or not, the rotor's equilibrium on the
+ * stable side is at most 30 deg away (0.5 of the torque either way), and it
+ * swings by that at most, not by the 90 deg a start at full torque gives a
+ * light rotor (smd_drive.h). */
+static void begin_start(smd_drive_state *s, smd_real w_ref, sample *x)
+{
+    s->start_dir = w_ref < SMD_R(0.0) ? -1 : 1;
+    if (s->w_f == SMD_R(0.0) && s->i_dq_ref.im == SMD_R(0.0)) {
+        s->theta_f = smd_wrap_pi(s->theta_f - (smd_real)s->start_dir * SMD_PI / SMD_R(3.0));
+        x->theta_o = s->theta_f;
     }
+}
+
+/* 2. The frame of sample k: forced (I/f), the encoder's during a handover,
+ * or the source's. */
+static void frame_now(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
+                      sample *x)
+{
     if (s->phase == SMD_PHASE_FORCED) {
-        theta_k = theta_o;
-        w_k = w_o;
-    } else if (s->phase == SMD_PHASE_ENCODER || p->position == SMD_POS_ENCODER) {
-        theta_k = in->theta_enc;
-        w_k = in->w_enc;
-    } else if (p->position == SMD_POS_SMDO_EMF) {
-        theta_k = s->pos.u.emf.theta_r_hat;
-        w_k = s->pos.u.emf.w_r_hat;
-    } else {
-        theta_k = theta_o;
-        w_k = w_o;
-    }
-
-    /* 3. the frame of sample k+1 (forced angle, PLL), start-up transitions */
-    if (s->phase == SMD_PHASE_SOURCE && p->w_if_enter > SMD_R(0.0) && settled &&
-        SMD_FABS(w_k) < p->w_if_enter &&
-        (SMD_FABS(w_ref) < p->w_handover || w_ref * w_k < SMD_R(0.0))) {
-        /* sensorless below w_if_enter on the way through zero: back to the
-         * forced frame, from where the source is now, driven toward the
-         * reference's target; the forced current i_start (q axis of the
-         * forced frame, sign dir_f) is placed so that its q component in the
-         * source's frame is the current that was flowing, on the stable side
-         * (dir_f sin(theta_f - theta) < 0): the torque does not step, and
-         * the rotor does not swing about the forced angle */
-        smd_real c, sn;
-        switch_phase(s, SMD_PHASE_FORCED);
-        s->dir_f = (in->w_ref - w_k) < SMD_R(0.0) ? -1 : 1;
-        c = p->i_start > SMD_R(0.0) ? (smd_real)s->dir_f * s->i_dq_ref.im / p->i_start
-                                    : SMD_R(1.0);
-        c = c > SMD_R(1.0) ? SMD_R(1.0) : (c < SMD_R(-1.0) ? SMD_R(-1.0) : c);
-        sn = SMD_SQRT(SMD_R(1.0) - c * c);
-        s->theta_f = smd_wrap_pi(theta_k - (smd_real)s->dir_f * SMD_ATAN2(sn, c));
-        s->w_f = w_k;
-    }
-    if (s->phase == SMD_PHASE_FORCED) {
-        if (p->start == SMD_START_IF && s->dir_f == 0) {
-            /* the start from standstill: the I/f ramp in the reference's direction */
-            /* (0: waiting); no farther than the reference asks (below the
-             * handover speed the drive stays on I/f there) */
-            const smd_real lim = SMD_FABS(in->w_ref);
-            s->w_f += (smd_real)s->start_dir * p->a_start * T;
-            if ((smd_real)s->start_dir * s->w_f > lim) {
-                s->w_f = (smd_real)s->start_dir * lim;
-            }
-        } else {
-            /* follow the reference at a_start, through zero */
-            smd_real dw = w_ref - s->w_f;
-            smd_real step = p->a_start * T;
-            s->w_f += dw > step ? step : (dw < -step ? -step : dw);
+        if (s->dir_f == 0 && s->start_dir == 0 && in->w_ref != SMD_R(0.0)) {
+            begin_start(s, in->w_ref, x);
         }
-        s->theta_f = smd_wrap_pi(s->theta_f + s->w_f * T);
-        theta_next = s->theta_f;
-        w_next = s->w_f;
-        if (p->a_ref > SMD_R(0.0)) {
-            /* the slew-limited reference goes on from the forced speed: at
-             * the handover from where the rotor is, not from where a ramp
-             * that the forced phase did not follow would be */
-            s->w_ref_r = s->w_f;
-        }
-        /* the source must agree before it takes over: its angle on the
-         * stable side of the forced one (with the forced current +-i_start
-         * on the forced q axis the torque is sg K cos(theta_f - theta),
-         * stable where the rotor is ahead of the forced frame in the
-         * current's direction, by less than half a turn; 30 deg behind
-         * allowed for a swing) and, for the SMDO, its speed of the forced
-         * speed's sign (a low-speed estimate whose direction has flipped
-         * puts the angle half a turn off) */
-        const smd_real sg = (s->dir_f != 0 ? s->dir_f : s->start_dir) < 0 ? SMD_R(-1.0)
-                                                                         : SMD_R(1.0);
-        const smd_real th_src = p->position == SMD_POS_SMDO_EMF ? s->pos.u.emf.theta_r_hat
-                                                                 : theta_k + s->pos.theta_err;
-        const smd_real lead = sg * smd_wrap_pi(th_src - theta_k);
-        const int agree = lead > -SMD_PI / SMD_R(6.0) && lead < SMD_PI &&
-                          (p->position != SMD_POS_SMDO_EMF ||
-                           s->pos.u.emf.w_r_hat * s->w_f > SMD_R(0.0));
-        if (agree && ((s->dir_f == 0 && (smd_real)s->start_dir * s->w_f >= p->w_handover) ||
-                      (s->dir_f != 0 && settled && SMD_FABS(s->w_f) >= p->w_handover &&
-                       s->w_f * w_ref > SMD_R(0.0)))) {
-            /* handover: the PLL starts on the observer's angle (forced angle
-             * plus the measured angle error) at the forced speed, the speed
-             * loop on the current that was flowing, seen in the source's
-             * frame (the forced current's q component there) */
-            smd_real d_src = lcl_src ? -s->pos.theta_err
-                             : (p->position == SMD_POS_SMDO_EMF
-                                    ? smd_wrap_pi(theta_k - s->pos.u.emf.theta_r_hat)
-                                    : SMD_R(0.0));
-            switch_phase(s, SMD_PHASE_SOURCE);
-            smd_pll_reset(&s->pos.pll, theta_k + s->pos.theta_err + w_k * T, w_k);
-            smd_pi_reset(&s->speed_pi, s->i_dq_ref.im * SMD_COS(d_src));
-            s->count = 0;
-            if (lcl_src) {
-                theta_next = s->pos.pll.theta;
-                w_next = s->pos.pll.w;
-            }
-        }
+        x->theta_k = x->theta_o;
+        x->w_k = x->w_o;
     } else if (s->phase == SMD_PHASE_ENCODER) {
-        theta_next = smd_wrap_pi(in->theta_enc + in->w_enc * T);
-        w_next = in->w_enc;
-        s->samples++;
-        if (s->samples >= p->handover && isfinite(theta_next) && isfinite(w_next)) {
-            /* (a non-finite encoder sample would stay in the PLL for good:
-             * the handover waits for a finite one) */
-            switch_phase(s, SMD_PHASE_SOURCE);
-            smd_pll_reset(&s->pos.pll, theta_next, w_next);
-        }
-    } else if (lcl_src) {
-        /* eq. (48) on the error of eq. (47) */
-        smd_pll_step(&p->pll, &s->pos.pll, s->pos.theta_err);
-        theta_next = s->pos.pll.theta;
-        w_next = s->pos.pll.w;
+        x->theta_k = in->theta_enc;
+        x->w_k = in->w_enc;
     } else {
-        theta_next = theta_k;
-        w_next = w_k;
+        source_frame(p, s, in, x->theta_o, x->w_o, &x->theta_k, &x->w_k);
     }
-    if (p->position == SMD_POS_LCL_SMO_PLL) {
-        smd_lcl_smo_reframe(&s->pos.u.smo, smd_wrap_pi(theta_next - theta_o - w_o * T));
-    }
+}
 
-    /* 4. current reference: forced, speed loop or input */
+/* Sensorless below w_if_enter on the way through zero: back to the forced
+ * frame, from where the source is now, driven toward the reference's target
+ * (w_ref, the input); the forced current i_start (q axis of the forced
+ * frame, sign dir_f) is placed so that its q component in the source's
+ * frame is the current that was flowing, on the stable side (dir_f
+ * sin(theta_f - theta) < 0): the torque does not step, and the rotor does
+ * not swing about the forced angle. */
+static void return_to_forced(const smd_drive_params *p, smd_drive_state *s, smd_real w_ref,
+                             const sample *x)
+{
+    smd_real c, sn;
+    switch_phase(s, SMD_PHASE_FORCED);
+    s->dir_f = (w_ref - x->w_k) < SMD_R(0.0) ? -1 : 1;
+    c = p->i_start > SMD_R(0.0) ? (smd_real)s->dir_f * s->i_dq_ref.im / p->i_start
+                                : SMD_R(1.0);
+    c = c > SMD_R(1.0) ? SMD_R(1.0) : (c < SMD_R(-1.0) ? SMD_R(-1.0) : c);
+    sn = SMD_SQRT(SMD_R(1.0) - c * c);
+    s->theta_f = smd_wrap_pi(x->theta_k - (smd_real)s->dir_f * SMD_ATAN2(sn, c));
+    s->w_f = x->w_k;
+}
+
+/* The forced speed: the start from standstill ramps at a_start in the
+ * reference's direction (0: waiting), no farther than the reference (the
+ * input w_in) asks (below the handover speed the drive stays on I/f there);
+ * a return to I/f follows the reference w_ref at a_start, through zero. */
+static void ramp_forced(const smd_drive_params *p, smd_drive_state *s, smd_real w_in,
+                        smd_real w_ref, smd_real T)
+{
+    if (p->start == SMD_START_IF && s->dir_f == 0) {
+        const smd_real lim = SMD_FABS(w_in);
+        s->w_f += (smd_real)s->start_dir * p->a_start * T;
+        if ((smd_real)s->start_dir * s->w_f > lim) {
+            s->w_f = (smd_real)s->start_dir * lim;
+        }
+    } else {
+        smd_real dw = w_ref - s->w_f;
+        smd_real step = p->a_start * T;
+        s->w_f += dw > step ? step : (dw < -step ? -step : dw);
+    }
+}
+
+/* Whether the source takes over from the forced phase: it agrees, and the
+ * start reached the handover speed, or a return to I/f, settled, did in the
+ * reference's direction. */
+static int handover_due(const smd_drive_params *p, const smd_drive_state *s, const sample *x)
+{
+    const smd_real sg = forced_dir(s) < 0 ? SMD_R(-1.0) : SMD_R(1.0);
+    const int agree = source_agrees(p, s, sg, x->theta_k, s->w_f);
+    return agree && ((s->dir_f == 0 && (smd_real)s->start_dir * s->w_f >= p->w_handover) ||
+                     (s->dir_f != 0 && x->settled && SMD_FABS(s->w_f) >= p->w_handover &&
+                      s->w_f * x->w_ref > SMD_R(0.0)));
+}
+
+/* The handover from the forced phase: the source takes over (its PLL on the
+ * observer's angle at the forced speed), the speed loop on the current that
+ * was flowing, seen in the source's frame (the forced current's q component
+ * there). */
+static void hand_over(const smd_drive_params *p, smd_drive_state *s, sample *x)
+{
+    smd_real d_src = source_offset(p, s, x->theta_k);
+    switch_phase(s, SMD_PHASE_SOURCE);
+    source_take_over(p, s, x->theta_k, x->w_k, x->T, &x->theta_next, &x->w_next);
+    smd_pi_reset(&s->speed_pi, s->i_dq_ref.im * SMD_COS(d_src));
+    s->count = 0;
+}
+
+/* The frame of k+1 in the forced phase: the forced angle turned at the
+ * forced speed, until the source takes over. */
+static void forced_next(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
+                        sample *x)
+{
+    ramp_forced(p, s, in->w_ref, x->w_ref, x->T);
+    s->theta_f = smd_wrap_pi(s->theta_f + s->w_f * x->T);
+    x->theta_next = s->theta_f;
+    x->w_next = s->w_f;
+    if (p->a_ref > SMD_R(0.0)) {
+        /* the slew-limited reference goes on from the forced speed: at the
+         * handover from where the rotor is, not from where a ramp that the
+         * forced phase did not follow would be */
+        s->w_ref_r = s->w_f;
+    }
+    if (handover_due(p, s, x)) {
+        hand_over(p, s, x);
+    }
+}
+
+/* The frame of k+1 during a handover: the encoder's one sample on; after
+ * `handover` samples the source takes over (a non-finite encoder sample
+ * would stay in the PLL for good: the handover waits for a finite one). */
+static void encoder_next(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
+                         sample *x)
+{
+    x->theta_next = smd_wrap_pi(in->theta_enc + in->w_enc * x->T);
+    x->w_next = in->w_enc;
+    s->samples++;
+    if (s->samples >= p->handover && isfinite(x->theta_next) && isfinite(x->w_next)) {
+        switch_phase(s, SMD_PHASE_SOURCE);
+        source_take_over_encoder(s, x->theta_next, x->w_next);
+    }
+}
+
+/* 3. The frame of sample k+1 (forced angle, encoder, PLL) and the start-up
+ * transitions. */
+static void frame_next(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
+                       sample *x)
+{
+    if (s->phase == SMD_PHASE_SOURCE && p->w_if_enter > SMD_R(0.0) && x->settled &&
+        SMD_FABS(x->w_k) < p->w_if_enter &&
+        (SMD_FABS(x->w_ref) < p->w_handover || x->w_ref * x->w_k < SMD_R(0.0))) {
+        return_to_forced(p, s, in->w_ref, x);
+    }
+    if (s->phase == SMD_PHASE_FORCED) {
+        forced_next(p, s, in, x);
+    } else if (s->phase == SMD_PHASE_ENCODER) {
+        encoder_next(p, s, in, x);
+    } else {
+        source_next(p, s, x->theta_k, x->w_k, &x->theta_next, &x->w_next);
+    }
+    source_reframe(p, s, x->theta_next, x->theta_o, x->w_o, x->T);
+}
+
+/* 4. The current reference: forced, from the speed loop or the input; each
+ * axis clamped to +-i_max. */
+static void current_reference(const smd_drive_params *p, smd_drive_state *s,
+                              const smd_drive_in *in, const sample *x)
+{
     if (s->phase == SMD_PHASE_FORCED) {
         /* on the q axis of the forced frame, in the direction the forced
          * speed is driven (the start: the reference's) */
@@ -589,7 +847,7 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
         s->i_dq_ref.re = in->i_dq_ref.re;
         if (p->speed_loop) {
             if (s->count == 0) {
-                s->i_dq_ref.im = smd_pi_step(&p->speed_pi, &s->speed_pi, w_ref - w_k);
+                s->i_dq_ref.im = smd_pi_step(&p->speed_pi, &s->speed_pi, x->w_ref - x->w_k);
             }
             s->count = (s->count + 1) % p->speed_decimation;
         } else {
@@ -598,47 +856,76 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
     }
     s->i_dq_ref.re = clampr(s->i_dq_ref.re, p->i_max);
     s->i_dq_ref.im = clampr(s->i_dq_ref.im, p->i_max);
+}
 
-    /* 5. the SMDO (robust DBPC, and the smdo_emf source) */
+/* 5. The SMDO, eq. (34)-(39), when robust DBPC or the smdo_emf source needs
+ * it: i_hat^{k+1}, u_d_hat^{k+1}. Returns st_in, or the SMDO's error. */
+static smd_status observe_disturbance(const smd_drive_params *p, smd_drive_state *s,
+                                      const smd_cplx *i_s_ab, const sample *x, smd_status st_in)
+{
+    smd_status st = st_in;
     if (p->use_smdo) {
-        smd_status ss = smd_smdo_step(&p->smdo, &s->smdo, i_s_ab, s->u_ab, w_k);
+        smd_status ss = smd_smdo_step(&p->smdo, &s->smdo, *i_s_ab, s->u_ab, x->w_k);
         if (ss != SMD_OK) {
             st = ss;
         }
     }
+    return st;
+}
 
-    /* 6. current control */
+/* The current PI in the frame of k with cross-coupling decoupling, EMF
+ * feed-forward and (LCL) active damping by a virtual resistance on the
+ * capacitor current i_1 - i_2; its voltage in the stationary frame at the
+ * middle of the application period. */
+static smd_cplx current_pi(const smd_drive_params *p, smd_drive_state *s, const smd_cplx *i_s_ab,
+                           const smd_cplx *i1_ab, const sample *x)
+{
+    const smd_real T = x->T;
+    const smd_real theta_k = x->theta_k;
+    const smd_real w_k = x->w_k;
+    const smd_cplx i2 = s->i_dq = smd_ab_to_dq(*i_s_ab, theta_k);
+    const smd_cplx e = smd_csub(s->i_dq_ref, i2);
+    const smd_cplx x_i = smd_cadd(s->x_i, smd_cscale(e, p->k_i_i * T));
+    smd_cplx u = smd_cadd(smd_cscale(e, p->k_p_i), x_i);
+    u = smd_cadd(u, smd_cscale(smd_cj(i2), w_k * p->L_dec));
+    if (p->emf_ff && s->phase != SMD_PHASE_FORCED) {
+        u = smd_cadd(u, source_emf_dq(p, s, theta_k, w_k));
+    }
+    if (p->lcl) {
+        u = smd_csub(u, smd_cscale(smd_csub(smd_ab_to_dq(*i1_ab, theta_k), i2), p->R_v));
+    }
+    s->x_i = x_i;
+    return smd_dq_to_ab(u, theta_k + SMD_R(1.5) * w_k * T);
+}
+
+/* 6. Current control: DBPC eq. (8)-(9), robust DBPC eq. (7) and (42), or
+ * the PI; the voltage reference in the stationary frame. */
+static smd_cplx current_control(const smd_drive_params *p, smd_drive_state *s,
+                                const smd_cplx *i_s_ab, const smd_cplx *i1_ab, const sample *x)
+{
     switch (p->current) {
     case SMD_CC_DBPC:
-        u_ref = smd_dbpc_conventional(&p->dbpc, i_s_ab, s->u_ab, s->i_dq_ref, theta_k, w_k);
-        break;
+        return smd_dbpc_conventional(&p->dbpc, *i_s_ab, s->u_ab, s->i_dq_ref, x->theta_k,
+                                     x->w_k);
     case SMD_CC_ROBUST_DBPC: {
-        smd_cplx i_ref_k2 = smd_dbpc_ref_k2(&p->dbpc, s->i_dq_ref, theta_k, w_k);
-        u_ref = smd_dbpc_robust(&p->dbpc, s->smdo.i_s_hat, s->smdo.u_d_hat, i_ref_k2);
-        break;
+        smd_cplx i_ref_k2 = smd_dbpc_ref_k2(&p->dbpc, s->i_dq_ref, x->theta_k, x->w_k);
+        return smd_dbpc_robust(&p->dbpc, s->smdo.i_s_hat, s->smdo.u_d_hat, i_ref_k2);
     }
-    default: {
-        /* PI in the frame of k with cross-coupling decoupling, EMF
-         * feed-forward and (LCL) active damping by a virtual resistance on
-         * the capacitor current i_1 - i_2 */
-        const smd_cplx i2 = s->i_dq = smd_ab_to_dq(i_s_ab, theta_k);
-        const smd_cplx e = smd_csub(s->i_dq_ref, i2);
-        const smd_cplx x_i = smd_cadd(s->x_i, smd_cscale(e, p->k_i_i * T));
-        smd_cplx u = smd_cadd(smd_cscale(e, p->k_p_i), x_i);
-        u = smd_cadd(u, smd_cscale(smd_cj(i2), w_k * p->L_dec));
-        if (p->emf_ff && s->phase != SMD_PHASE_FORCED) {
-            u = smd_cadd(u, emf_estimate(p, s, theta_k, w_k));
-        }
-        if (p->lcl) {
-            u = smd_csub(u, smd_cscale(smd_csub(smd_ab_to_dq(i1_ab, theta_k), i2), p->R_v));
-        }
-        s->x_i = x_i;
-        /* to the stationary frame at the middle of the application period */
-        u_ref = smd_dq_to_ab(u, theta_k + SMD_R(1.5) * w_k * T);
-        break;
+    default: return current_pi(p, s, i_s_ab, i1_ab, x);
     }
-    }
+}
 
+/* The duties of the voltage reference u_ref: one that is not finite is
+ * replaced by zero (the PI's integrators too) and the status st_in by
+ * SMD_ERR_NONFINITE; the modulator's limit with the PI's anti-windup; the
+ * dead-time compensation. */
+static smd_status modulate(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
+                           smd_drive_out *out, const sample *x, smd_cplx u_ref, smd_status st_in)
+{
+    smd_status st = st_in;
+    const smd_real T = x->T;
+    const smd_real theta_k = x->theta_k;
+    const smd_real w_k = x->w_k;
     if (!smd_cfinite(u_ref)) {
         st = SMD_ERR_NONFINITE;
         u_ref = smd_c(SMD_R(0.0), SMD_R(0.0));
@@ -662,25 +949,58 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
         smd_ab_to_abc(i_mid, i_abc);
         smd_svm_deadtime_comp(out->d_abc, i_abc, p->dtc_ratio, p->i_dtc);
     }
+    return st;
+}
 
-    /* a jump of the SMDO's angle (SMD_FAULT_ANGLE_JUMP): on the source for
-     * more than lock_samples, above w_lock_min, the angle used moved by more
-     * than 45 deg from the last one turned at the last speed (the LCL
-     * sources' PLL filters their observer's angle: no jump to see there) */
+/* A jump of the source's angle (SMD_FAULT_ANGLE_JUMP): on the source for
+ * more than lock_samples, above w_lock_min, the angle used moved by more
+ * than 45 deg from the last one turned at the last speed. */
+static void check_jump(const smd_drive_params *p, smd_drive_state *s, const sample *x)
+{
     s->jumped = 0;
-    if (s->phase == SMD_PHASE_SOURCE && p->position == SMD_POS_SMDO_EMF &&
-        p->lock_samples > 0 && s->phase_samples > p->lock_samples &&
-        SMD_FABS(w_k) >= p->w_lock_min) {
-        const smd_real d = smd_wrap_pi(theta_k - s->theta_k - s->w_k * T);
+    if (s->phase == SMD_PHASE_SOURCE && source_can_jump(p) && p->lock_samples > 0 &&
+        s->phase_samples > p->lock_samples && SMD_FABS(x->w_k) >= p->w_lock_min) {
+        const smd_real d = smd_wrap_pi(x->theta_k - s->theta_k - s->w_k * x->T);
         s->jumped = SMD_FABS(d) > SMD_PI / SMD_R(4.0);
     }
-    s->theta_k = theta_k;
-    s->w_k = w_k;
-    s->theta = theta_next;
-    s->w = w_next;
+}
+
+/* The end of the sample: the frames of k and k+1 kept for the next one. */
+static void end_sample(const smd_drive_params *p, smd_drive_state *s, const sample *x)
+{
+    check_jump(p, s, x);
+    s->theta_k = x->theta_k;
+    s->w_k = x->w_k;
+    s->theta = x->theta_next;
+    s->w = x->w_next;
     if (s->phase_samples < 2000000000) {
         s->phase_samples++;
     }
+}
+
+/* One sample of the composed drive on good inputs (smd_drive_step checks
+ * them before and the state after), in its steps. */
+static smd_status control(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
+                          smd_drive_out *out)
+{
+    const smd_cplx i_s_ab = smd_ab2_to_ab(in->i_a, in->i_b);
+    const smd_cplx i1_ab = p->lcl ? smd_ab2_to_ab(in->i1_a, in->i1_b) : i_s_ab;
+    sample x;
+    smd_status st;
+    take_sample(p, s, in, &i_s_ab, &x);
+    /* 1. the position source's estimates at k */
+    st = source_observe(p, s, &i1_ab, &i_s_ab, x.theta_o, x.w_o);
+    /* 2. the frame of sample k */
+    frame_now(p, s, in, &x);
+    /* 3. the frame of k+1, start-up transitions */
+    frame_next(p, s, in, &x);
+    /* 4. the current reference: forced, speed loop or input */
+    current_reference(p, s, in, &x);
+    /* 5. the SMDO */
+    st = observe_disturbance(p, s, &i_s_ab, &x, st);
+    /* 6. current control, and the duties */
+    st = modulate(p, s, in, out, &x, current_control(p, s, &i_s_ab, &i1_ab, &x), st);
+    end_sample(p, s, &x);
     return st;
 }
 
@@ -699,7 +1019,7 @@ static uint32_t check_inputs(const smd_drive_params *p, const smd_drive_state *s
     if (p->lcl) {
         ok = ok && in_lim(in->i1_a, I_LIM) && in_lim(in->i1_b, I_LIM);
     }
-    if (p->position == SMD_POS_ENCODER || s->phase == SMD_PHASE_ENCODER) {
+    if (!source_sensorless(p->position) || s->phase == SMD_PHASE_ENCODER) {
         ok = ok && in_lim(in->theta_enc, TH_LIM) && in_lim(in->w_enc, W_LIM);
     }
     if (p->speed_loop || p->w_if_enter > SMD_R(0.0) || s->phase == SMD_PHASE_FORCED) {
@@ -787,36 +1107,12 @@ static int state_finite(const smd_drive_params *p, const smd_drive_state *s)
              isfinite(s->theta_f) && isfinite(s->w_f) && smd_cfinite(s->x_i) &&
              smd_cfinite(s->u_ab_next) && smd_cfinite(s->i_dq_ref) &&
              isfinite(s->speed_pi.x_i) && isfinite(s->speed_pi.y);
-    int k;
     if (p->use_smdo) {
         const smd_smdo_state *o = &s->smdo;
         ok = ok && smd_cfinite(o->i_s_hat) && smd_cfinite(o->u_d_hat) && smd_cfinite(o->e_i_prev) &&
              smd_cfinite(o->u_smo_prev) && isfinite(o->lambda);
     }
-    switch (p->position) {
-    case SMD_POS_SMDO_EMF: {
-        const smd_emf_pos_state *e = &s->pos.u.emf;
-        ok = ok && isfinite(e->theta_r_hat) && isfinite(e->w_r_hat) && isfinite(e->w_r_dir) &&
-             isfinite(e->phi_prev) && isfinite(e->w_r_raw);
-        break;
-    }
-    case SMD_POS_LCL_SMO_PLL:
-        for (k = 0; k < 6; k++) ok = ok && isfinite(s->pos.u.smo.x_hat[k]);
-        for (k = 0; k < 2; k++) {
-            ok = ok && isfinite(s->pos.u.smo.e_hat[k]) && isfinite(s->pos.u.smo.x_c[k]) &&
-                 isfinite(s->pos.u.smo.d_hat[k]) && isfinite(s->pos.u.smo.v_prev[k]);
-        }
-        break;
-    case SMD_POS_LCL_LINEAR:
-        for (k = 0; k < 4; k++) ok = ok && isfinite(s->pos.u.lin.z[k]) && isfinite(s->pos.u.lin.x2[k]);
-        break;
-    default: break;
-    }
-    if (p->position == SMD_POS_LCL_SMO_PLL || p->position == SMD_POS_LCL_LINEAR) {
-        ok = ok && isfinite(s->pos.pll.theta) && isfinite(s->pos.pll.w) &&
-             isfinite(s->pos.pll.a) && isfinite(s->pos.theta_err);
-    }
-    return ok;
+    return ok && source_finite(p, s);
 }
 
 /* After a non-finite value: every block restarts from the last good frame
@@ -853,25 +1149,13 @@ static void recover(const smd_drive_params *p, smd_drive_state *s, smd_real thet
     }
 }
 
-/* The source's EMF estimate magnitude, V (0 for the encoder). */
-static smd_real source_emf(const smd_drive_params *p, const smd_drive_state *s)
-{
-    switch (p->position) {
-    case SMD_POS_SMDO_EMF: return smd_cabs(s->smdo.u_d_hat);
-    case SMD_POS_LCL_SMO_PLL:
-        return smd_cabs(smd_c(s->pos.u.smo.e_hat[0], s->pos.u.smo.e_hat[1]));
-    case SMD_POS_LCL_LINEAR: return smd_cabs(smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3]));
-    default: return SMD_R(0.0);
-    }
-}
-
 /* Loss of lock of a sensorless source (smd_drive.h): its EMF estimate
  * against |w| psi_r_hat, and its speed at the limit it can estimate. */
 static void check_lock(const smd_drive_params *p, smd_drive_state *s)
 {
     smd_real e, w = SMD_FABS(s->w_k), e_exp;
     int bad;
-    if (p->lock_samples == 0 || p->position == SMD_POS_ENCODER ||
+    if (p->lock_samples == 0 || !source_sensorless(p->position) ||
         s->phase != SMD_PHASE_SOURCE) {
         s->lock_count = 0;
         return;
@@ -916,7 +1200,7 @@ SMD_COLD static void supervise(const smd_drive_params *p, smd_drive_state *s)
         /* start-up failed: the source's EMF against the forced speed, where
          * the EMF is large enough to estimate */
         w_chk = p->w_if_enter > SMD_R(0.0) ? p->w_if_enter : SMD_R(0.5) * p->w_handover;
-        if (p->lock_samples > 0 && p->position != SMD_POS_ENCODER && SMD_FABS(s->w_f) >= w_chk) {
+        if (p->lock_samples > 0 && source_sensorless(p->position) && SMD_FABS(s->w_f) >= w_chk) {
             smd_real e = source_emf(p, s), e_exp = SMD_FABS(s->w_f) * p->psi_r_hat;
             if (e > p->lock_ratio * e_exp || e * p->lock_ratio < e_exp) {
                 if (++s->start_count >= p->lock_samples) {
@@ -988,7 +1272,7 @@ SMD_COLD static int try_restart(const smd_drive_params *p, smd_drive_state *s)
         }
     }
     if (!(s->fault & lost) || (s->fault & ~lost) || p->restart_max == 0 ||
-        p->start != SMD_START_IF || p->position != SMD_POS_SMDO_EMF ||
+        p->start != SMD_START_IF || !source_can_restart(p) ||
         s->restarts + SMD_R(1.0) > (smd_real)p->restart_max) {
         return 0;
     }
@@ -1009,7 +1293,7 @@ SMD_COLD static int try_restart(const smd_drive_params *p, smd_drive_state *s)
     s->forced_count = 0;
     smd_pi_reset(&s->speed_pi, SMD_R(0.0));
     smd_smdo_reset(&s->smdo, s->i_s_ab, zero);
-    smd_emf_pos_reset(&s->pos.u.emf, SMD_R(0.0));
+    source_restart(p, s);
     return 1;
 }
 
@@ -1111,15 +1395,7 @@ smd_drive_view smd_drive_get_view(const smd_drive_params *p, const smd_drive_sta
     v.d_hat = zero;
     v.v = zero;
     v.e_lin = zero;
-    if (p->position == SMD_POS_LCL_SMO_PLL) {
-        const smd_lcl_smo_state *o = &s->pos.u.smo;
-        v.e_hat = smd_c(o->e_hat[0], o->e_hat[1]);
-        v.s = smd_c(o->s[0], o->s[1]);
-        v.d_hat = smd_c(o->d_hat[0], o->d_hat[1]);
-        v.v = smd_c(o->v_prev[0], o->v_prev[1]);
-    } else if (p->position == SMD_POS_LCL_LINEAR) {
-        v.e_lin = smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3]);
-    }
+    source_view(p, s, &v);
     v.phase = s->phase;
     v.fault = s->fault;
     return v;

@@ -18,6 +18,7 @@
 
 #include "smd_test.h"
 #include "smodrive/smd_drive.h"
+#include "smodrive/smd_example.h"
 
 /* Table I of yang2018 */
 #define LS 23.45e-3
@@ -35,49 +36,16 @@
 #define KP_I (LS * 2000.0)
 #define KI_I (LS * 2000.0 * 2000.0 / 4.0)
 
-/* The one drive with the given parts, no filter, every gain set (the yang2018
- * values: SMDO of Table I, speed PI k_p_w = 0.05 A s/rad, k_i_w = 2 A/rad;
- * the PLL of yao2022 eq. (50), used by the LCL sources only). */
+/* The one drive with the given parts: the example configuration
+ * (smodrive/smd_example.h: this machine, no filter, every gain set, the
+ * current PI's KP_I and KI_I) with its parts changed. */
 static inline smd_drive_config drive_config(int current, int position, int start)
 {
     smd_drive_config c;
-    memset(&c, 0, sizeof c);
+    smd_example_drive_config(&c);
     c.current = current;
     c.position = position;
     c.start = start;
-    c.lcl = 0;
-    c.T_sp = R(TSP);
-    c.L_s_hat = R(LS);
-    c.R_s_hat = R(RS);
-    c.psi_r_hat = R(PSI);
-    c.lambda_min = R(800.0);
-    c.l = R(1200.0);
-    c.w_c = R(1500.0);
-    c.rho = R(0.2);
-    c.smdo_euler = 0;
-    c.w_lpf = R(200.0);
-    c.w_hys = R(20.0);
-    c.w_max = R(2000.0);
-    c.k_p_i = R(KP_I);
-    c.k_i_i = R(KI_I);
-    c.L_dec = R(LS);
-    c.R_v = R(0.0);
-    c.emf_ff = 1;
-    c.speed_loop = 0;
-    c.k_p_w = R(0.05);
-    c.k_i_w = R(2.0);
-    c.i_max = R(15.0);
-    c.speed_decimation = 1;
-    c.k_theta = R(0.1);
-    c.k_omega = R(10.0);
-    c.k_a = R(10.0);
-    c.handover = 0;
-    c.i_start = R(8.0);
-    c.a_start = R(2e4);
-    c.w_handover = R(201.0);
-    c.svm_limit = SMD_SVM_LIMIT_HEXAGON;
-    c.t_dead_comp = R(0.0);
-    c.i_dtc = R(1.0);
     return c;
 }
 

@@ -320,5 +320,5 @@ void smd_lcl_step(smd_plant *p, const double d_abc[3], double T_ext, double T_br
     p->i1_im = cimag(x[1]);
     p->i_re = creal(x[2]);
     p->i_im = cimag(x[2]);
-    smd_plant_end_period(p, T_e_mean, T_L, T_brake, u_mean);
+    smd_mech_end_period(p, T_e_mean, T_L, T_brake, u_mean);
 }

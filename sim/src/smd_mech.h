@@ -1,7 +1,9 @@
 /*
  * The plant's mechanics and load, shared by both solvers (smd_spmsm.c,
- * smd_lcl.c): static functions in a private header, so that each solver's
- * period step inlines them.
+ * smd_lcl.c): the load torque a solver's period step needs (static inline,
+ * so that it inlines), and the mechanics over the period in smd_mech.c,
+ * which the solvers call at the end of their period (smd_plant.c dispatches
+ * to the solvers; nothing here calls back into it).
  *
  * Load: external torque (signed), a brake opposing rotation with a linear
  * taper inside +-w_brake_eps, a fan k_fan w |w|. Mechanics: J dw/dt = T_e -
@@ -23,22 +25,6 @@ static inline double smd_wrap_pi_d(double x)
 }
 
 
-/* (1 - e^{-x}) / x, accurate for small |x| */
-static inline double phi1r(double x)
-{
-    if (fabs(x) < 1e-4) return 1.0 - x / 2.0 + x * x / 6.0 - x * x * x / 24.0;
-    return (1.0 - exp(-x)) / x;
-}
-
-/* phi2(x) = (x - 1 + e^{-x}) / x^2 (real) */
-static inline double phi2r(double x)
-{
-    if (fabs(x) < 1e-3) {
-        return 0.5 - x / 6.0 + x * x / 24.0 - x * x * x / 120.0 + x * x * x * x / 720.0;
-    }
-    return (x + expm1(-x)) / (x * x);
-}
-
 static inline double smd_load_torque(const smd_plant_config *c, double w_M, double T_ext, double T_brake)
 {
     double s = w_M / c->w_brake_eps;
@@ -47,25 +33,14 @@ static inline double smd_load_torque(const smd_plant_config *c, double w_M, doub
     return T_ext + T_brake * s + c->k_fan * w_M * fabs(w_M);
 }
 
-/* Exact solution of J dw/dt = F - B w over tau from w0: end speed and the
- * integral of w. */
-static inline void lin_mech(double F, double Bv, double J, double w0, double tau, double *w1,
-                     double *th)
-{
-    double b = Bv / J;
-    double acc = F / J - b * w0;
-    *w1 = w0 + acc * tau * phi1r(b * tau);
-    *th = w0 * tau + acc * tau * tau * phi2r(b * tau);
-}
-
 /* Exact mechanics over T with mean electromagnetic torque T_e and load T_L
  * (smd_load_torque at w0): end speed, integral of w, mean load torque
- * (smd_plant.c). */
+ * (smd_mech.c). */
 void smd_mech_advance(const smd_plant_config *c, double T_e, double T_L, double T_brake,
                       double w0, double T, double *w1, double *th, double *T_L_mean);
 /* End of a solver's period: the mechanics over it, the angle, the period
- * means; the solver has written the electrical state (smd_plant.c). */
-void smd_plant_end_period(smd_plant *p, double T_e_mean, double T_L, double T_brake,
-                          double complex u_mean);
+ * means; the solver has written the electrical state (smd_mech.c). */
+void smd_mech_end_period(smd_plant *p, double T_e_mean, double T_L, double T_brake,
+                         double complex u_mean);
 
 #endif

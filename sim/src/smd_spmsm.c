@@ -430,7 +430,7 @@ static inline void spmsm_step(smd_plant *p, const double d_abc[3], double T_ext,
 
     p->i_re = creal(i1);
     p->i_im = cimag(i1);
-    smd_plant_end_period(p, T_e_mean, T_L, T_brake, u_mean);
+    smd_mech_end_period(p, T_e_mean, T_L, T_brake, u_mean);
 }
 
 void smd_spmsm_step(smd_plant *p, const double d_abc[3], double T_ext, double T_brake)

@@ -1,13 +1,14 @@
 /* C consumer of the installed smodrive core, compiled with nothing but the
- * flags of `pkg-config --cflags --libs smodrive`: init the yang2018 drive
- * (SMD_CC_DBPC on the encoder, Table I machine) and run it on a rotating
- * current; exit status 0 only if init and every step return SMD_OK with
- * finite duties in [0, 1]. */
+ * flags of `pkg-config --cflags --libs smodrive`: init the yang2018 drive of
+ * the example configuration (smd_example.h: SMD_CC_DBPC on the encoder,
+ * Table I machine) and run it on a rotating current; exit status 0 only if
+ * init and every step return SMD_OK with finite duties in [0, 1]. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include <smodrive/smd_drive.h>
+#include <smodrive/smd_example.h>
 
 int main(void)
 {
@@ -16,37 +17,7 @@ int main(void)
     smd_drive_state s;
     smd_status st;
     int k, x;
-    memset(&c, 0, sizeof c);
-    c.current = SMD_CC_DBPC;
-    c.position = SMD_POS_ENCODER;
-    c.start = SMD_START_RUNNING;
-    c.T_sp = 1e-4f;
-    c.L_s_hat = 23.45e-3f;
-    c.R_s_hat = 2.25f;
-    c.psi_r_hat = 0.4f;
-    c.lambda_min = 800.0f;
-    c.l = 1200.0f;
-    c.w_c = 1500.0f;
-    c.rho = 0.2f;
-    c.w_lpf = 200.0f;
-    c.w_hys = 20.0f;
-    c.w_max = 2000.0f;
-    c.k_p_i = 46.9f;
-    c.k_i_i = 46900.0f;
-    c.L_dec = 23.45e-3f;
-    c.emf_ff = 1;
-    c.k_p_w = 0.05f;
-    c.k_i_w = 2.0f;
-    c.i_max = 15.0f;
-    c.speed_decimation = 1;
-    c.k_theta = 0.1f;
-    c.k_omega = 10.0f;
-    c.k_a = 10.0f;
-    c.i_start = 8.0f;
-    c.a_start = 2e4f;
-    c.w_handover = 201.0f;
-    c.svm_limit = SMD_SVM_LIMIT_HEXAGON;
-    c.i_dtc = 1.0f;
+    smd_example_drive_config(&c);
     st = smd_drive_init(&p, &c);
     if (st != SMD_OK) {
         printf("FAIL: smd_drive_init: %s\n", smd_status_str(st));

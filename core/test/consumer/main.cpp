@@ -1,10 +1,11 @@
 // C++ consumer of the installed smodrive core: the yang2018 Table I machine
 // under deadbeat current control on the encoder (SMD_CC_DBPC, SMD_POS_ENCODER,
-// SMD_START_RUNNING), closed around the exact discrete RL plant of
-// core/test/drive_fixture.h. Exit status 0 only if init returns SMD_OK, every
-// step returns SMD_OK with finite duties in [0, 1], and the current follows
-// its reference.
+// SMD_START_RUNNING: the example configuration of smd_example.h), closed
+// around the exact discrete RL plant of core/test/drive_fixture.h. Exit status
+// 0 only if init returns SMD_OK, every step returns SMD_OK with finite duties
+// in [0, 1], and the current follows its reference.
 #include <smodrive/smd_drive.h>
+#include <smodrive/smd_example.h>
 
 #include <cmath>
 #include <complex>
@@ -18,47 +19,12 @@ const double LS = 23.45e-3, RS = 2.25, PSI = 0.4, TSP = 1e-4, UDC = 540.0;
 const double PI_D = 3.14159265358979323846;
 const cd J(0.0, 1.0);
 
-smd_drive_config config()
-{
-    smd_drive_config c = smd_drive_config(); // value-initialised: all zero
-    c.current = SMD_CC_DBPC;
-    c.position = SMD_POS_ENCODER;
-    c.start = SMD_START_RUNNING;
-    c.T_sp = smd_real(TSP);
-    c.L_s_hat = smd_real(LS);
-    c.R_s_hat = smd_real(RS);
-    c.psi_r_hat = smd_real(PSI);
-    c.lambda_min = 800.0f;
-    c.l = 1200.0f;
-    c.w_c = 1500.0f;
-    c.rho = 0.2f;
-    c.w_lpf = 200.0f;
-    c.w_hys = 20.0f;
-    c.w_max = 2000.0f;
-    c.k_p_i = smd_real(LS * 2000.0);
-    c.k_i_i = smd_real(LS * 2000.0 * 2000.0 / 4.0);
-    c.L_dec = smd_real(LS);
-    c.emf_ff = 1;
-    c.k_p_w = 0.05f;
-    c.k_i_w = 2.0f;
-    c.i_max = 15.0f;
-    c.speed_decimation = 1;
-    c.k_theta = 0.1f;
-    c.k_omega = 10.0f;
-    c.k_a = 10.0f;
-    c.i_start = 8.0f;
-    c.a_start = 2e4f;
-    c.w_handover = 201.0f;
-    c.svm_limit = SMD_SVM_LIMIT_HEXAGON;
-    c.i_dtc = 1.0f;
-    return c;
-}
-
 } // namespace
 
 int main()
 {
-    const smd_drive_config c = config();
+    smd_drive_config c;
+    smd_example_drive_config(&c);
     smd_drive_params p;
     smd_drive_state s;
     const smd_status st = smd_drive_init(&p, &c);
