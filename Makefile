@@ -52,8 +52,9 @@ ctest: toolchain
 	cmake --build build/ctest -j $(JOBS)
 	ctest --test-dir build/ctest --output-on-failure -j $(JOBS)
 
+# -n: pytest-xdist, the units of work of tests/conftest.py
 pytest: $(STAMP) $(DOCS_STAMP) toolchain
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n $(JOBS)
 
 test: ctest pytest
 
