@@ -9,7 +9,8 @@ VENV := .venv
 BIN := $(VENV)/bin
 OUT ?= results
 STAMP := $(VENV)/.installed
-# the docs extra (Sphinx): `make test` installs it too, the documentation build is a test
+# the package with the extras test and docs (Sphinx): what `make test` installs,
+# the documentation build is a test
 DOCS_STAMP := $(VENV)/.docs-installed
 SOURCES := $(shell find core sim src -type f \( -name '*.c' -o -name '*.h' -o -name '*.py' -o -name '*.toml' \)) \
            CMakeLists.txt pyproject.toml
@@ -21,9 +22,11 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 
 all: test
 
+# pip is upgraded when the venv is made; each install builds the C library
+# (scikit-build-core), so `make test` installs the package once, with both
+# extras ($(DOCS_STAMP) below), not once for each
 $(STAMP): $(SOURCES)
-	@[ -x $(BIN)/python ] || $(PY) -m venv $(VENV)
-	$(BIN)/python -m pip install -q --upgrade pip
+	@[ -x $(BIN)/python ] || { $(PY) -m venv $(VENV) && $(BIN)/python -m pip install -q --upgrade pip; }
 	$(BIN)/python -m pip install -q ".[test]"
 	@touch $(STAMP)
 
@@ -53,7 +56,7 @@ ctest: toolchain
 	ctest --test-dir build/ctest --output-on-failure -j $(JOBS)
 
 # -n: pytest-xdist, the units of work of tests/conftest.py
-pytest: $(STAMP) $(DOCS_STAMP) toolchain
+pytest: $(DOCS_STAMP) toolchain
 	$(BIN)/python -m pytest -q -n $(JOBS)
 
 test: ctest pytest
@@ -79,9 +82,10 @@ dev: $(STAMP)
 # The documentation site (Sphinx: docs/, the API reference from the
 # docstrings, the parameter reference from the dataclass metadata, the
 # gallery of examples/) into build/docs; its tools are the extra `docs`.
-$(DOCS_STAMP): $(STAMP)
-	$(BIN)/python -m pip install -q ".[docs]"
-	@touch $(DOCS_STAMP)
+$(DOCS_STAMP): $(SOURCES)
+	@[ -x $(BIN)/python ] || { $(PY) -m venv $(VENV) && $(BIN)/python -m pip install -q --upgrade pip; }
+	$(BIN)/python -m pip install -q ".[test,docs]"
+	@touch $(STAMP) $(DOCS_STAMP)
 
 # built from a copy (build/docs-src): the generated API stubs and gallery
 # stay out of docs/; a warning fails the build (-W), after all of them are
