@@ -81,6 +81,7 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
         items.sort(key=lambda it: _rank(it.nodeid))
 
 
+@pytest.hookimpl(optionalhook=True)  # a hook of xdist: pytest without xdist runs too
 def pytest_xdist_make_scheduler(config: pytest.Config, log):
     """`-n N` (xdist's default --dist load): the units above, in collection
     order. Another --dist given explicitly is left to xdist."""
