@@ -9,19 +9,24 @@ VENV := .venv
 BIN := $(VENV)/bin
 OUT ?= results
 STAMP := $(VENV)/.installed
-# the docs extra (Sphinx): `make test` installs it too, the documentation build is a test
+# the package with the extras test and docs (Sphinx): what `make test` installs,
+# the documentation build is a test
 DOCS_STAMP := $(VENV)/.docs-installed
 SOURCES := $(shell find core sim src -type f \( -name '*.c' -o -name '*.h' -o -name '*.py' -o -name '*.toml' \)) \
            CMakeLists.txt pyproject.toml
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+# parallel jobs of the C build, ctest and pytest (pytest-xdist workers)
+JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 
 .PHONY: all install reproduce test ctest pytest toolchain bench clean dev
 
 all: test
 
+# pip is upgraded when the venv is made; each install builds the C library
+# (scikit-build-core), so `make test` installs the package once, with both
+# extras ($(DOCS_STAMP) below), not once for each
 $(STAMP): $(SOURCES)
-	@[ -x $(BIN)/python ] || $(PY) -m venv $(VENV)
-	$(BIN)/python -m pip install -q --upgrade pip
+	@[ -x $(BIN)/python ] || { $(PY) -m venv $(VENV) && $(BIN)/python -m pip install -q --upgrade pip; }
 	$(BIN)/python -m pip install -q ".[test]"
 	@touch $(STAMP)
 
@@ -41,13 +46,18 @@ toolchain:
 	    gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm clang libclang-rt-dev cppcheck \
 	    valgrind >/dev/null; }
 
+# The simulator's objects are not built here (SMD_BUILD_SIM=OFF): no C test
+# links them (the fuzz targets compile the plant themselves), and the package
+# install builds them with the same warnings as errors.
 ctest: toolchain
-	cmake -S . -B build/ctest -DSMD_BUILD_TESTS=ON -DSMD_BUILD_PYLIB=OFF -DCMAKE_BUILD_TYPE=Release >/dev/null
-	cmake --build build/ctest -j 2
-	ctest --test-dir build/ctest --output-on-failure
+	cmake -S . -B build/ctest -DSMD_BUILD_TESTS=ON -DSMD_BUILD_PYLIB=OFF -DSMD_BUILD_SIM=OFF \
+	  -DCMAKE_BUILD_TYPE=Release >/dev/null
+	cmake --build build/ctest -j $(JOBS)
+	ctest --test-dir build/ctest --output-on-failure -j $(JOBS)
 
-pytest: $(STAMP) $(DOCS_STAMP) toolchain
-	$(BIN)/python -m pytest -q
+# -n: pytest-xdist, the units of work of tests/conftest.py
+pytest: $(DOCS_STAMP) toolchain
+	$(BIN)/python -m pytest -q -n $(JOBS)
 
 test: ctest pytest
 
@@ -56,8 +66,9 @@ test: ctest pytest
 FUZZ_SECONDS ?= 600
 .PHONY: fuzz
 fuzz: toolchain
-	cmake -S . -B build/ctest -DSMD_BUILD_TESTS=ON -DSMD_BUILD_PYLIB=OFF -DCMAKE_BUILD_TYPE=Release >/dev/null
-	cmake --build build/ctest -j 2
+	cmake -S . -B build/ctest -DSMD_BUILD_TESTS=ON -DSMD_BUILD_PYLIB=OFF -DSMD_BUILD_SIM=OFF \
+	  -DCMAKE_BUILD_TYPE=Release >/dev/null
+	cmake --build build/ctest -j $(JOBS)
 	sh fuzz/run_long.sh $(FUZZ_SECONDS)
 
 # Development: the C library built into src/smodrive, so that
@@ -71,9 +82,10 @@ dev: $(STAMP)
 # The documentation site (Sphinx: docs/, the API reference from the
 # docstrings, the parameter reference from the dataclass metadata, the
 # gallery of examples/) into build/docs; its tools are the extra `docs`.
-$(DOCS_STAMP): $(STAMP)
-	$(BIN)/python -m pip install -q ".[docs]"
-	@touch $(DOCS_STAMP)
+$(DOCS_STAMP): $(SOURCES)
+	@[ -x $(BIN)/python ] || { $(PY) -m venv $(VENV) && $(BIN)/python -m pip install -q --upgrade pip; }
+	$(BIN)/python -m pip install -q ".[test,docs]"
+	@touch $(STAMP) $(DOCS_STAMP)
 
 # built from a copy (build/docs-src): the generated API stubs and gallery
 # stay out of docs/; a warning fails the build (-W), after all of them are
