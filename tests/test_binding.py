@@ -31,6 +31,9 @@ from smodrive.engine import CHANNEL_INFO, CHANNELS, marshal
 from smodrive.scenarios import catalogue
 
 ROOT = Path(__file__).resolve().parents[1]
+# the folder of the smodrive this process imported (installed, or src/ with PYTHONPATH):
+# the generators' subprocesses import the same one
+PKG_PATH = str(Path(F.__file__).resolve().parents[2])
 real = F.real
 
 
@@ -227,7 +230,7 @@ def test_every_generator_check_passes_on_the_committed_files():
     for tool in ("gen_layout.py", "gen_parameters.py"):
         res = subprocess.run([sys.executable, str(ROOT / "tools" / tool), "--check"],
                              capture_output=True, text=True, cwd=ROOT,
-                             env={**os.environ, "PYTHONPATH": str(ROOT / "src")})
+                             env={**os.environ, "PYTHONPATH": PKG_PATH})
         assert res.returncode == 0, (tool, res.stdout, res.stderr)
     assert GEN.stale() == []
 
@@ -423,7 +426,7 @@ def test_fuzz_seeds_are_current():
     smd_drive_config's fuzz format needs the seeds written again)."""
     res = subprocess.run([sys.executable, str(ROOT / "fuzz" / "make_seeds.py"), "--check"],
                          capture_output=True, text=True, cwd=ROOT,
-                         env={**os.environ, "PYTHONPATH": str(ROOT / "src")})
+                         env={**os.environ, "PYTHONPATH": PKG_PATH})
     assert res.returncode == 0, res.stderr
 
 
