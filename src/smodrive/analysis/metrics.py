@@ -66,8 +66,12 @@ class Metric:
     name: str
     unit: str
     doc: str
-    fn: Callable[..., float]  # fn(r: Result, mask: np.ndarray) -> float
+    fn: Callable[..., float]  # fn(r: Result, window: slice or boolean mask) -> float
     needs_full_log: bool = False
+    #: the value means what it says for a run that ends in a fault (the
+    #: fault and lock metrics); the others reduce signals the fault cut
+    #: short or replaced by the safe state (a sweep records them as NaN)
+    after_fault: bool = False
 
 
 def _pos_err_deg(r, m) -> np.ndarray:
@@ -126,21 +130,31 @@ METRICS: dict[str, Metric] = {m.name: m for m in (
     Metric("speed_est_error_rms", "r/min", "RMS of estimated - true speed over the window",
            lambda r, m: rms(r.n_hat_rpm[m] - r.n_rpm[m])),
     Metric("holds_lock", "", f"1 if the peak position error over the window is below "
-           f"{LOCK_DEG:g} deg and the run does not end in a fault, else 0", _holds_lock),
+           f"{LOCK_DEG:g} deg and the run does not end in a fault, else 0", _holds_lock,
+           after_fault=True),
     Metric("time_to_lock", "s", f"first time from which |position error| stays below "
            f"{LOCK_DEG:g} deg to the end of the run (NaN: never)", _time_to_lock,
-           needs_full_log=True),
+           needs_full_log=True, after_fault=True),
     Metric("fault", "", "1 if the run ends in a (latched) fault, else 0",
-           lambda r, m: float(r.faults.final != 0)),
+           lambda r, m: float(r.faults.final != 0), after_fault=True),
     Metric("fault_time", "s", "time of the first fault the controller reported (NaN: none)",
-           lambda r, m: math.nan if r.faults.t_first is None else float(r.faults.t_first)),
+           lambda r, m: math.nan if r.faults.t_first is None else float(r.faults.t_first),
+           after_fault=True),
 )}
+
+
+def window_slice(r, t0: float, t1: float) -> slice:
+    """The rows of `r` with t0 <= t < t1 as a slice (the log's times
+    increase: the same rows as the mask ``r.window(t0, t1)``, without
+    copying them)."""
+    t = r.t
+    return slice(int(np.searchsorted(t, t0, "left")), int(np.searchsorted(t, t1, "left")))
 
 
 def metric_values(r, names, t0: float, t1: float) -> dict[str, float]:
     """The registry's metrics `names` of run `r` over [t0, t1) (NaN where a
     metric has no samples to reduce)."""
-    m = r.window(t0, t1)
+    m = window_slice(r, t0, t1)
     out = {}
     for n in names:
         try:
@@ -148,3 +162,117 @@ def metric_values(r, names, t0: float, t1: float) -> dict[str, float]:
         except ValueError:  # a reduction of an empty window
             out[n] = math.nan
     return out
+
+
+# --------------------------------------------------- the operating point ---
+#
+# Whether a run held the operating point its metrics describe, over the
+# metrics' window (docs/sweeps.md argues the numbers): a metric of a drive
+# that lost its speed, runs into its current or voltage limit or lost its
+# angle describes that failure, not the controller at its operating point.
+
+#: the speed band: the window's mean |w_M - w_M_ref| within this fraction
+#: of the mean |w_M_ref| ...
+SPEED_BAND = 0.01
+#: ... and at least within this fraction of the motor's rated speed (a
+#: reference at or near zero)
+SPEED_FLOOR = 0.001
+#: a reference within this fraction of its limit is on the limit
+LIMIT_TOL = 1e-3
+#: the largest share of the window's samples a run may spend with a
+#: reference on its limit and still hold
+HOLD_SHARE = 0.2
+#: |electrical position error| from which the current vector's torque has
+#: lost its sign: a run that reaches it anywhere in the window has not held
+ANGLE_HOLD_DEG = 90.0
+#: why a run did not hold, in the order the maps report them
+NOT_HELD = ("fault", "angle", "speed", "current_limit", "voltage_limit")
+
+
+@dataclass(frozen=True)
+class OperatingPoint:
+    """What :func:`operating_point` found over a window."""
+
+    held: bool
+    reasons: tuple[str, ...]  # of NOT_HELD, in that order; () if held (no_samples: none)
+    speed_offset_rpm: float  # mean w_M - w_M_ref over the window, r/min (NaN: no speed loop)
+    speed_band_rpm: float  # the band it is judged against, r/min
+    i_limit_share: float  # share of samples with a current reference on i_max
+    u_limit_share: float  # share of samples with the voltage command on the modulator's limit
+    angle_peak_deg: float  # peak |electrical position error|
+
+    def as_row(self) -> dict:
+        return {"held": self.held, "not_held": ",".join(self.reasons),
+                "speed_offset_rpm": self.speed_offset_rpm, "i_limit_share": self.i_limit_share,
+                "u_limit_share": self.u_limit_share}
+
+
+def _limit_share(x: np.ndarray, y: np.ndarray, lim: float) -> float:
+    """The share of samples with |x| or |y| at or beyond `lim` (the window's
+    extremes first: most windows are nowhere near the limit)."""
+    n = x.size
+    if not n:
+        return math.nan
+    if max(x.max(), -x.min(), y.max(), -y.min()) < lim:
+        return 0.0
+    return float(np.count_nonzero((np.abs(x) >= lim) | (np.abs(y) >= lim))) / n
+
+
+def _voltage_share(ua: np.ndarray, ub: np.ndarray, u_dc: float, hexagon: bool) -> float:
+    """The share of samples with the voltage command on the modulator's
+    limit (within LIMIT_TOL): the hexagon, whose largest line-to-line
+    voltage is u_dc, or its inscribed circle |u| = u_dc / sqrt 3. Only the
+    samples outside the inscribed circle can be on the hexagon."""
+    n = ua.size
+    if not n:
+        return math.nan
+    r2 = ua * ua + ub * ub
+    circle = ((1.0 - LIMIT_TOL) * u_dc) ** 2 / 3.0
+    near = r2 >= circle
+    if not hexagon:
+        return float(np.count_nonzero(near)) / n
+    k = np.flatnonzero(near)
+    if not k.size:
+        return 0.0
+    a, b = ua[k], ub[k]
+    h = 0.5 * math.sqrt(3.0) * b
+    # the largest of |u_ab|, |u_bc|, |u_ca| (ab_to_abc: a, -a/2 + h, -a/2 - h)
+    span = np.maximum(np.maximum(np.abs(1.5 * a - h), np.abs(2.0 * h)), np.abs(1.5 * a + h))
+    return float(np.count_nonzero(span >= (1.0 - LIMIT_TOL) * u_dc)) / n
+
+
+def operating_point(r, t0: float, t1: float) -> OperatingPoint:
+    """Whether run `r` held its operating point over [t0, t1): it does not
+    end in a fault; with a speed loop, its mean true speed is within the
+    band of the mean reference (SPEED_BAND of it, at least SPEED_FLOOR of
+    the rated speed); its current references (|i_d_ref|, |i_q_ref| against
+    controller.i_max) and its voltage command (u_cmd against the
+    modulator's limit, the hexagon or the circle of inverter.u_dc) are each
+    on their limit in at most HOLD_SHARE of the samples; and its position
+    error stays below ANGLE_HOLD_DEG."""
+    s = r.scenario
+    k = s.controller
+    m = window_slice(r, t0, t1)
+    if m.stop <= m.start:  # nothing to judge
+        return OperatingPoint(False, ("no_samples",), math.nan, math.nan, math.nan, math.nan,
+                              math.nan)
+    rpm = 2.0 * math.pi / 60.0
+    if k.speed_loop:
+        w_ref = float(np.mean(r["w_M_ref"][m]))
+        offset = (float(np.mean(r["w_M"][m])) - w_ref) / rpm
+        band = max(SPEED_BAND * abs(w_ref), SPEED_FLOOR * s.motor.w_M_N) / rpm
+    else:
+        offset, band = math.nan, math.nan
+    i_share = _limit_share(r["i_d_ref"][m], r["i_q_ref"][m], (1.0 - LIMIT_TOL) * k.i_max)
+    u_share = _voltage_share(r["u_cmd_alpha"][m], r["u_cmd_beta"][m], s.inverter.u_dc,
+                             s.inverter.svm_limit == "hexagon")
+    d = r["theta_r"][m] - r["theta_hat"][m]
+    d -= (2 * np.pi) * np.rint(d / (2 * np.pi))  # wrapped to [-pi, pi] (a peak: either end)
+    peak = float(np.degrees(max(d.max(), -d.min())))
+    bad = {"fault": r.faults.final != 0,
+           "angle": not peak < ANGLE_HOLD_DEG,
+           "speed": abs(offset) > band,
+           "current_limit": i_share > HOLD_SHARE,
+           "voltage_limit": u_share > HOLD_SHARE}
+    reasons = tuple(n for n in NOT_HELD if bad[n])
+    return OperatingPoint(not reasons, reasons, offset, band, i_share, u_share, peak)
