@@ -18,10 +18,11 @@ from ..model import ParameterError, Scenario
 
 #: columns every row has beside its axes and metrics
 STANDARD_COLUMNS = ("run_id", "index", "seed", "status", "error", "first_fault", "fault_t",
-                    "final_fault", "wall_s", "steps", "smodrive_version")
+                    "final_fault", "wall_s", "steps", "smodrive_version", "held", "not_held",
+                    "speed_offset_rpm", "i_limit_share", "u_limit_share")
 AXIS_KEYS = {"name", "label", "key", "relative_to", "values", "range", "n", "spacing", "draw",
              "low", "high", "mean", "std", "scale"}
-SEED_KEYS = {"key", "n", "first", "values"}
+SEED_KEYS = {"key", "n", "first", "values", "where"}
 
 
 @dataclass(frozen=True)

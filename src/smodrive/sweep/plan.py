@@ -20,6 +20,10 @@ from ..model import ParameterError
 from .axes import apply_changes, axis_changes, dotted, merge
 from .spec import SweepSpec, check_run_count
 
+#: the format of a results row: part of every run id, so that rows of an
+#: older format (before 2: without the operating point) are run again
+ROW_FORMAT = 2
+
 
 @dataclass(frozen=True)
 class Run:
@@ -32,7 +36,8 @@ class Run:
 def _run_id(spec: SweepSpec, changes: dict) -> str:
     h = hashlib.sha256(json.dumps(
         {"base": spec.base_toml, "window": spec.window, "metrics": spec.metrics,
-         "changes": changes}, sort_keys=True, default=repr).encode()).hexdigest()
+         "changes": changes, "rows": ROW_FORMAT}, sort_keys=True,
+        default=repr).encode()).hexdigest()
     return h[:20]
 
 
@@ -72,12 +77,15 @@ def expand(spec: SweepSpec) -> list[Run]:
         combos = [dict(zip(spec.axis_names, c))
                   for c in itertools.product(*[a.values for a in spec.axes])]
     runs = []
-    seeds = spec.seeds or (None,)
+    base_seed = spec.base_seed if spec.seeds_where else None
     for point in combos:
         ch: dict = {}
         for a in spec.axes:
             ch = merge(ch, axis_changes(a, point[a.name], spec.base))
-        for sd in seeds:
+        if spec.seeds and not spec.seeded(point):  # outside [seeds].where: the base's seed
+            runs.append(Run(len(runs), _run_id(spec, ch), {**point, "seed": base_seed}, ch))
+            continue
+        for sd in spec.seeds or (None,):
             changes = ch if sd is None else merge(ch, dotted(spec.seed_key, sd))
             pt = dict(point) if sd is None else {**point, "seed": sd}
             runs.append(Run(len(runs), _run_id(spec, changes), pt, changes))

@@ -11,7 +11,7 @@ import hashlib
 import logging
 import os
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Iterable
 
@@ -100,6 +100,9 @@ class SweepReport:
     workers: int
     batches: int
     busy_seconds: float = 0.0  # sum of the runs' wall times in the workers
+    not_held: int = 0  # rows with status "ok" that did not hold their operating point
+    #: rows with status "fault" by the fault they ended in (its first name)
+    fault_kinds: dict[str, int] = field(default_factory=dict)
 
 
 class _Lock:
@@ -211,6 +214,11 @@ def run_sweep(spec: SweepSpec, out: str | Path, scheduler: str | None = None,
                 rep.busy_seconds += sum(r["wall_s"] for r in rows)
                 rep.errors += sum(r["status"] == "error" for r in rows)
                 rep.faults += sum(r["status"] == "fault" for r in rows)
+                rep.not_held += sum(r["status"] == "ok" and not r["held"] for r in rows)
+                for r in rows:
+                    if r["status"] == "fault":
+                        kind = r["final_fault"].split(",")[0] or "fault"
+                        rep.fault_kinds[kind] = rep.fault_kinds.get(kind, 0) + 1
                 done += len(rows)
                 if progress:
                     progress("running", done, len(runs))

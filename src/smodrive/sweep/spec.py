@@ -16,7 +16,7 @@ from ..model import ParameterError, Scenario
 from ..scenario_io import load_scenario, scenario_from_dict, scenario_to_toml
 from ..scenarios import catalogue
 from .axes import Axis, apply_changes, need, number, parse_axis, parse_seeds, unknown
-from .plotspec import check_plots
+from .plotspec import check_plots, same
 
 #: the built-in sweeps (``smodrive sweep --list``), one TOML file each
 BUILTIN_DIR = Path(__file__).resolve().parent / "builtin"
@@ -45,10 +45,28 @@ class SweepSpec:
     plots: list[dict]
     batch_seconds: float | None
     raw: dict = field(default_factory=dict)  # the normalised spec (sweep.json)
+    #: [seeds].where: the seeds are run only at the points whose axes take
+    #: these values (axis name -> values); elsewhere the base's own seed
+    #: (empty: the seeds everywhere)
+    seeds_where: dict[str, tuple] = field(default_factory=dict)
 
     @property
     def full_log(self) -> bool:
         return any(METRICS[m].needs_full_log for m in self.metrics)
+
+    def seeded(self, point: dict) -> bool:
+        """The seeds are run at `point` (every point without [seeds].where)."""
+        return bool(self.seeds) and all(any(same(point[k], v) for v in vals)
+                                        for k, vals in self.seeds_where.items())
+
+    @property
+    def base_seed(self) -> Any:
+        """The seed the base scenario has at [seeds].key (the seed of the
+        points outside [seeds].where)."""
+        obj: Any = self.base
+        for part in (self.seed_key or "adc.seed").split("."):
+            obj = getattr(obj, part)
+        return obj
 
     @property
     def axis_names(self) -> list[str]:
@@ -91,7 +109,11 @@ def run_count(spec: SweepSpec) -> tuple[int, str]:
     else:
         sizes = [(a.name, len(a.values)) for a in spec.axes]
         n = math.prod(k for _, k in sizes)
-    if spec.seeds:
+    if spec.seeds and spec.seeds_where:
+        inside = math.prod(len(spec.seeds_where.get(a.name, a.values)) for a in spec.axes)
+        sizes.append((f"{len(spec.seeds)} seeds at {inside} points", None))
+        n += inside * (len(spec.seeds) - 1)
+    elif spec.seeds:
         sizes.append((f"{len(spec.seeds)} seeds", None))
         n *= len(spec.seeds)
     text = " x ".join(name if k is None else f"{name} {k}" for name, k in sizes) or "one run"
@@ -176,9 +198,36 @@ def parse_sweep(data: dict, name: str = "sweep", ctx_dir: Path | None = None) ->
     spec = SweepSpec(name, title, base, base_toml, tuple(metrics),
                      (float(w[0]), float(min(w[1], dur))), sample, samples, seed, axes,
                      seed_key, seeds, plots, bs, raw)
+    spec.seeds_where = _seeds_where(data.get("seeds"), spec)
     check_run_count(spec)  # before anything the size of the run list is made
     check_plots(spec)
     return spec
+
+
+def _seeds_where(d: Any, spec: SweepSpec) -> dict[str, tuple]:
+    """[seeds].where checked: axis name -> the values (of that axis) where
+    the seeds are run."""
+    w = d.get("where") if isinstance(d, dict) else None
+    if w is None:
+        return {}
+    if not isinstance(w, dict) or not w:
+        raise ParameterError("seeds.where must be a table axis = value or [values] (the "
+                             "points where the seeds are run)")
+    if spec.sample != "product":
+        raise ParameterError("seeds.where needs a grid (sample = 'product')")
+    out = {}
+    for k, v in w.items():
+        if k not in spec.axis_names:
+            raise ParameterError(f"seeds.where.{k}: not an axis (axes: "
+                                 f"{', '.join(spec.axis_names)})")
+        vals = v if isinstance(v, list) else [v]
+        ax = spec.axis(k)
+        for x in vals:
+            if not any(same(x, a) for a in ax.values):
+                raise ParameterError(f"seeds.where.{k} = {x!r} is not one of the axis's values "
+                                     f"{list(ax.values)}")
+        out[k] = tuple(vals)
+    return out
 
 
 def load_sweep(path: str | Path) -> SweepSpec:

@@ -24,7 +24,9 @@ from .spec import SweepSpec, parse_sweep
 
 def schema(spec: SweepSpec):
     """The columns of a row of `spec` (a pyarrow Schema): run id and index,
-    the axes (and the seed), the metrics, the standard columns."""
+    the axes (and the seed), the metrics, the standard columns (status,
+    fault, wall time, ..., and the operating point: held, not_held and the
+    shares of the window it was judged by)."""
     import pyarrow as pa  # optional: see above
 
     cols = [("run_id", pa.string()), ("index", pa.int64())]
@@ -37,7 +39,9 @@ def schema(spec: SweepSpec):
     cols += [(m, pa.float64()) for m in spec.metrics]
     cols += [("status", pa.string()), ("error", pa.string()), ("first_fault", pa.string()),
              ("fault_t", pa.float64()), ("final_fault", pa.string()), ("wall_s", pa.float64()),
-             ("steps", pa.int64()), ("smodrive_version", pa.string())]
+             ("steps", pa.int64()), ("smodrive_version", pa.string()), ("held", pa.bool_()),
+             ("not_held", pa.string()), ("speed_offset_rpm", pa.float64()),
+             ("i_limit_share", pa.float64()), ("u_limit_share", pa.float64())]
     return pa.schema(cols)
 
 

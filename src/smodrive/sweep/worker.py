@@ -1,6 +1,7 @@
 """What a Dask worker runs: a batch of runs, each in this process on the C
 engine directly (the samples before the metrics' window unlogged), reduced
-to one row of the results (point, metrics, status, fault, wall time)."""
+to one row of the results (point, metrics, whether the run held its
+operating point over the window and why not, status, fault, wall time)."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from ..analysis.metrics import metric_values
+from ..analysis.metrics import METRICS, metric_values, operating_point
 from ..engine import CHANNELS, Engine, Result, fault_names
 from ..model import Scenario
 from .axes import apply_changes
@@ -60,7 +61,8 @@ def run_one(job: Job, run: Run) -> dict[str, Any]:
     row: dict[str, Any] = {"run_id": run.id, "index": run.index, **run.point}
     row.update(dict.fromkeys(job.metrics, math.nan))
     row.update(status="error", error="", first_fault="", fault_t=math.nan, final_fault="",
-               steps=0, smodrive_version=job.version)
+               steps=0, smodrive_version=job.version, held=False, not_held="error",
+               speed_offset_rpm=math.nan, i_limit_share=math.nan, u_limit_share=math.nan)
     try:
         s = apply_changes(job.base, run.changes)
         eng = Engine(s)  # checks the controller
@@ -80,7 +82,11 @@ def run_one(job: Job, run: Run) -> dict[str, Any]:
         status = int(np.max(data[:, CHANNELS.index("status")])) if got else 0
         r = Result(s, data, status, f, log_stride=1, samples=n)
         with np.errstate(all="ignore"):
-            row.update(metric_values(r, job.metrics, *job.window))
+            vals = metric_values(r, job.metrics, *job.window)
+            row.update(operating_point(r, *job.window).as_row())
+        if f.final:  # the window's signals are cut short by the fault: no values
+            vals = {k: v if METRICS[k].after_fault else math.nan for k, v in vals.items()}
+        row.update(vals)
         row.update(status="fault" if f.final else "ok", steps=n,
                    first_fault=",".join(fault_names(f.first)),
                    fault_t=math.nan if f.t_first is None else f.t_first,
