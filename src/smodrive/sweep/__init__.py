@@ -40,12 +40,15 @@ The modules, each importing only those above it:
 - :mod:`smodrive.sweep.worker`: a run in a Dask worker, reduced to one row;
 - :mod:`smodrive.sweep.store`: OUT, its Parquet parts and ``sweep.json``, read back;
 - :mod:`smodrive.sweep.run`: batches on Dask (or in this process), :func:`run_sweep`;
+- :mod:`smodrive.sweep.cells`: what each cell of a map shows (a value where the runs held
+  their operating point; else why not, or the fault's kind);
 - :mod:`smodrive.sweep.maps`: the maps of the results (:func:`plot_all`).
 """
 
 from .axes import STANDARD_COLUMNS, Axis, apply_changes
-from .maps import envelope_values, lowest_holding, plot_all
-from .plan import Run, check_runs, expand
+from .cells import Cells, cells
+from .maps import envelope_values, figure, lowest_holding, panel_norm, plot_all
+from .plan import ROW_FORMAT, Run, check_runs, expand
 from .plotspec import OVERLAYS, PLOT_KINDS, check_plots
 from .run import SweepReport, estimate_seconds, make_batches, run_local, run_sweep, start_client
 from .spec import (
@@ -68,4 +71,5 @@ __all__ = ["Axis", "Run", "SweepSpec", "SweepReport", "Job", "STANDARD_COLUMNS",
            "check_runs", "check_plots", "estimate_seconds", "make_batches", "start_client",
            "run_sweep", "run_local", "run_one", "run_batch", "version", "prepare_out",
            "load_out_spec", "done_ids", "read_parts", "load_results", "write_part", "plot_all",
-           "lowest_holding", "envelope_values"]
+           "lowest_holding", "envelope_values", "Cells", "cells", "figure", "panel_norm",
+           "ROW_FORMAT"]

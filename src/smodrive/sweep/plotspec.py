@@ -14,9 +14,10 @@ from ..analysis.tf import dbpc_steady_state
 from ..model import ParameterError
 
 PLOT_KEYS = {"kind", "file", "title", "metric", "x", "y", "facet", "hue", "fixed", "rows",
-             "reduce", "band", "log", "overlay", "overlay_facet", "over", "ok", "label"}
+             "reduce", "band", "log", "overlay", "overlay_facet", "over", "ok", "label",
+             "beside", "clip", "scale_floor"}
 PLOT_KINDS = ("heatmap", "lines", "envelope")
-REDUCE = ("median", "mean", "max", "min")
+REDUCE = ("median", "mean", "max", "min", "worst")
 
 
 def rows_of(p: dict) -> list[dict]:
@@ -148,6 +149,24 @@ def check_plots(spec) -> None:
                     and 0 <= band[0] < band[1] <= 100):
                 raise ParameterError(f"{c}.band = {band!r} must be two percentiles [lo, hi] "
                                      "with 0 <= lo < hi <= 100")
+            beside = r.get("beside", [])
+            if not (isinstance(beside, list) and all(b in spec.metrics for b in beside)):
+                raise ParameterError(f"{c}.beside = {beside!r} must be a list of metrics of the "
+                                     f"sweep (sweep.metrics: {', '.join(spec.metrics)})")
+            if beside and kind != "heatmap":
+                raise ParameterError(f"{c}.beside: for a heatmap only")
+            clip = r.get("clip")
+            if clip is not None and not (isinstance(clip, (int, float)) and not
+                                         isinstance(clip, bool) and 50 <= clip < 100):
+                raise ParameterError(f"{c}.clip = {clip!r} must be a percentile in [50, 100) "
+                                     "(the colour scale's end; what lies beyond is shown by "
+                                     "the colour bar's arrows)")
+            fl = r.get("scale_floor", 0.0)
+            if not (isinstance(fl, (int, float)) and not isinstance(fl, bool) and fl >= 0
+                    and math.isfinite(fl)):
+                raise ParameterError(f"{c}.scale_floor = {fl!r} must be a number >= 0 (the "
+                                     "least span of a linear colour scale, in the metric's "
+                                     "unit)")
             ov = r.get("overlay")
             if ov is not None and ov not in OVERLAYS:
                 raise ParameterError(f"{c}.overlay = {ov!r} is not one of "
