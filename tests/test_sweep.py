@@ -18,7 +18,7 @@ from click.testing import CliRunner
 
 from smodrive import scenario_io
 from smodrive import sweep as sw
-from smodrive.analysis.metrics import metric_values
+from smodrive.analysis.metrics import metric_values, operating_point
 from smodrive.analysis.tf import dbpc_steady_state
 from smodrive.cli import main
 from smodrive.model import ParameterError
@@ -191,9 +191,10 @@ def test_changes_are_applied_as_a_scenario_file_reads_them():
 
 def test_worker_row_is_simulate_with_the_registry(tmp_path):
     """The worker runs the samples before the window unlogged, in one call:
-    its metrics are bit-identical to the registry's on a full simulate() log.
-    And the map of conventional DBPC meets eq. (12) at L_hat = 0.5 L within
-    the tolerance of the claim yang2018.fig5a (0.1 |prediction| + 0.05 A)."""
+    its metrics and its operating point are bit-identical to the registry's
+    on a full simulate() log. And the map of conventional DBPC meets eq. (12)
+    at L_hat = 0.5 L within the tolerance of the claim yang2018.fig5a (0.1
+    |prediction| + 0.05 A)."""
     spec = sw.load_sweep(small(tmp_path, duration=0.6, seeds=1))
     spec.window = (0.3, 0.6)
     runs = sw.expand(spec)
@@ -204,6 +205,10 @@ def test_worker_row_is_simulate_with_the_registry(tmp_path):
     ref = metric_values(r, spec.metrics, 0.3, 0.6)
     for m in spec.metrics:
         assert row[m] == ref[m] or (math.isnan(row[m]) and math.isnan(ref[m])), m
+    op = operating_point(r, 0.3, 0.6)
+    assert op.held and row["held"] is True and row["not_held"] == ""
+    for k in ("speed_offset_rpm", "i_limit_share", "u_limit_share"):
+        assert row[k] == getattr(op, k), k
     s = spec.base
     w = s.w_M0
     i_q = (s.load.T_brake(0.0) + s.motor.B * w) / s.motor.k_t
