@@ -11,25 +11,16 @@ from __future__ import annotations
 import dataclasses
 import math
 
-import matplotlib
+import matplotlib.colors as mcolors
+import numpy as np
+import pytest
 
-matplotlib.use("Agg")
-import matplotlib.colors as mcolors  # noqa: E402
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import pytest  # noqa: E402
-
-from smodrive import sweep as sw  # noqa: E402
-from smodrive.analysis.metrics import (  # noqa: E402
-    HOLD_SHARE,
-    METRICS,
-    metric_values,
-    operating_point,
-)
-from smodrive.engine import CHANNELS, FaultReport, Result, simulate  # noqa: E402
-from smodrive.model import RPM, ParameterError, Profile, Scenario  # noqa: E402
-from smodrive.scenarios.yang2018_setup import dbpc_fixed_point  # noqa: E402
-from smodrive.sweep.plotspec import OVERLAYS  # noqa: E402
+from smodrive import sweep as sw
+from smodrive.analysis.metrics import HOLD_SHARE, METRICS, metric_values, operating_point
+from smodrive.engine import CHANNELS, FaultReport, Result, simulate
+from smodrive.model import RPM, ParameterError, Profile, Scenario
+from smodrive.scenarios.yang2018_setup import dbpc_fixed_point
+from smodrive.sweep.plotspec import OVERLAYS
 
 
 def _pick(runs, **point):
@@ -64,7 +55,7 @@ def test_operating_point_on_constructed_logs():
     w = 1500 * RPM
     s = Scenario()
     i_max, u_dc = s.controller.i_max, s.inverter.u_dc
-    ok = dict(w_M=w, w_M_ref=w)
+    ok = {"w_M": w, "w_M_ref": w}
     op = operating_point(_log(**ok), 0.0, 1.0)
     assert op.held and op.reasons == () and op.i_limit_share == 0 == op.u_limit_share
     # the mean speed 0.9 % low holds, 1.1 % low does not
@@ -298,6 +289,11 @@ def _synthetic(spec) -> dict:
 
 
 def test_heatmap_scales_states_and_labels(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")  # files only (plot_all chooses it too)
+    import matplotlib.pyplot as plt
+
     p = tmp_path / "grid.toml"
     p.write_text(GRID)
     spec = sw.load_sweep(p)
