@@ -2,6 +2,9 @@
 
 #include "smodrive/smd_transforms.h"
 
+/* loss of lock: an implausible sample counts this many plausible ones (check_lock) */
+#define SMD_LOCK_UP 4
+
 /* the supervision's functions out of line (GCC, Clang): it runs every
  * sample but is not the control law's hot path, and inlined it made the
  * step's code too large for the host engine's loop (the logged simulation
@@ -1166,8 +1169,18 @@ static void check_lock(const smd_drive_params *p, smd_drive_state *s)
     if (w >= p->w_lock_min && e_exp > SMD_R(0.0)) {
         bad = bad || e > p->lock_ratio * e_exp || e * p->lock_ratio < e_exp;
     }
-    s->lock_count = bad ? s->lock_count + 1 : 0;
-    if (s->lock_count >= p->lock_samples) {
+    /* a leaky count in quarter samples: an implausible sample adds 4, a
+     * plausible one takes 1 away, so lock_samples implausible samples in a
+     * row trip as before, and so does a source implausible more than a fifth
+     * of the time for longer (an observer whose angle slips round and round,
+     * plausible between the slips: issue 21) */
+    if (bad) {
+        s->lock_count = (s->lock_count < SMD_LOCK_UP * p->lock_samples)
+                            ? s->lock_count + SMD_LOCK_UP : s->lock_count;
+    } else if (s->lock_count > 0) {
+        s->lock_count -= 1;
+    }
+    if (s->lock_count >= SMD_LOCK_UP * p->lock_samples) {
         s->fault |= (uint32_t)SMD_FAULT_LOST_LOCK;
     }
 }

@@ -57,11 +57,14 @@
  *     SMD_FAULT_UNDERVOLTAGE u_dc below u_dc_min
  *     SMD_FAULT_OVERVOLTAGE  u_dc above u_dc_max
  *     SMD_FAULT_LOST_LOCK    a sensorless source is implausible for
- *                            lock_samples samples in a row: its EMF estimate
- *                            against |w_hat| psi_r_hat outside [1/lock_ratio,
- *                            lock_ratio] above w_lock_min, or its speed at
- *                            the limit it can estimate (w_max of smdo_emf,
- *                            the end of the LCL observers' table)
+ *                            lock_samples samples in a row, or more than a
+ *                            fifth of the time for longer (a leaky count: an
+ *                            implausible sample counts four plausible ones):
+ *                            its EMF estimate against |w_hat| psi_r_hat
+ *                            outside [1/lock_ratio, lock_ratio] above
+ *                            w_lock_min, or its speed at the limit it can
+ *                            estimate (w_max of smdo_emf, the end of the LCL
+ *                            observers' table)
  *     SMD_FAULT_SPEED_TRACKING  the speed the drive uses stays farther than
  *                            w_track from its (slew-limited) reference while
  *                            the speed PI is at its current limit, for
@@ -366,7 +369,7 @@ typedef struct smd_drive_state {
     smd_real w_k;         /* speed used at the last step, rad/s */
     smd_real theta_f, w_f; /* forced angle and speed (I/f) */
     uint32_t fault;       /* latched fault bits */
-    int lock_count;       /* consecutive implausible samples of the source */
+    int lock_count;       /* the source's implausible samples, leaky, in quarters */
     int dir_f;            /* forced mode: 0 the start's ramp; +-1 following the reference
                              (a return to I/f), the sign of its current */
     int start_dir;        /* the start's ramp: +-1 the reference's sign at its first
