@@ -102,6 +102,27 @@ def test_a_faulted_run_has_no_values():
     assert row["holds_lock"] == 0.0 and row["fault"] == 1.0
 
 
+def test_yang2018_envelope_at_rated_load_without_noise():
+    """The envelope's point at rated load without ADC noise (every seed the
+    same): 100 r/min, as the sweep's rows give it and as the runs at 75 and
+    100 r/min read from their own logs (peak error against 10 deg, no fault,
+    the speed kept)."""
+    spec = sw.load_sweep("yang2018_envelope")
+    runs = _pick(sw.expand(spec), noise=0.0, load=1.0, seed=0)
+    assert len(runs) == 12
+    rows = sw.run_local(spec, runs)
+    env = sw.envelope_values(spec, _cols(rows), spec.plots[0], {"noise": 0.0, "load": 1.0})
+    assert list(env) == [100.0]
+    for speed, holds in ((75.0, False), (100.0, True)):
+        res = simulate(sw.apply_changes(spec.base, _pick(runs, speed=speed)[0].changes))
+        win = res.window(*spec.window)
+        peak = float(np.degrees(np.max(np.abs(res.theta_error[win]))))
+        ok = peak < 10.0 and res.faults.final == 0
+        assert ok == holds, (speed, peak, res.faults)
+        if holds:
+            assert abs(np.mean(res.n_rpm[win]) - speed) < 0.01 * speed
+
+
 # ------------------------------------------------------- yang2018_current ---
 
 def test_yang2018_current_against_the_exact_fixed_point():
