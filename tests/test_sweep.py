@@ -408,3 +408,19 @@ def test_lock_metrics_on_a_constructed_log():
     vals = metric_values(faulted, ["holds_lock", "fault", "fault_time"], 0.6, 1.0)
     assert vals == {"holds_lock": 0.0, "fault": 1.0, "fault_time": 0.25}
     assert METRICS["time_to_lock"].needs_full_log
+
+
+def test_cli_summary_counts_faults_by_kind_and_runs_not_held(tmp_path):
+    """`smodrive sweep` says how many runs did not hold their operating point
+    and which faults ended the others (issue 21): the numbers it prints are
+    those of the rows it wrote."""
+    spec_file = small(tmp_path, plots=False)
+    res = CliRunner().invoke(main, ["sweep", str(spec_file), "--out", str(tmp_path / "o"),
+                                    "--workers", "1"])
+    assert res.exit_code == 0, res.output
+    rows = sw.load_results(sw.load_sweep(spec_file), tmp_path / "o")
+    ok = rows["status"] == "ok"
+    n_not_held = int(np.sum(ok & ~rows["held"].astype(bool)))
+    assert f"{n_not_held} did not hold their operating point" in " ".join(res.output.split())
+    assert f"{int(np.sum(rows['status'] == 'fault'))} end in a fault" in \
+        " ".join(res.output.split())

@@ -606,7 +606,10 @@ def sweep(sweep_file: str | None, out: Path | None, scheduler: str | None,
     rate = f"; {rep.computed / rep.seconds:.1f} runs/s, {rep.steps / rep.seconds / 1e6:.2f} M " \
            f"steps/s on {rep.workers} workers" if rep.computed and rep.seconds > 0 else ""
     _say(f"{rep.total} runs: {rep.done_before} already in {out}, {rep.computed} computed in "
-         f"{rep.seconds:.1f} s{rate}; {rep.faults} end in a fault, {rep.errors} could not run")
+         f"{rep.seconds:.1f} s{rate}; {rep.faults} end in a fault"
+         + (f" ({', '.join(f'{n} {k}' for k, n in sorted(rep.fault_kinds.items()))})"
+            if rep.fault_kinds else "")
+         + f", {rep.not_held} did not hold their operating point, {rep.errors} could not run")
     if rep.failed_batches:
         _fail(f"{len(rep.failed_batches)} batches were lost with their workers "
               f"({rep.failed_batches[0]}); run the same command again for the missing runs", 1)
