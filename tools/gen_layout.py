@@ -577,8 +577,38 @@ def render_codes(s: Schema) -> str:
             "DRIVE_FIELDS: dict[int, tuple[str, ...]] = {"]
     for it, fields in status:
         out += _code_row(it, fields)
-    out += ["}"]
+    out += ["}", "", "# the drive's composition and the LCL observer's reaching law (smd_drive.h,",
+            "# smd_lcl_smo.h): the scenario's names (the entries' names without their prefix,",
+            "# lower case) -> the codes"]
+    for var, enum, prefix in COMPOSITION:
+        e = s.enums[enum]
+        out.append(f"{var}: dict[str, int] = {{"
+                   + ", ".join(f"{it.name[len(prefix):].lower()!r}: {it.value}"
+                               for it in e.entries) + "}")
+    out += ["", "#: the bits of the controller's fault word (SMD_FAULT_*, smd_drive.h) by name"]
+    bits = _fault_bits(s)
+    out += ["FAULT_BITS: dict[str, int] = {"]
+    out += _wrap([f"{name!r}: {1 << shift}" for name, shift in bits], "    ") + ["}"]
     return "\n".join(out) + "\n"
+
+
+#: (Python name, C enum, entry prefix) of the composition codes in _codes.py
+COMPOSITION = (("CURRENT", "smd_current_ctrl", "SMD_CC_"),
+               ("POSITION", "smd_pos_source", "SMD_POS_"),
+               ("START", "smd_start_mode", "SMD_START_"),
+               ("LAWS", "smd_lcl_smo_law", "SMD_LCL_SMO_"))
+#: a fault whose Python name is not its C name in lower case
+FAULT_NAMES = {"START": "start_failed"}
+
+
+def _fault_bits(s: Schema) -> list[tuple[str, int]]:
+    """(name, bit) of every SMD_FAULT_X = 1u << n of smd_drive.h, in order."""
+    text = (ROOT / "core/include/smodrive/smd_drive.h").read_text()
+    bits = [(FAULT_NAMES.get(m.group(1), m.group(1).lower()), int(m.group(2)))
+            for m in re.finditer(r"\bSMD_FAULT_(\w+) = 1u << (\d+)", text)]
+    if not bits:
+        raise SchemaError("smd_drive.h: no SMD_FAULT_X = 1u << n entries")
+    return bits
 
 
 # ------------------------------------------------------------ C tables --

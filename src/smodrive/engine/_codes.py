@@ -226,3 +226,18 @@ DRIVE_FIELDS: dict[int, tuple[str, ...]] = {
         'controller.w_M_lock_min', 'controller.w_M_if_enter', 'inverter.u_dc',
     ),
 }
+
+# the drive's composition and the LCL observer's reaching law (smd_drive.h,
+# smd_lcl_smo.h): the scenario's names (the entries' names without their prefix,
+# lower case) -> the codes
+CURRENT: dict[str, int] = {'pi': 0, 'dbpc': 1, 'robust_dbpc': 2}
+POSITION: dict[str, int] = {'encoder': 0, 'smdo_emf': 1, 'lcl_smo_pll': 2, 'lcl_linear': 3}
+START: dict[str, int] = {'running': 0, 'handover': 1, 'if': 2}
+LAWS: dict[str, int] = {'proposed': 0, 'tde17': 1, 'tde18': 2}
+
+#: the bits of the controller's fault word (SMD_FAULT_*, smd_drive.h) by name
+FAULT_BITS: dict[str, int] = {
+    'input': 1, 'internal': 2, 'overcurrent': 4, 'undervoltage': 8, 'overvoltage': 16,
+    'lost_lock': 32, 'speed_tracking': 64, 'forced': 128, 'chatter': 256, 'oscillation': 512,
+    'start_failed': 1024, 'restart': 2048, 'angle_jump': 4096,
+}

@@ -6,10 +6,8 @@ from __future__ import annotations
 
 from . import _codes
 
-CURRENT = {"pi": 0, "dbpc": 1, "robust_dbpc": 2}
-POSITION = {"encoder": 0, "smdo_emf": 1, "lcl_smo_pll": 2, "lcl_linear": 3}
-START = {"running": 0, "handover": 1, "if": 2}
-LAWS = {"proposed": 0, "tde17": 1, "tde18": 2}
+#: the composition codes by the scenario's names (generated from the C enums)
+CURRENT, POSITION, START, LAWS = _codes.CURRENT, _codes.POSITION, _codes.START, _codes.LAWS
 PHASES = {0: "forced (I/f)", 1: "encoder (handover)", 2: "position source"}
 
 #: every logged channel, in row order (enum smd_log_channel, smd_engine.h)
@@ -19,11 +17,8 @@ CHANNEL_INFO: dict[str, tuple[str, str]] = {
     name: (unit, meaning) for name, unit, meaning in _codes.LOG_CHANNELS}
 
 
-#: bits of the controller's fault word (core/include/smodrive/smd_drive.h)
-FAULT_BITS = {"input": 1, "internal": 2, "overcurrent": 4, "undervoltage": 8,
-              "overvoltage": 16, "lost_lock": 32, "speed_tracking": 64, "forced": 128,
-              "chatter": 256, "oscillation": 512, "start_failed": 1024, "restart": 2048,
-              "angle_jump": 4096}
+#: bits of the controller's fault word (generated from core/include/smodrive/smd_drive.h)
+FAULT_BITS = _codes.FAULT_BITS
 #: the latched ones: the drive stays in its safe state until cleared
 LATCHED_FAULTS = ("overcurrent", "undervoltage", "overvoltage", "lost_lock", "speed_tracking",
                   "forced", "chatter", "start_failed")
