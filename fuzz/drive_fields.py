@@ -4,7 +4,8 @@
 The fields of a drive configuration in the order fz_drive_config
 (fuzz/fz_drive_config.h) reads them: (field, kind, args) with kind "int"
 (lo, hi), "real" (lo, hi), "call" (the hand-written decoder of the field),
-"flag" (a flag byte: odd, this field and the ones after it follow)."""
+"struct" (a config read field by field: STRUCT_FIELDS[args[0]]), "flag"
+(a flag byte: odd, this field and the ones after it follow)."""
 
 DRIVE_FIELDS = (
     ('current', 'int', (0, 2)),
@@ -36,7 +37,8 @@ DRIVE_FIELDS = (
     ('k_theta', 'real', (0.0, 2.0)),
     ('k_omega', 'real', (0.0, 1000.0)),
     ('k_a', 'real', (0.0, 10000.0)),
-    ('smo', 'call', ('fz_lcl_observers',)),
+    ('smo', 'struct', ('smd_lcl_smo_config',)),
+    ('lin', 'call', ('fz_lcl_tables',)),
     ('handover', 'int', (0, 2000)),
     ('i_start', 'real', (0.0, 100.0)),
     ('a_start', 'real', (0.0, 1000000.0)),
@@ -66,3 +68,14 @@ DRIVE_FIELDS = (
     ('restart_max', 'int', (0, 5)),
     ('restart_window', 'int', (0, 20000)),
 )
+
+STRUCT_FIELDS = {
+    'smd_lcl_smo_config': (
+        ('law', 'int', (0, 2)),
+        ('Q1', 'real', (-1.0, 1.0)),
+        ('Q2', 'real', (-1.0, 1.0)),
+        ('bw_rel2', 'real', (0.0, 2.0)),
+        ('bw_rel3', 'real', (0.0, 2.0)),
+        ('w_bp_min', 'real', (0.0, 5000.0)),
+    ),
+}

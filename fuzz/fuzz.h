@@ -219,29 +219,30 @@ static inline int fz_lcl_source(int position)
 #define FZ_FAULT_API 0
 #endif
 
-/* The LCL observers of a drive configuration (smd_drive_config.smo and .lin,
- * the call its @fuzz annotation names): the law and gains, then for an LCL
- * source one grid for both tables and the tables; *t is zeroed by the caller. */
-static inline void fz_lcl_observers(fz *f, smd_drive_config *c, fz_tables *t)
+/* The grid and tables of both LCL observers: one grid (n models from w_min
+ * by dw) for both; *t is zeroed by the caller. */
+static inline void fz_lcl_grid(fz *f, smd_lcl_smo_config *smo, smd_linobs_config *lin,
+                               fz_tables *t)
 {
-    int n;
-    c->smo.T_sp = (fz_u8(f) & 1) ? fz_r(f, 1e-6, 1e-3) : c->T_sp;
-    c->smo.law = fz_int(f, 0, 2);
-    c->smo.Q1 = fz_r(f, -1.0, 1.0);
-    c->smo.Q2 = fz_r(f, -1.0, 1.0);
-    c->smo.bw_rel2 = fz_r(f, 0.0, 2.0);
-    c->smo.bw_rel3 = fz_r(f, 0.0, 2.0);
-    c->smo.w_bp_min = fz_r(f, 0.0, 5000.0);
+    int n = fz_int(f, 0, 6);
+    smo->w_min = lin->w_min = fz_r(f, -2e4, 2e4);
+    smo->dw = lin->dw = fz_r(f, 0.0, 2e4);
+    fz_tables_read(f, t, n);
+    smo->n = lin->n = t->n;
+    smo->table = t->smo;
+    lin->table = t->lin;
+}
+
+/* The observer tables of a drive configuration (smd_drive_config.lin, the
+ * call its @fuzz annotation names): for an LCL source the grid and tables,
+ * then a byte that makes both tables NULL (0xFF), which init must refuse. */
+static inline void fz_lcl_tables(fz *f, smd_drive_config *c, fz_tables *t)
+{
     if (fz_lcl_source(c->position)) {
-        n = fz_int(f, 0, 6);
-        c->smo.w_min = c->lin.w_min = fz_r(f, -2e4, 2e4);
-        c->smo.dw = c->lin.dw = fz_r(f, 0.0, 2e4);
-        fz_tables_read(f, t, n);
-        c->smo.n = c->lin.n = t->n;
-        /* a NULL table must be refused */
-        if (!(fz_u8(f) == 0xFF)) {
-            c->smo.table = t->smo;
-            c->lin.table = t->lin;
+        fz_lcl_grid(f, &c->smo, &c->lin, t);
+        if (fz_u8(f) == 0xFF) {
+            c->smo.table = 0;
+            c->lin.table = 0;
         }
     }
 }

@@ -91,29 +91,20 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     smd_linobs_state sl;
     fz_tables tab;
     rotation r;
+    smd_real T_sp;
     int n, have_smo, have_lin, steps = 0, finite_table;
     const size_t nsmo = sizeof(smd_lcl_model) / sizeof(smd_real);
 
     memset(&cs, 0, sizeof cs);
     memset(&cl, 0, sizeof cl);
-    cs.T_sp = fz_r(&f, 1e-6, 1e-3);
-    cs.law = fz_int(&f, 0, 2);
-    cs.Q1 = fz_r(&f, -1.0, 1.0);
-    cs.Q2 = fz_r(&f, -1.0, 1.0);
-    cs.bw_rel2 = fz_r(&f, 0.0, 2.0);
-    cs.bw_rel3 = fz_r(&f, 0.0, 2.0);
-    cs.w_bp_min = fz_r(&f, 0.0, 5000.0);
-    n = fz_int(&f, 0, 6);
-    cs.w_min = cl.w_min = fz_r(&f, -2e4, 2e4);
-    cs.dw = cl.dw = fz_r(&f, 0.0, 2e4);
-    fz_tables_read(&f, &tab, n);
+    memset(&tab, 0, sizeof tab);
+    T_sp = fz_r(&f, 1e-6, 1e-3);
+    fz_smd_lcl_smo_config(&f, &cs);
+    fz_lcl_grid(&f, &cs, &cl, &tab);
     n = tab.n;
-    cs.n = cl.n = n;
-    cs.table = tab.smo;
-    cl.table = tab.lin;
-    FZ_CHECK(smd_lcl_smo_init(&ps, 0) == SMD_ERR_NULL);
+    FZ_CHECK(smd_lcl_smo_init(&ps, T_sp, 0) == SMD_ERR_NULL);
     FZ_CHECK(smd_linobs_init(&pl, 0) == SMD_ERR_NULL);
-    have_smo = smd_lcl_smo_init(&ps, &cs) == SMD_OK;
+    have_smo = smd_lcl_smo_init(&ps, T_sp, &cs) == SMD_OK;
     have_lin = smd_linobs_init(&pl, &cl) == SMD_OK;
     FZ_TRACEF("lcl_obs: n %d: smo %d lin %d\n", n, have_smo, have_lin);
     if (!have_smo && !have_lin) {

@@ -30,7 +30,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from drive_fields import DRIVE_FIELDS  # generated from smd_drive_config (tools/gen_layout.py)
+from drive_fields import DRIVE_FIELDS, STRUCT_FIELDS  # generated from the headers (tools/gen_layout.py)
 
 ROOT = Path(__file__).resolve().parent
 CORPUS = ROOT / "corpus"
@@ -98,42 +98,56 @@ def write(target: str, name: str, data: bytes) -> None:
 
 # ------------------------------------------------------ drive (fuzz.h) --
 
-def put_lcl_observers(w: W, cfg: dict, tables) -> None:
-    """smd_drive_config.smo and .lin as fz_lcl_observers (fuzz.h) reads them:
-    smo.T_sp = T_sp, law and gains, and for an LCL source the tables."""
-    w.u8(0)  # smo.T_sp = T_sp
-    w.int(int(cfg.get("smo_law", 0)), 0, 2)
-    for name in ("smo_Q1", "smo_Q2", "smo_bw_rel2", "smo_bw_rel3", "smo_w_bp_min"):
-        w.f32(float(cfg.get(name, 0.0)))
+def put_fields(w: W, fields, values: dict) -> None:
+    """The int and real fields of a field list (DRIVE_FIELDS' kinds), a value
+    values lacks 0 (off)."""
+    for name, kind, args in fields:
+        if kind == "int":
+            w.int(int(values.get(name, 0)), *args)
+        elif kind == "real":
+            w.f32(float(values.get(name, 0.0)))
+        else:
+            raise ValueError(f"put_fields: {name} is {kind}")
+
+
+def put_lcl_grid(w: W, tables) -> None:
+    """fz_lcl_grid (fuzz.h): one grid and the rows of both observer tables
+    (models (n, 113), lin (n, 56), w_min, dw)."""
+    m, lin, w_min, dw = tables
+    w.int(m.shape[0], 0, 6)
+    w.f32(w_min).f32(dw)
+    for k in range(m.shape[0]):
+        for x in m[k]:
+            w.f32(float(x))
+        for x in lin[k]:
+            w.f32(float(x))
+
+
+def put_lcl_tables(w: W, cfg: dict, tables) -> None:
+    """smd_drive_config.lin as fz_lcl_tables (fuzz.h) reads it: for an LCL
+    source the grid and tables, then 0 (0xFF: NULL tables)."""
     if cfg["position"] in (2, 3):
-        m, lin, w_min, dw = tables
-        w.int(m.shape[0], 0, 6)
-        w.f32(w_min).f32(dw)
-        for k in range(m.shape[0]):
-            for x in m[k]:
-                w.f32(float(x))
-            for x in lin[k]:
-                w.f32(float(x))
-        w.u8(0)  # the tables are given (0xFF: NULL)
+        put_lcl_grid(w, tables)
+        w.u8(0)
 
 
 def put_drive(w: W, cfg: dict, tables=None, protection: bool = False) -> None:
     """The drive configuration in the order of fz_drive_config (DRIVE_FIELDS,
     generated from the header with it). cfg: the fields of smd_drive_config
-    by name, smo_* those of its sliding-mode config (a field cfg lacks is 0:
-    off); tables: (models (n, 113), lin (n, 56), w_min, dw). protection: the
-    flagged fields (protection and supervision) follow; else they are 0."""
+    by name, a nested config (smo) as a dict of its fields (a field cfg lacks
+    is 0: off); tables: (models (n, 113), lin (n, 56), w_min, dw). protection:
+    the flagged fields (protection and supervision) follow; else they are 0."""
     for name, kind, args in DRIVE_FIELDS:
         if kind == "flag":
             w.u8(1 if protection else 0)
             if not protection:
                 return
-        if kind == "int":
-            w.int(int(cfg.get(name, 0)), *args)
-        elif kind == "real":
-            w.f32(float(cfg.get(name, 0.0)))
+        if kind in ("int", "real"):
+            put_fields(w, [(name, kind, args)], cfg)
+        elif kind == "struct":
+            put_fields(w, STRUCT_FIELDS[args[0]], cfg.get(name, {}))
         elif kind == "call":
-            {"fz_lcl_observers": put_lcl_observers}[args[0]](w, cfg, tables)
+            {"fz_lcl_tables": put_lcl_tables}[args[0]](w, cfg, tables)
 
 
 # the yang2018 Table I drive of core/test/drive_fixture.h
@@ -276,8 +290,7 @@ def scenario_drive(s, sim):
     tables = sim.lcl_observer_tables(s) if s.lcl is not None else None
     c = sim.drive_config(s, tables)
     cfg = {name: getattr(c, name) for name, kind, _ in DRIVE_FIELDS if kind in ("int", "real")}
-    for name in ("law", "Q1", "Q2", "bw_rel2", "bw_rel3", "w_bp_min"):
-        cfg["smo_" + name] = getattr(c.smo, name)
+    cfg["smo"] = {name: getattr(c.smo, name) for name, _, _ in STRUCT_FIELDS["smd_lcl_smo_config"]}
     if tables is not None:
         tables = table_slice(tables, s.w_M0 * s.motor.n_p)
     return cfg, tables
@@ -389,15 +402,10 @@ def lcl_seeds(cat, sim) -> None:
             tables = table_slice(sim.lcl_observer_tables(s), 0.0)
         m, lin, w_min, dw = tables
         w = W()
-        w.f32(s.T_sp).int(cfg["smo_law"] if law is None else law, 0, 2)
-        for k in ("Q1", "Q2", "bw_rel2", "bw_rel3", "w_bp_min"):
-            w.f32(cfg["smo_" + k])
-        w.int(m.shape[0], 0, 6).f32(w_min).f32(dw)
-        for k in range(m.shape[0]):
-            for x in m[k]:
-                w.f32(float(x))
-            for x in lin[k]:
-                w.f32(float(x))
+        w.f32(s.T_sp)
+        put_fields(w, STRUCT_FIELDS["smd_lcl_smo_config"],
+                   cfg["smo"] if law is None else {**cfg["smo"], "law": law})
+        put_lcl_grid(w, (m, lin, w_min, dw))
         w.f32(0.0)  # reset angle
         # rotation at w_e: EMF-sized voltage, i_1 a little above i_2
         psi = s.controller.psi_r_hat

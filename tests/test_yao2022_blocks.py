@@ -90,7 +90,7 @@ def _guarded(cls):
 def smo_config(law: int, table: np.ndarray, w0: float, dw: float, Q=Q_DIAG,
                w_bp_min: float = W_BP_MIN, **change) -> SmoConfig:
     """An observer config (the table is referenced, not copied)."""
-    kw = dict(T_sp=T, law=law, table=table.ctypes.data, n=table.shape[0], w_min=w0, dw=dw,
+    kw = dict(law=law, table=table.ctypes.data, n=table.shape[0], w_min=w0, dw=dw,
               Q1=Q[0], Q2=Q[1], bw_rel2=BW_REL[0], bw_rel3=BW_REL[1], w_bp_min=w_bp_min)
     kw.update(change)
     return SmoConfig(**kw)
@@ -105,7 +105,7 @@ def test_mirror_sizes_match_c():
     cfg = smo_config(TDE17, tab, w0, dw, Q=(0.5, 0.5), w_bp_min=1.0)
     lcfg = LinConfig(table=lin.ctypes.data, n=lin.shape[0], w_min=w0, dw=dw)
     for cls, call in (
-        (SmoParams, lambda p: smo_init(p, ct.byref(cfg))),
+        (SmoParams, lambda p: smo_init(p, T, ct.byref(cfg))),
         (SmoState, lambda s: smo_reset(s, 0.3)),
         (LinParams, lambda p: lin_init(p, ct.byref(lcfg))),
         (LinState, lambda s: lin_reset(s)),
@@ -169,7 +169,7 @@ def make_params(law: int, table: np.ndarray | None = None, w_bp_min: float = W_B
     p = SmoParams()
     p._keep = tab  # keep the table alive with the params
     cfg = smo_config(law, tab, w0, dw, Q=Q, w_bp_min=w_bp_min)
-    assert smo_init(ct.byref(p), ct.byref(cfg)) == SMD_OK
+    assert smo_init(ct.byref(p), T, ct.byref(cfg)) == SMD_OK
     return p
 
 
@@ -862,7 +862,7 @@ def test_linobs_converges_with_designed_poles(n_rpm):
 
 # --------------------------------------------------- 6. argument checks --
 
-GOOD = dict(T_sp=T, law=PROPOSED, n=None, w_min=None, dw=None, Q1=0.5, Q2=0.5, bw_rel2=0.2,
+GOOD = dict(law=PROPOSED, n=None, w_min=None, dw=None, Q1=0.5, Q2=0.5, bw_rel2=0.2,
             bw_rel3=0.2, w_bp_min=W_BP_MIN)
 NAN = float("nan")
 
@@ -891,19 +891,21 @@ def test_smo_init_rejects_bad_arguments(change, code):
     copied into the params field by field."""
     tab, _, w0, dw = tables()
     a = dict(GOOD, n=tab.shape[0], w_min=w0, dw=dw)
-    a.update({k: v for k, v in change.items() if k not in ("p", "table", "config")})
+    a.update({k: v for k, v in change.items() if k not in ("p", "table", "config", "T_sp")})
+    T_sp = change.get("T_sp", T)
     table = None if change.get("table", 1) is None else tab.ctypes.data
     cfg = SmoConfig(table=table, **{k: v for k, v in a.items()})
     obj, buf, n = _guarded(SmoParams)
     pp = None if change.get("p", 1) is None else ct.byref(obj)
     pc = None if change.get("config", 1) is None else ct.byref(cfg)
-    rc = smo_init(pp, pc)
+    rc = smo_init(pp, T_sp, pc)
     assert rc == code
     if code != SMD_OK:
         assert bytes(buf) == bytes([GUARD]) * len(buf), "params written on failure"
     else:
         assert obj.law == a["law"] and obj.n == a["n"] and obj.Q1 == np.float32(a["Q1"])
-        assert [getattr(obj, f) for f, _ in SmoParams._fields_] == \
+        assert obj.T_sp == np.float32(T_sp)
+        assert [getattr(obj, f) for f, _ in SmoParams._fields_ if f != "T_sp"] == \
             [getattr(cfg, f) for f, _ in SmoConfig._fields_]
 
 

@@ -84,11 +84,8 @@ static smd_status source_init(smd_drive_params *p, const smd_drive_config *c)
         break;
     case SMD_POS_LCL_SMO_PLL:
         st = smd_pll_init(&p->pll, c->T_sp, c->k_theta, c->k_omega, c->k_a);
-        if (st == SMD_OK && !(c->smo.T_sp == c->T_sp)) {
-            st = SMD_ERR_TS;
-        }
         if (st == SMD_OK) {
-            st = smd_lcl_smo_init(&p->smo, &c->smo);
+            st = smd_lcl_smo_init(&p->smo, c->T_sp, &c->smo);
         }
         break;
     case SMD_POS_LCL_LINEAR:

@@ -2,12 +2,12 @@
 
 #include "smodrive/smd_transforms.h"
 
-smd_status smd_lcl_smo_init(smd_lcl_smo_params *p, const smd_lcl_smo_config *c)
+smd_status smd_lcl_smo_init(smd_lcl_smo_params *p, smd_real T_sp, const smd_lcl_smo_config *c)
 {
     if (p == 0 || c == 0 || c->table == 0) {
         return SMD_ERR_NULL;
     }
-    if (!smd_in_pos_range(c->T_sp, SMD_R(1.0))) {
+    if (!smd_in_pos_range(T_sp, SMD_R(1.0))) {
         return SMD_ERR_TS;
     }
     if (c->law < SMD_LCL_SMO_PROPOSED || c->law > SMD_LCL_SMO_TDE18) {
@@ -26,7 +26,7 @@ smd_status smd_lcl_smo_init(smd_lcl_smo_params *p, const smd_lcl_smo_config *c)
         !smd_in_range(c->w_bp_min, SMD_R(0.0), SMD_R(1e7))) {
         return SMD_ERR_LIMIT;
     }
-    p->T_sp = c->T_sp;
+    p->T_sp = T_sp;
     p->law = c->law;
     p->table = c->table;
     p->n = c->n;

@@ -7,7 +7,6 @@
 
 static void smd_rd_smd_lcl_smo_config(smd_reader *r, smd_lcl_smo_config *x)
 {
-    smd_rd_reals(r, (smd_real *)&x->T_sp, sizeof x->T_sp / sizeof(smd_real));
     smd_rd_ints(r, (int *)&x->law, sizeof x->law / sizeof(int));
     /* table: a pointer, set by the caller */
     smd_rd_ints(r, (int *)&x->n, sizeof x->n / sizeof(int));

@@ -507,7 +507,6 @@ static void blk_lcl_smo(smd_writer *w, rng *g, int n, int law)
     smd_status st;
     int k;
     memset(&c, 0, sizeof c);
-    c.T_sp = SMD_R(5e-5);
     c.law = law;
     c.table = g_models;
     c.n = g_n_models;
@@ -518,7 +517,7 @@ static void blk_lcl_smo(smd_writer *w, rng *g, int n, int law)
     c.bw_rel2 = SMD_R(0.2);
     c.bw_rel3 = SMD_R(0.2);
     c.w_bp_min = SMD_R(1000.0);
-    st = smd_lcl_smo_init(&p, &c);
+    st = smd_lcl_smo_init(&p, SMD_R(5e-5), &c);
     wr_i32(w, (int)st);
     if (st != SMD_OK) return;
     smd_lcl_smo_reset(&s, SMD_R(0.0));
@@ -629,7 +628,6 @@ static void blk_table6(smd_writer *w, rng *g, int n)
     smd_real th = SMD_R(0.0);
     int k;
     memset(&c, 0, sizeof c);
-    c.T_sp = SMD_R(5e-5);
     c.law = SMD_LCL_SMO_PROPOSED;
     c.table = g_models;
     c.n = g_n_models;
@@ -640,7 +638,7 @@ static void blk_table6(smd_writer *w, rng *g, int n)
     c.bw_rel2 = SMD_R(0.2);
     c.bw_rel3 = SMD_R(0.2);
     c.w_bp_min = SMD_R(1000.0);
-    wr_i32(w, (int)smd_lcl_smo_init(&p, &c));
+    wr_i32(w, (int)smd_lcl_smo_init(&p, SMD_R(5e-5), &c));
     wr_i32(w, (int)smd_pll_init(&pp, SMD_R(5e-5), SMD_R(0.1), SMD_R(10.0), SMD_R(10.0)));
     smd_lcl_smo_reset(&s, SMD_R(0.0));
     smd_pll_reset(&ps, SMD_R(0.0), wr);

@@ -36,7 +36,6 @@ static smd_drive_config lcl_config(int position, int start, const smd_lcl_model 
     c.lcl = 1;
     c.L_dec = R(LS);
     c.R_v = R(2.0);
-    c.smo.T_sp = R(TSP);
     c.smo.law = SMD_LCL_SMO_PROPOSED;
     c.smo.table = smo_tab;
     c.smo.n = N_TAB;
@@ -226,8 +225,7 @@ static void test_values_rejected(void)
     }
 
     /* the LCL sources' tables: NULL -> SMD_ERR_NULL; fewer than 2 models or
-     * a non-positive grid step -> SMD_ERR_TABLE; the SMO's own T_sp must be
-     * the drive's; PLL gains with an unstable loop -> SMD_ERR_STABILITY */
+     * a non-positive grid step -> SMD_ERR_TABLE; PLL gains with an unstable loop -> SMD_ERR_STABILITY */
     for (k = SMD_POS_LCL_SMO_PLL; k <= SMD_POS_LCL_LINEAR; k++) {
         const int smo = k == SMD_POS_LCL_SMO_PLL;
         c0 = lcl_config(k, SMD_START_RUNNING, smo_tab, lin_tab);
@@ -252,8 +250,10 @@ static void test_values_rejected(void)
         c.k_omega = R(1e6); /* max |root| > 1 at T_sp = 1e-4 s (test_pll.c) */
         CHECK_INT(init_status(&c), SMD_ERR_STABILITY);
     }
+    /* the observer runs at the drive's period (there is no second T_sp to
+     * disagree with it): an out-of-range T_sp is refused before it */
     c = lcl_config(SMD_POS_LCL_SMO_PLL, SMD_START_RUNNING, smo_tab, lin_tab);
-    c.smo.T_sp = R(2 * TSP);
+    c.T_sp = R(2.0);
     CHECK_INT(init_status(&c), SMD_ERR_TS);
     /* the sliding-mode observer's own values (smd_lcl_smo_config): the law,
      * Q inside the unit circle (|Q| <= 0.999), band-pass widths in (0, 2];

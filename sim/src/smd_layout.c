@@ -116,7 +116,6 @@ static const smd_layout_row ROWS[] = {
     F(smd_lcl_model, Kc, "smd_real"),
     F(smd_lcl_model, Ky, "smd_real"),
     F(smd_lcl_model, k, "smd_real"),
-    F(smd_lcl_smo_config, T_sp, "smd_real"),
     F(smd_lcl_smo_config, law, "int"),
     F(smd_lcl_smo_config, table, "*"),
     F(smd_lcl_smo_config, n, "int"),

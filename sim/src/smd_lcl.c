@@ -121,9 +121,9 @@ int smd_lcl_setup(smd_plant *p)
     scale = fmax(cabs(md->lam[0]), fmax(cabs(md->lam[1]), cabs(md->lam[2])));
     for (k = 0; k < 3; k++) {
         for (j = k + 1; j < 3; j++) {
-            if (!(cabs(md->lam[k] - md->lam[j]) > 1e-7 * scale)) return 29;
+            if (!(cabs(md->lam[k] - md->lam[j]) > 1e-7 * scale)) return SMD_PF_MODES;
         }
-        if (!(creal(md->lam[k]) < 0.0) || !isfinite(cimag(md->lam[k]))) return 29;
+        if (!(creal(md->lam[k]) < 0.0) || !isfinite(cimag(md->lam[k]))) return SMD_PF_MODES;
     }
 
     for (k = 0; k < 3; k++) {
@@ -136,7 +136,7 @@ int smd_lcl_setup(smd_plant *p)
         const double complex w1 = 1.0 / (l * c->C1);
         const double complex w2 = -1.0 / (c->C1 * la);
         const double complex n = 1.0 + w1 * v1 + w2 * v2;
-        if (!(cabs(n) > 1e-9)) return 29;
+        if (!(cabs(n) > 1e-9)) return SMD_PF_MODES;
         md->v[0][k] = 1.0;
         md->v[1][k] = v1;
         md->v[2][k] = v2;

@@ -23,43 +23,47 @@ unsigned long smd_sizeof_plant_config(void) { return sizeof(smd_plant_config); }
 static int check(const smd_plant_config *c)
 {
     int k;
-    if (bad(c->R_s, 1e-6, 1e3)) return 1;
-    if (bad(c->L_s, 1e-8, 10.0)) return 2;
-    if (bad(c->psi_r, 0.0, 100.0)) return 3;
-    if (bad(c->n_p, 1.0, 100.0)) return 4;
-    if (bad(c->J, 1e-9, 1e4)) return 5;
-    if (bad(c->B, 0.0, 1e3)) return 6;
-    if (c->lcl != 0 && c->lcl != 1) return 7;
+    if (bad(c->R_s, 1e-6, 1e3)) return SMD_PF_R_S;
+    if (bad(c->L_s, 1e-8, 10.0)) return SMD_PF_L_S;
+    if (bad(c->psi_r, 0.0, 100.0)) return SMD_PF_PSI_R;
+    if (bad(c->n_p, 1.0, 100.0)) return SMD_PF_N_P;
+    if (bad(c->J, 1e-9, 1e4)) return SMD_PF_J;
+    if (bad(c->B, 0.0, 1e3)) return SMD_PF_B;
+    if (c->lcl != 0 && c->lcl != 1) return SMD_PF_LCL;
     if (c->lcl) {
-        if (bad(c->L1, 1e-8, 10.0)) return 8;
-        if (bad(c->L2o, 0.0, 10.0)) return 9;
-        if (bad(c->C1, 1e-10, 1.0)) return 10;
+        if (bad(c->L1, 1e-8, 10.0)) return SMD_PF_L1;
+        if (bad(c->L2o, 0.0, 10.0)) return SMD_PF_L2O;
+        if (bad(c->C1, 1e-10, 1.0)) return SMD_PF_C1;
     }
-    if (bad(c->u_dc, 1e-9, 1e5)) return 11;
-    if (bad(c->T_sw, 1e-8, 1.0)) return 12;
-    if (c->pwm_mode != SMD_PWM_AVERAGED && c->pwm_mode != SMD_PWM_CARRIER) return 13;
-    if (bad(c->t_dead, 0.0, 0.25 * c->T_sw)) return 14;
+    if (bad(c->u_dc, 1e-9, 1e5)) return SMD_PF_U_DC;
+    if (bad(c->T_sw, 1e-8, 1.0)) return SMD_PF_T_SW;
+    if (c->pwm_mode != SMD_PWM_AVERAGED && c->pwm_mode != SMD_PWM_CARRIER) return SMD_PF_PWM_MODE;
+    if (bad(c->t_dead, 0.0, 0.25 * c->T_sw)) return SMD_PF_T_DEAD;
     for (k = 0; k < 3; k++) {
-        if (bad(c->adc_gain[k], 0.5, 2.0)) return 15;
-        if (bad(c->adc_offset[k], -1e3, 1e3)) return 16;
-        if (c->lcl && bad(c->adc_gain_i1[k], 0.5, 2.0)) return 17;
-        if (c->lcl && bad(c->adc_offset_i1[k], -1e3, 1e3)) return 18;
+        if (bad(c->adc_gain[k], 0.5, 2.0)) return SMD_PF_ADC_GAIN;
+        if (bad(c->adc_offset[k], -1e3, 1e3)) return SMD_PF_ADC_OFFSET;
+        if (c->lcl && bad(c->adc_gain_i1[k], 0.5, 2.0)) return SMD_PF_ADC_GAIN_I1;
+        if (c->lcl && bad(c->adc_offset_i1[k], -1e3, 1e3)) return SMD_PF_ADC_OFFSET_I1;
     }
-    if (bad(c->adc_noise, 0.0, 1e3)) return 19;
-    if (c->adc_bits < 0 || c->adc_bits > 24) return 20;
-    if (bad(c->adc_full_scale, 1e-6, 1e6)) return 21;
-    if (bad(c->w_brake_eps, 1e-9, 1e3)) return 22;
-    if (bad(c->k_fan, 0.0, 1e3)) return 23;
-    if (bad(c->w_M0, -1e5, 1e5)) return 24;
-    if (bad(c->theta_r0, -1e3, 1e3)) return 25;
-    if (bad(c->i_d0, -1e5, 1e5) || bad(c->i_q0, -1e5, 1e5)) return 26;
-    if (c->lcl && (bad(c->uc_d0, -1e5, 1e5) || bad(c->uc_q0, -1e5, 1e5))) return 27;
-    if (c->lcl && (bad(c->i1_d0, -1e5, 1e5) || bad(c->i1_q0, -1e5, 1e5))) return 28;
-    /* (29: smd_lcl_setup) the options added later, checked last */
-    if (c->dead_time_model != SMD_DT_SIGN && c->dead_time_model != SMD_DT_CLAMP) return 30;
-    if (c->dead_time_model == SMD_DT_CLAMP && c->lcl) return 30; /* not with the filter */
-    if (c->adc_n_oversample < 0 || c->adc_n_oversample > 64) return 31;
-    return 0;
+    if (bad(c->adc_noise, 0.0, 1e3)) return SMD_PF_ADC_NOISE;
+    if (c->adc_bits < 0 || c->adc_bits > 24) return SMD_PF_ADC_BITS;
+    if (bad(c->adc_full_scale, 1e-6, 1e6)) return SMD_PF_ADC_FULL_SCALE;
+    if (bad(c->w_brake_eps, 1e-9, 1e3)) return SMD_PF_W_BRAKE_EPS;
+    if (bad(c->k_fan, 0.0, 1e3)) return SMD_PF_K_FAN;
+    if (bad(c->w_M0, -1e5, 1e5)) return SMD_PF_W_M0;
+    if (bad(c->theta_r0, -1e3, 1e3)) return SMD_PF_THETA_R0;
+    if (bad(c->i_d0, -1e5, 1e5) || bad(c->i_q0, -1e5, 1e5)) return SMD_PF_I_DQ0;
+    if (c->lcl && (bad(c->uc_d0, -1e5, 1e5) || bad(c->uc_q0, -1e5, 1e5))) return SMD_PF_UC_DQ0;
+    if (c->lcl && (bad(c->i1_d0, -1e5, 1e5) || bad(c->i1_q0, -1e5, 1e5))) return SMD_PF_I1_DQ0;
+    /* (SMD_PF_MODES: smd_lcl_setup) the options added later, checked last */
+    if (c->dead_time_model != SMD_DT_SIGN && c->dead_time_model != SMD_DT_CLAMP) {
+        return SMD_PF_DEAD_TIME_MODEL;
+    }
+    if (c->dead_time_model == SMD_DT_CLAMP && c->lcl) {
+        return SMD_PF_DEAD_TIME_MODEL; /* not with the filter */
+    }
+    if (c->adc_n_oversample < 0 || c->adc_n_oversample > 64) return SMD_PF_ADC_N_OVERSAMPLE;
+    return SMD_PF_OK;
 }
 
 int smd_plant_init(smd_plant *p, const smd_plant_config *c)

@@ -227,8 +227,10 @@ typedef struct smd_drive_config {
     smd_real k_omega;     /* @fuzz(0, 1e3) */
     smd_real k_a;         /* @fuzz(0, 1e4) */
     /* LCL observers (lcl_smo_pll; lcl_linear) */
-    smd_lcl_smo_config smo; /* @fuzz(call fz_lcl_observers) */
-    smd_linobs_config lin;  /* @fuzz(none): fz_lcl_observers sets it */
+    smd_lcl_smo_config smo; /* @fuzz(fields): the law and gains; the grid and tables
+                               from fz_lcl_tables */
+    smd_linobs_config lin;  /* @fuzz(call fz_lcl_tables): one grid and the tables of
+                               both observers, for an LCL source */
     /* start */
     int handover;         /* SMD_START_HANDOVER: samples on the encoder, >= 0 @fuzz(0, 2000) */
     smd_real i_start;     /* SMD_START_IF: current magnitude, A @fuzz(0, 100) */

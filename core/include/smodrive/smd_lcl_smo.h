@@ -55,19 +55,22 @@ typedef enum smd_lcl_smo_law {
     SMD_LCL_SMO_TDE18 = 2     /* ref. [18]: compensation error (32), low-pass (63) */
 } smd_lcl_smo_law;
 
-/* What init needs (the table is owned by the caller and must outlive the
- * params). */
+/* What init needs besides the sampling period (the table is owned by the
+ * caller and must outlive the params). */
 typedef struct smd_lcl_smo_config {
-    smd_real T_sp;              /* sampling period, s */
-    int law;                    /* smd_lcl_smo_law */
-    const smd_lcl_model *table; /* n models at w = w_min + k dw (electrical rad/s) */
-    int n;                      /* >= 2 */
-    smd_real w_min;             /* rad/s */
-    smd_real dw;                /* rad/s, > 0 */
-    smd_real Q1, Q2;            /* diagonal of Q, eq. (33), each in [-0.999, 0.999] */
-    smd_real bw_rel2, bw_rel3;  /* -3 dB bandwidths of the 2 f_e, 3 f_e band-passes,
-                                   as fractions of f_e (Omega = bw_rel |w|), in (0, 2] */
-    smd_real w_bp_min;          /* band-pass suppression active above this |w|, rad/s */
+    int law;                    /* smd_lcl_smo_law @fuzz(0, 2) */
+    const smd_lcl_model *table; /* n models at w = w_min + k dw (electrical rad/s)
+                                   @fuzz(none) */
+    int n;                      /* >= 2 @fuzz(none) */
+    smd_real w_min;             /* rad/s @fuzz(none) */
+    smd_real dw;                /* rad/s, > 0 @fuzz(none) */
+    smd_real Q1;                /* diagonal of Q, eq. (33), in [-0.999, 0.999] @fuzz(-1, 1) */
+    smd_real Q2;                /* the same @fuzz(-1, 1) */
+    smd_real bw_rel2;           /* -3 dB bandwidth of the 2 f_e band-pass as a fraction
+                                   of f_e (Omega = bw_rel |w|), in (0, 2] @fuzz(0, 2) */
+    smd_real bw_rel3;           /* the same for the 3 f_e band-pass @fuzz(0, 2) */
+    smd_real w_bp_min;          /* band-pass suppression active above this |w|, rad/s
+                                   @fuzz(0, 5000) */
 } smd_lcl_smo_config;
 
 typedef struct smd_lcl_smo_params {
@@ -101,7 +104,8 @@ typedef struct smd_lcl_smo_state {
     int primed;
 } smd_lcl_smo_state;
 
-smd_status smd_lcl_smo_init(smd_lcl_smo_params *p, const smd_lcl_smo_config *c);
+/* T_sp: the sampling period, s, in (0, 1]. */
+smd_status smd_lcl_smo_init(smd_lcl_smo_params *p, smd_real T_sp, const smd_lcl_smo_config *c);
 void smd_lcl_smo_reset(smd_lcl_smo_state *s, smd_real theta0);
 
 /* Interpolate the model at electrical speed w (clamped to the table). */

@@ -147,9 +147,8 @@ class SmoConfig(ct.Structure):
 
     _c_name_ = "smd_lcl_smo_config"
     _fields_ = [
-        ("T_sp", real), ("law", ct.c_int), ("table", ct.c_void_p), ("n", ct.c_int), ("w_min", real),
-        ("dw", real), ("Q1", real), ("Q2", real), ("bw_rel2", real), ("bw_rel3", real),
-        ("w_bp_min", real),
+        ("law", ct.c_int), ("table", ct.c_void_p), ("n", ct.c_int), ("w_min", real), ("dw", real),
+        ("Q1", real), ("Q2", real), ("bw_rel2", real), ("bw_rel3", real), ("w_bp_min", real),
     ]
 
 

@@ -214,7 +214,7 @@ def drive_config(s: Scenario, tables=None) -> _ffi.DriveConfig:
     if tables is not None:
         m, lin, w_min, dw = tables
         smo = _every_field(_ffi.SmoConfig, dict(
-            T_sp=T, law=LAWS[k.law], table=m.ctypes.data, n=m.shape[0], w_min=w_min, dw=dw,
+            law=LAWS[k.law], table=m.ctypes.data, n=m.shape[0], w_min=w_min, dw=dw,
             Q1=k.Q[0], Q2=k.Q[1], bw_rel2=k.bw_rel[0], bw_rel3=k.bw_rel[1],
             w_bp_min=k.w_M_bp_min * n_p), "drive_config")
         lin_c = _every_field(_ffi.LinConfig, dict(
