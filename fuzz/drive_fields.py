@@ -59,6 +59,8 @@ DRIVE_FIELDS = (
     ('dwell', 'int', (0, 2000)),
     ('chatter_max', 'int', (0, 20)),
     ('chatter_window', 'int', (0, 20000)),
+    ('hunt_max', 'int', (0, 20)),
+    ('hunt_window', 'int', (0, 20000)),
     ('track_samples', 'int', (0, 20000)),
     ('w_track', 'real', (0.0, 30000.0)),
     ('forced_samples', 'int', (0, 20000)),

@@ -77,6 +77,8 @@ static inline void fz_drive_config(fz *f, smd_drive_config *c, fz_tables *t)
     c->dwell = fz_int(f, 0, 2000);
     c->chatter_max = fz_int(f, 0, 20);
     c->chatter_window = fz_int(f, 0, 20000);
+    c->hunt_max = fz_int(f, 0, 20);
+    c->hunt_window = fz_int(f, 0, 20000);
     c->track_samples = fz_int(f, 0, 20000);
     c->w_track = fz_r(f, 0.0, 30000.0);
     c->forced_samples = fz_int(f, 0, 20000);

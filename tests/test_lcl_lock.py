@@ -6,7 +6,8 @@ count started again at each plausible sample. The count is now leaky (an
 implausible sample counts four plausible ones, smd_drive.h): a source
 implausible more than a fifth of the time trips it. Three of those runs are
 rebuilt here and flagged `lost_lock` early; the same drive with the exact
-model is not."""
+model is not. Four others wobbled beyond 90 deg with a plausible EMF: the
+speed loop hunting between its current limits names them (`hunting`)."""
 
 from __future__ import annotations
 
@@ -57,12 +58,48 @@ def test_the_exact_lcl_observer_is_not_flagged(n_rpm):
     assert np.max(np.abs(np.degrees(r.theta_error[r.window(0.1, 0.3)]))) < 10.0
 
 
+def _t_fault(r, name: str) -> float:
+    """The time of the first sample whose fault word holds `name`."""
+    hit = np.flatnonzero(r["fault"].astype(np.int64) & FAULT_BITS[name])
+    return float(r.t[hit[0]]) if hit.size else float("inf")
+
+
+def _t_beyond(r, deg: float) -> float:
+    """The first time the true position error exceeds `deg`."""
+    hit = np.flatnonzero(np.abs(np.degrees(r.theta_error)) > deg)
+    return float(r.t[hit[0]]) if hit.size else float("inf")
+
+
+@pytest.mark.parametrize("C_ratio, L_ratio, n_rpm, t_max", [
+    (0.5 ** 0.5, 2.0, 20e3, 0.06), (0.5 ** 0.5, 2.0, 50e3, 0.06), (0.5 ** 0.5, 0.5, 10e3, 0.25)])
+def test_a_wobbling_lcl_observer_is_flagged_hunting(C_ratio, L_ratio, n_rpm, t_max):
+    """The four runs the leaky loss-of-lock count still left silent: the
+    angle wobbles beyond 90 deg (peaks 109-133 deg, 25-51 deg RMS) while the
+    EMF estimate stays plausible, and each time the torque reverses the
+    speed PI swings from one current limit to the other (every 3-8 ms).
+    They now end in `hunting` (more than 4 swings within t_hunt = 10 /
+    speed_bw = 0.17 s), after the angle first passed 90 deg and within
+    40 ms of it; before the fault the angle really was beyond 90 deg."""
+    r = _run(C_ratio, L_ratio, n_rpm)
+    assert fault_names(r.faults.first) == ["hunting"]
+    t_h, t_90 = _t_fault(r, "hunting"), _t_beyond(r, 90.0)
+    assert t_90 < t_h < min(t_90 + 0.04, t_max)
+
+
 def test_the_protected_reversal_still_stops_in_the_crossing():
-    """The Fig. 22 reversal with the protection on (t_lock = 20 ms) still
-    declares lost_lock in the zero crossing, where no EMF carries the angle
-    (core/test/test_supervision.c checks the count's timing sample by
-    sample: lock_samples implausible samples in a row trip it, as before)."""
-    r = simulate(y.fig22_protected_scenario())
-    assert "lost_lock" in fault_names(r.faults.final)
-    t = _t_lost(r)
+    """The Fig. 22 reversal with the protection on (t_lock = 20 ms, hunt_max
+    = 4) stops in the zero crossing, where no EMF carries the angle: the
+    angle is lost (beyond 90 deg) first, then the speed PI hunts between its
+    limits and `hunting` trips, before the loss-of-lock count would (it
+    does with hunt_max = 0: core/test/test_supervision.c checks both counts
+    sample by sample)."""
+    s = y.fig22_protected_scenario()
+    r = simulate(s)
+    assert fault_names(r.faults.first) == ["hunting"]
+    t = _t_fault(r, "hunting")
+    assert _t_beyond(r, 90.0) < t
     assert abs(np.interp(t, r.t, r.n_rpm)) < 3e3  # the rotor within the crossing band
+    r0 = simulate(s.with_controller(hunt_max=0))
+    assert fault_names(r0.faults.first) == ["lost_lock"]
+    t0 = _t_lost(r0)
+    assert t < t0 and abs(np.interp(t0, r0.t, r0.n_rpm)) < 3e3

@@ -592,6 +592,13 @@ def render_codes(s: Schema) -> str:
     bits = _fault_bits(s)
     out += ["FAULT_BITS: dict[str, int] = {"]
     out += _wrap([f"{name!r}: {1 << shift}" for name, shift in bits], "    ") + ["}"]
+    for var, macro, what in (("LATCHED", "SMD_FAULT_LATCHED",
+                              "the latched ones: the drive stays in its safe state until cleared"),
+                             ("WARNING", "SMD_FAULT_WARNINGS",
+                              "warnings: reported while their condition holds, the drive runs on")):
+        names = _fault_group(macro)
+        out += [f"#: {what} ({macro})", f"{var}_FAULTS: tuple[str, ...] = ("]
+        out += _wrap([repr(n) for n in names], "    ") + [")"]
     return "\n".join(out) + "\n"
 
 
@@ -612,6 +619,18 @@ def _fault_bits(s: Schema) -> list[tuple[str, int]]:
     if not bits:
         raise SchemaError("smd_drive.h: no SMD_FAULT_X = 1u << n entries")
     return bits
+
+
+def _fault_group(macro: str) -> list[str]:
+    """The Python names of the faults a #define of smd_drive.h ORs together."""
+    text = (ROOT / "core/include/smodrive/smd_drive.h").read_text()
+    m = re.search(r"#define\s+" + macro + r"\s+\(((?:[^()\\]|\\\n)*)\)", text)
+    if m is None:
+        raise SchemaError(f"smd_drive.h: no #define {macro} (SMD_FAULT_A | SMD_FAULT_B ...)")
+    names = re.findall(r"SMD_FAULT_(\w+)", m.group(1))
+    if not names:
+        raise SchemaError(f"smd_drive.h: {macro} names no SMD_FAULT_X")
+    return [FAULT_NAMES.get(n, n.lower()) for n in names]
 
 
 # ------------------------------------------------------------ C tables --

@@ -397,6 +397,8 @@ static smd_status check_protection(const smd_drive_config *c)
     if (!smd_in_range(c->a_ref, SMD_R(0.0), SMD_R(1e9)) || c->dwell < 0 || c->dwell > 10000000 ||
         c->chatter_max < 0 || c->chatter_max > 1000 || c->chatter_window < 0 ||
         c->chatter_window > 100000000 || (c->chatter_max > 0 && c->chatter_window < 1) ||
+        c->hunt_max < 0 || c->hunt_max > 1000 || c->hunt_window < 0 ||
+        c->hunt_window > 100000000 || (c->hunt_max > 0 && c->hunt_window < 1) ||
         c->track_samples < 0 || c->track_samples > 100000000 ||
         !smd_in_range(c->w_track, SMD_R(0.0), SMD_R(1e7)) ||
         (c->track_samples > 0 && !(c->w_track > SMD_R(0.0))) ||
@@ -512,6 +514,9 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
     p->chatter_max = c->chatter_max;
     p->chatter_decay = c->chatter_max > 0 ? (smd_real)c->chatter_max / (smd_real)c->chatter_window
                                           : SMD_R(0.0);
+    p->hunt_max = c->hunt_max;
+    p->hunt_decay = c->hunt_max > 0 ? (smd_real)c->hunt_max / (smd_real)c->hunt_window
+                                    : SMD_R(0.0);
     p->track_samples = c->track_samples;
     p->w_track = c->w_track;
     p->forced_samples = c->forced_samples;
@@ -575,6 +580,8 @@ void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real the
     s->w_ref_r = w0;
     s->phase_samples = 0;
     s->chatter = SMD_R(0.0);
+    s->hunt = SMD_R(0.0);
+    s->hunt_rail = 0;
     s->track_count = 0;
     s->forced_count = 0;
     s->start_count = 0;
@@ -1126,13 +1133,14 @@ static void recover(const smd_drive_params *p, smd_drive_state *s, smd_real thet
     smd_drive_in last_in = s->last_in;
     uint32_t fault = s->fault;
     smd_real theta_f = s->theta_f, w_f = s->w_f;
-    smd_real w_ref_r = s->w_ref_r, chatter = s->chatter;
+    smd_real w_ref_r = s->w_ref_r, chatter = s->chatter, hunt = s->hunt;
     int phase_samples = s->phase_samples, forced_count = s->forced_count;
     smd_drive_reset(p, s, theta0, w0, i_q0);
     if (isfinite(w_ref_r) && isfinite(chatter)) {
         s->w_ref_r = w_ref_r;
         s->chatter = chatter;
     }
+    s->hunt = hunt; /* a count, always finite; the last limit is forgotten */
     s->phase_samples = phase_samples;
     s->forced_count = forced_count;
     s->phase = phase;
@@ -1182,8 +1190,8 @@ static void check_lock(const smd_drive_params *p, smd_drive_state *s)
     }
 }
 
-/* Supervision after a good sample (smd_drive.h): speed tracking, the forced
- * phase's length and its EMF, start-up chatter (latched into s->fault) and
+/* Supervision after a good sample (smd_drive.h): speed tracking, hunting,
+ * the forced phase's length and its EMF, start-up chatter (latched into s->fault) and
  * current oscillation (s->warn). Every criterion reads signals a drive has:
  * its references, its estimates, its measured currents. */
 SMD_COLD static void supervise(const smd_drive_params *p, smd_drive_state *s)
@@ -1197,6 +1205,28 @@ SMD_COLD static void supervise(const smd_drive_params *p, smd_drive_state *s)
         }
     } else {
         s->track_count = 0;
+    }
+    /* hunting: a leaky count of the speed PI's swings from one current
+     * limit to the other (the forced phase has no speed PI) */
+    if (p->hunt_max > 0) {
+        if (p->speed_loop && s->phase != SMD_PHASE_FORCED) {
+            const int rail = s->i_dq_ref.im >= i_lim ? 1 : (s->i_dq_ref.im <= -i_lim ? -1 : 0);
+            if (rail != 0) {
+                if (rail == -s->hunt_rail) {
+                    s->hunt += SMD_R(1.0);
+                }
+                s->hunt_rail = rail;
+            }
+        } else {
+            s->hunt_rail = 0;
+        }
+        if (s->hunt > (smd_real)p->hunt_max) {
+            s->fault |= (uint32_t)SMD_FAULT_HUNTING;
+        }
+        s->hunt -= p->hunt_decay;
+        if (s->hunt < SMD_R(0.0)) {
+            s->hunt = SMD_R(0.0);
+        }
     }
     if (s->phase == SMD_PHASE_FORCED) {
         /* the forced phase while the reference asks for the source */
@@ -1384,6 +1414,8 @@ void smd_drive_clear_faults(smd_drive_state *s)
     s->forced_count = 0;
     s->start_count = 0;
     s->chatter = SMD_R(0.0);
+    s->hunt = SMD_R(0.0);
+    s->hunt_rail = 0;
 }
 
 smd_drive_view smd_drive_get_view(const smd_drive_params *p, const smd_drive_state *s)

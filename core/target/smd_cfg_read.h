@@ -79,6 +79,8 @@ static void smd_rd_smd_drive_config(smd_reader *r, smd_drive_config *x)
     smd_rd_ints(r, (int *)&x->dwell, sizeof x->dwell / sizeof(int));
     smd_rd_ints(r, (int *)&x->chatter_max, sizeof x->chatter_max / sizeof(int));
     smd_rd_ints(r, (int *)&x->chatter_window, sizeof x->chatter_window / sizeof(int));
+    smd_rd_ints(r, (int *)&x->hunt_max, sizeof x->hunt_max / sizeof(int));
+    smd_rd_ints(r, (int *)&x->hunt_window, sizeof x->hunt_window / sizeof(int));
     smd_rd_ints(r, (int *)&x->track_samples, sizeof x->track_samples / sizeof(int));
     smd_rd_reals(r, (smd_real *)&x->w_track, sizeof x->w_track / sizeof(smd_real));
     smd_rd_ints(r, (int *)&x->forced_samples, sizeof x->forced_samples / sizeof(int));

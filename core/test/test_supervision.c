@@ -289,6 +289,74 @@ static void test_chatter(void)
     }
 }
 
+/* Hunting: a rotor held at 300 rad/s under a speed reference that jumps
+ * between 700 and -100 rad/s (an error of +-400 rad/s: k_p_w 0.05 alone
+ * asks for 20 A, beyond i_max = 15 A) drives the speed PI from one current
+ * limit to the other at every jump. Jumps every 50 samples with hunt_max = 4
+ * in a window of 1000 samples (the leaky count loses 0.2 between two
+ * swings): SMD_FAULT_HUNTING is latched at the fifth swing (n swings leave
+ * n - 0.2 (n - 1) > 4 first for n = 5), 200 samples after the first one; every 500 samples (it
+ * loses 2 between swings) it never is in 5000 samples; with hunt_max = 0
+ * it is off. A single reversal of the reference (one swing) never trips
+ * it. */
+static void test_hunting(void)
+{
+    int pass;
+    for (pass = 0; pass < 4; pass++) {
+        smd_drive_params p;
+        smd_drive_state s;
+        smd_drive_config c = mode_config(MODE_ROBUST);
+        smd_drive_in in;
+        smd_drive_out out;
+        plant pl;
+        double complex u = 0.0;
+        const int every = pass == 1 ? 500 : 50;
+        int k, first = -1, swings = 0, rail = 0, first_swing = -1;
+        c.speed_loop = 1;
+        c.hunt_max = pass == 2 ? 0 : 4;
+        c.hunt_window = 1000;
+        CHECK_INT(smd_drive_init(&p, &c), SMD_OK);
+        pl.i = 0.0;
+        pl.th = 1.0;
+        pl.w = 300.0;
+        smd_drive_reset(&p, &s, R(pl.th), R(pl.w), R(0.0));
+        for (k = 0; k < 5000; k++) {
+            double w_ref = (k / every) % 2 == 0 ? 700.0 : -100.0;
+            if (pass == 3) w_ref = k < 2500 ? 700.0 : -100.0;
+            fill_in(&in, &pl, 0.0);
+            in.w_ref = R(w_ref);
+            (void)smd_drive_step(&p, &s, &in, &out);
+            CHECK(duties_ok(out.d_abc));
+            if (out.fault != 0u) {
+                first = k;
+                CHECK_INT((int)out.fault, (int)SMD_FAULT_HUNTING);
+                break;
+            }
+            if (s.i_dq_ref.im >= R(0.999 * 15.0) || s.i_dq_ref.im <= R(-0.999 * 15.0)) {
+                int r = s.i_dq_ref.im > R(0.0) ? 1 : -1;
+                if (r == -rail) {
+                    swings++;
+                    if (first_swing < 0) first_swing = k;
+                }
+                rail = r;
+            }
+            plant_step(&pl, u);
+            u = realised(out.d_abc);
+        }
+        printf("    pass %d (a jump every %d samples, hunt_max %d): %d swings, hunting "
+               "flagged at sample %d (first swing %d)\n", pass, every, c.hunt_max, swings, first,
+               first_swing);
+        if (pass == 0) {
+            CHECK_INT(swings, 4); /* counted before the fifth, whose sample trips it */
+            CHECK_INT(first, first_swing + 4 * every);
+            CHECK(s.fault & (uint32_t)SMD_FAULT_HUNTING); /* latched */
+        } else {
+            CHECK_INT(first, -1);
+            CHECK(swings >= (pass == 3 ? 1 : 9)); /* it did swing: the count differs */
+        }
+    }
+}
+
 /* The start duties of a warm start: the steady state of 5 A on q at 300
  * rad/s (the model's estimates are the plant's) applied during [t_0, t_1)
  * keeps the plant's current within 1 % of its initial value after that
@@ -452,6 +520,13 @@ static void test_settings(void)
     c.chatter_window = 0;
     CHECK_INT(smd_drive_init(&p, &c), SMD_ERR_PROTECTION);
     c = mode_config(MODE_ROBUST);
+    c.hunt_max = 3;
+    c.hunt_window = 0;
+    CHECK_INT(smd_drive_init(&p, &c), SMD_ERR_PROTECTION);
+    c = mode_config(MODE_ROBUST);
+    c.hunt_max = -1;
+    CHECK_INT(smd_drive_init(&p, &c), SMD_ERR_PROTECTION);
+    c = mode_config(MODE_ROBUST);
     c.osc_samples = 10;
     c.osc_i = R(0.0);
     CHECK_INT(smd_drive_init(&p, &c), SMD_ERR_PROTECTION);
@@ -471,6 +546,7 @@ int main(void)
     RUN_TEST(test_forced_timeout);
     RUN_TEST(test_locked_rotor_start);
     RUN_TEST(test_chatter);
+    RUN_TEST(test_hunting);
     RUN_TEST(test_start_duties);
     RUN_TEST(test_injected_angle_error);
     RUN_TEST(test_restart);

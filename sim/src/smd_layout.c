@@ -219,6 +219,8 @@ static const smd_layout_row ROWS[] = {
     F(smd_drive_config, dwell, "int"),
     F(smd_drive_config, chatter_max, "int"),
     F(smd_drive_config, chatter_window, "int"),
+    F(smd_drive_config, hunt_max, "int"),
+    F(smd_drive_config, hunt_window, "int"),
     F(smd_drive_config, track_samples, "int"),
     F(smd_drive_config, w_track, "smd_real"),
     F(smd_drive_config, forced_samples, "int"),

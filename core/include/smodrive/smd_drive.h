@@ -79,6 +79,17 @@
  *                            chatter_max times within about chatter_window
  *                            samples (a leaky count: +1 a switch, -chatter_max
  *                            / chatter_window a sample)
+ *     SMD_FAULT_HUNTING      the speed PI's output (the q current reference)
+ *                            swings from one limit to the other more than
+ *                            hunt_max times within about hunt_window
+ *                            samples (a leaky count: +1 a reversal, reaching
+ *                            +i_max after -i_max or the other way round;
+ *                            -hunt_max / hunt_window a sample): a speed
+ *                            loop in a rail-to-rail limit cycle, the torque
+ *                            reversing at full current, which a well-damped
+ *                            loop does once per reference change; a
+ *                            sensorless angle that wobbles beyond 90 deg
+ *                            drives it there (issue 21)
  *     SMD_FAULT_START        start-up failed (a locked or pulled-out rotor):
  *                            in the forced phase above w_if_enter (else
  *                            w_handover / 2) the source's EMF estimate
@@ -258,6 +269,9 @@ typedef struct smd_drive_config {
                              @fuzz(0, 2000) */
     int chatter_max;      /* SMD_FAULT_CHATTER: more switches than this ... @fuzz(0, 20) */
     int chatter_window;   /* ... within (about) this many samples @fuzz(0, 20000) */
+    int hunt_max;         /* SMD_FAULT_HUNTING: more limit-to-limit reversals of the speed
+                             PI than this ... @fuzz(0, 20) */
+    int hunt_window;      /* ... within (about) this many samples @fuzz(0, 20000) */
     int track_samples;    /* SMD_FAULT_SPEED_TRACKING after this many samples ...
                              @fuzz(0, 20000) */
     smd_real w_track;     /* ... farther than this from the reference at the current limit, rad/s
@@ -294,12 +308,13 @@ enum {
     SMD_FAULT_OSCILLATION = 1u << 9,
     SMD_FAULT_START = 1u << 10,
     SMD_FAULT_RESTART = 1u << 11,
-    SMD_FAULT_ANGLE_JUMP = 1u << 12
+    SMD_FAULT_ANGLE_JUMP = 1u << 12,
+    SMD_FAULT_HUNTING = 1u << 13
 };
 #define SMD_FAULT_LATCHED (SMD_FAULT_OVERCURRENT | SMD_FAULT_UNDERVOLTAGE | \
                            SMD_FAULT_OVERVOLTAGE | SMD_FAULT_LOST_LOCK | \
                            SMD_FAULT_SPEED_TRACKING | SMD_FAULT_FORCED | SMD_FAULT_CHATTER | \
-                           SMD_FAULT_START)
+                           SMD_FAULT_START | SMD_FAULT_HUNTING)
 /* warnings: reported while their condition holds, the drive runs on */
 #define SMD_FAULT_WARNINGS (SMD_FAULT_OSCILLATION | SMD_FAULT_RESTART | SMD_FAULT_ANGLE_JUMP)
 
@@ -318,8 +333,9 @@ typedef struct smd_drive_params {
     smd_real R_hat, L_hat; /* the steady state of a (warm) start: R_s_hat, L_dec or L_s_hat */
     smd_real a_ref, w_track, osc_i, osc_rel;
     smd_real chatter_decay; /* chatter_max / chatter_window */
+    smd_real hunt_decay;  /* hunt_max / hunt_window */
     smd_real osc_k;       /* 1 / osc_samples (0: off) */
-    int dwell, chatter_max, track_samples, forced_samples, osc_samples, restart_max;
+    int dwell, chatter_max, hunt_max, track_samples, forced_samples, osc_samples, restart_max;
     smd_real restart_decay; /* restart_max / restart_window */
     smd_dbpc_params dbpc;
     smd_smdo_params smdo;
@@ -392,6 +408,8 @@ typedef struct smd_drive_state {
     smd_real w_ref_r;     /* the slew-limited speed reference, rad/s */
     int phase_samples;    /* samples since the last start-up phase switch */
     smd_real chatter;     /* leaky count of phase switches */
+    smd_real hunt;        /* leaky count of the speed PI's limit-to-limit reversals */
+    int hunt_rail;        /* the limit the speed PI reached last: +1, -1, 0 none yet */
     int track_count;      /* consecutive samples away from the reference at the limit */
     int forced_count;     /* samples forced with |w_ref| >= w_handover */
     int start_count;      /* consecutive forced samples whose EMF disagrees with w_f */

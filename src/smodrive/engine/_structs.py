@@ -229,9 +229,10 @@ class DriveConfig(ct.Structure):
         ("u_dc_min", real), ("u_dc_max", real), ("safe_state", ct.c_int),
         ("lock_samples", ct.c_int), ("lock_ratio", real), ("w_lock_min", real),
         ("w_if_enter", real), ("a_ref", real), ("dwell", ct.c_int), ("chatter_max", ct.c_int),
-        ("chatter_window", ct.c_int), ("track_samples", ct.c_int), ("w_track", real),
-        ("forced_samples", ct.c_int), ("osc_i", real), ("osc_rel", real), ("osc_samples", ct.c_int),
-        ("restart_max", ct.c_int), ("restart_window", ct.c_int),
+        ("chatter_window", ct.c_int), ("hunt_max", ct.c_int), ("hunt_window", ct.c_int),
+        ("track_samples", ct.c_int), ("w_track", real), ("forced_samples", ct.c_int),
+        ("osc_i", real), ("osc_rel", real), ("osc_samples", ct.c_int), ("restart_max", ct.c_int),
+        ("restart_window", ct.c_int),
     ]
 
 

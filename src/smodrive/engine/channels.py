@@ -19,11 +19,10 @@ CHANNEL_INFO: dict[str, tuple[str, str]] = {
 
 #: bits of the controller's fault word (generated from core/include/smodrive/smd_drive.h)
 FAULT_BITS = _codes.FAULT_BITS
-#: the latched ones: the drive stays in its safe state until cleared
-LATCHED_FAULTS = ("overcurrent", "undervoltage", "overvoltage", "lost_lock", "speed_tracking",
-                  "forced", "chatter", "start_failed")
-#: warnings: reported while their condition holds, the drive runs on
-WARNING_FAULTS = ("oscillation", "restart", "angle_jump")
+#: the latched ones: the drive stays in its safe state until cleared (generated)
+LATCHED_FAULTS = _codes.LATCHED_FAULTS
+#: warnings: reported while their condition holds, the drive runs on (generated)
+WARNING_FAULTS = _codes.WARNING_FAULTS
 
 
 def fault_names(word: int) -> list[str]:

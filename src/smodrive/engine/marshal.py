@@ -252,6 +252,8 @@ def drive_config(s: Scenario, tables=None) -> _ffi.DriveConfig:
         dwell=int(round(k.t_dwell / T)),
         chatter_max=k.chatter_max,
         chatter_window=max(1, int(round(k.t_chatter / T))),
+        hunt_max=k.hunt_max if k.speed_loop else 0,
+        hunt_window=max(1, int(round(k.t_hunt / T))),
         track_samples=int(round(k.t_track / T)) if k.speed_loop else 0,
         w_track=k.w_M_track * n_p,
         forced_samples=(int(round(k.t_forced / T)) if (k.start == "if" or k.w_M_if_enter > 0)

@@ -54,8 +54,8 @@ DERIVED_FIELDS: tuple[str, ...] = (
     "L_s_hat", "R_s_hat", "psi_r_hat", "J_hat", "psi_r_pi", "speed_bw", "w_lpf",
     "lambda_min", "rho", "w_M_max",
     "i_max", "i_start", "a_M_start", "w_M_if_enter", "w_M_handover", "t_dead_comp", "i_dtc",
-    "k_p_i", "k_i_i", "a_M_ref", "t_dwell", "t_chatter", "w_M_track", "t_track", "t_forced",
-    "osc_i")
+    "k_p_i", "k_i_i", "a_M_ref", "t_dwell", "t_chatter", "t_hunt", "w_M_track", "t_track",
+    "t_forced", "osc_i")
 #: the speed loop's bandwidth (and the SMDO speed filter's) scales with the inverse
 #: mechanical time constant T_N / (J w_M_N) over Table I's, at most this factor ...
 SPEED_BW_MAX_RATIO = 5.0
@@ -69,6 +69,10 @@ A_REF_TORQUE = 0.5
 A_REF_LAG = 0.05
 #: ... and by this fraction of w_M_if_enter, where the return to I/f is on
 A_REF_LAG_IF = 0.25
+#: hunting fault: the window of its count, in time constants 1 / speed_bw of the speed
+#: loop (a well-damped loop swings from one current limit to the other at most once per
+#: reference change and settles within a few time constants)
+HUNT_TAU = 10.0
 #: speed-tracking fault: this fraction of rated speed away from the reference
 TRACK_REL = 0.1
 #: oscillation warning: this fraction of the rated current, plus OSC_NOISE x the ADC noise
@@ -201,6 +205,7 @@ def _uses(c: ControllerCfg, get: Any = None) -> dict[str, str | None]:
         "a_M_ref": None if c.speed_loop else "speed_loop = false",
         "t_dwell": None if (sensorless and if_) else "no return to I/f and handover",
         "t_chatter": None if (sensorless and if_) else "no return to I/f and handover",
+        "t_hunt": None if c.speed_loop else "speed_loop = false",
         "w_M_track": None if c.speed_loop else "speed_loop = false",
         "t_track": None if c.speed_loop else "speed_loop = false",
         "t_forced": None if if_ else "no I/f (start and w_M_if_enter)",
@@ -318,6 +323,9 @@ def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any =
         return 0.02, "20 ms (7 time constants of the PLL of eq. (50) at 351 Hz)"
     if name == "t_chatter":
         return max(0.5, 20.0 * get("t_dwell")), "20 t_dwell, at least 0.5 s"
+    if name == "t_hunt":
+        return HUNT_TAU / get("speed_bw"), (f"{HUNT_TAU:g} / speed_bw ({HUNT_TAU:g} time constants "
+                                            "of the speed loop)")
     if name == "w_M_track":
         return TRACK_REL * m.w_M_N, f"{TRACK_REL:g} w_M_N"
     if name == "t_track":
@@ -356,7 +364,7 @@ REFERENCE_MODEL = {"psi_r_pi": REF_MOTOR.psi_r}
 REFERENCE_UNUSED = {**REFERENCE, "J_hat": REF_MOTOR.J, "psi_r_pi": REF_MOTOR.psi_r,
                     "speed_bw": 60.0, "w_lpf": 100.0,
                     "w_M_if_enter": 0.0, "t_dead_comp": DEFAULT_PLANT["t_dead"],
-                    "a_M_ref": 0.0, "t_dwell": 0.0, "t_chatter": 1.0,
+                    "a_M_ref": 0.0, "t_dwell": 0.0, "t_chatter": 1.0, "t_hunt": 1.0,
                     "w_M_track": 0.1 * REF_MOTOR.w_M_N, "t_track": 0.0, "t_forced": 0.0}
 
 

@@ -283,6 +283,12 @@ class ControllerCfg(_Validated):
     t_chatter: float | None = num(None, 0.0, 1e3, "s",
                                   "window of the chatter count (None: 20 t_dwell, at least "
                                   "0.5 s)")
+    hunt_max: int = num(4, 0, 1000, "", "hunting fault: more swings of the speed PI from one "
+                        "current limit to the other than this within t_hunt (0: off)",
+                        integer=True)
+    t_hunt: float | None = num(None, 0.0, 1e3, "s",
+                               "window of the hunting count (None: 10 / speed_bw, ten time "
+                               "constants of the speed loop)")
     w_M_track: float | None = num(None, 0.0, 1e6, "rad/s",
                                   "speed-tracking fault: farther than this from the reference "
                                   "(mechanical; None: 0.1 w_M_N) ...")

@@ -163,14 +163,15 @@ def fig19_scenario() -> Scenario:
 
 
 def fig22_scenario() -> Scenario:
-    # The paper's drive has no loss-of-lock protection: with smodrive's
-    # (t_lock = 20 ms) most seeds stop in the safe state at zero speed
-    # (fig22_protected_scenario), which is the protection working, not the
-    # observer the figure shows.
+    # The paper's drive has no loss-of-lock or hunting protection: with
+    # smodrive's (t_lock = 20 ms, hunt_max = 4) most seeds stop in the safe
+    # state at zero speed (fig22_protected_scenario), which is the protection
+    # working, not the observer the figure shows.
     return BASE.replace(name="yao2022.fig22", duration=2.6, w_M0=30e3 * RPM,
                         w_M_ref=Profile((0.0, 0.2, 2.2), (30e3, 30e3, -30e3)).scaled(RPM),
                         log_stride=2,
-                        controller=dataclasses.replace(BASE.controller, t_lock=0.0))
+                        controller=dataclasses.replace(BASE.controller, t_lock=0.0,
+                                                       hunt_max=0))
 
 
 def fig22_protected_scenario() -> Scenario:

@@ -35,7 +35,8 @@ from .store import load_results
 HATCH = {"angle": "xx", "speed": "--", "current_limit": "//", "voltage_limit": "\\\\"}
 #: the marker of a faulted cell, by its fault's kind (others: a diamond)
 FAULT_MARKER = {"overcurrent": "x", "lost_lock": "+", "speed_tracking": "v",
-                "oscillation": "s", "chatter": "^", "start_failed": "<", "forced": ">"}
+                "oscillation": "s", "chatter": "^", "start_failed": "<", "forced": ">",
+                "hunting": "*"}
 NOT_HELD_FILL, FAULT_FILL = "0.9", "0.55"
 REASON_TEXT = {"angle": "position error beyond 90 deg", "speed": "mean speed out of its band",
                "current_limit": "current reference on i_max",
