@@ -10,9 +10,11 @@ cycle table (src/smodrive/firmware/cycles.py): a taken branch 1 + P with P = 1..
 VSQRT 14, fused multiply-adds 3, SDIV 2..12, zero-wait-state memory. The
 range [low, high] takes every P, IT folding and divide at its extreme;
 flash wait states beyond an accelerator's hits, bus contention and
-interrupts are not in it. Usage:
+interrupts are not in it. Beside it, the same calls with the code in flash
+behind an STM32F4 or STM32G4 ART accelerator (wait states, instruction
+cache and prefetch: smodrive.firmware.FLASH), warm and cold. Usage:
 
-    python benchmarks/bench_m4.py [--math fmath|libm|both] [--json out.json]
+    python benchmarks/bench_m4.py [--math fmath|libm|fast|both|all] [--json out.json]
 """
 
 from __future__ import annotations
@@ -28,26 +30,33 @@ from smodrive.scenarios import target_cases
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--math", choices=("fmath", "libm", "both"), default="both")
+    ap.add_argument("--math", choices=("fmath", "libm", "fast", "both", "all"), default="both",
+                    help="both: fmath and libm; all: fmath, fast and libm")
     ap.add_argument("--json", help="write the tables to this file")
     args = ap.parse_args()
-    maths = ("fmath", "libm") if args.math == "both" else (args.math,)
+    maths = {"both": ("fmath", "libm"), "all": ("fmath", "fast", "libm")}.get(args.math,
+                                                                         (args.math,))
     tables = {m: target_cases.cycle_table(m) for m in maths}
     budget = {p: int(b) for p, b in T.BUDGET.items()}
     print(f"Cortex-M4F cycles per call (QEMU mps2-an386 instruction trace x Cortex-M4 timings); "
           f"budget at {F_CPU / 1e6:.0f} MHz: yang2018 100 us = {budget['yang2018']} cycles, "
           f"yao2022 50 us = {budget['yao2022']}")
-    head = f"{'':50s}" + "".join(f"{m + ' cycles':>14s} {'[low, high]':>14s} {'worst':>7s} "
-                                 f"{'budget':>7s}" for m in maths)
-    print(head)
-    rows = tables[maths[0]]
-    for i, r in enumerate(rows):
-        line = f"{r.name:50s}"
-        for m in maths:
-            x = tables[m][i]
-            line += (f"{x.nominal:14.0f} {f'[{x.low:.0f}, {x.high:.0f}]':>14s} {x.worst:7d} "
-                     f"{100 * x.budget_share:6.1f}%")
-        print(line)
+    mems = list(T.FLASH)
+    for m in maths:
+        print(f"\n{m} math: cycles per call, the code in zero-wait RAM (mean [low, high], 99th "
+              "percentile, worst call) and in flash (" + "; ".join(
+                  f"{k}: {T.FLASH[k].label}" for k in mems) + "; mean with the cache as the "
+              "previous call left it, worst with it emptied before the call); budget: the larger "
+              "share of its period the worst call in flash takes (at each part's clock)")
+        print(f"{'':50s}{'mean':>7s} {'[low, high]':>14s} {'p99':>6s} {'worst':>6s}" + "".join(
+            f" {k + ' mean':>13s} {k + ' worst':>13s}" for k in mems) + f" {'budget':>7s}")
+        for r in tables[m]:
+            fl = "".join(f" {r.flash[k]['mean_warm']:13.0f} {r.flash[k]['worst_cold']:13.0f}"
+                         for k in mems)
+            period = budget[r.paper] / F_CPU  # s
+            share = max(r.worst_flash(k) / (period * T.FLASH[k].f_cpu) for k in mems)
+            print(f"{r.name:50s}{r.nominal:7.0f} {f'[{r.low:.0f}, {r.high:.0f}]':>14s} "
+                  f"{r.p99:6.0f} {r.worst:6d}{fl} {100 * share:6.1f}%")
     t6 = {m: {r.name.split(".")[1]: r.nominal for r in tables[m] if r.name.startswith("table6.")}
           for m in maths}
     for m in maths:

@@ -27,7 +27,7 @@ def cases():
 @pytest.fixture(scope="module")
 def runs(cases, tmp_path_factory):
     work = tmp_path_factory.mktemp("target")
-    return {math: T.run_both(cases, math, work) for math in ("fmath", "libm")}
+    return {math: T.run_both(cases, math, work) for math in ("fmath", "libm", "fast")}
 
 
 def _by_name(cases, out_path):
@@ -81,6 +81,35 @@ def test_libm_differs_only_in_five_functions_by_one_ulp(cases, runs):
         else:
             assert u.max() == 0, name
     assert n_diff > 0  # the libraries do differ: bit-exact needs the portable math
+
+
+def test_fast_math_builds_agree_bit_for_bit(cases, runs):
+    """The fast build's math (smd_fastmath) is as portable as the exact one:
+    host and Cortex-M4F agree on every output word of every case."""
+    diffs = T.compare(cases, *runs["fast"])
+    assert len(diffs) == len(cases)
+    assert [(d.name, d.differ) for d in diffs if d.differ != 0] == []
+
+
+def test_fast_math_is_within_its_bounds_of_the_exact_math(cases, runs):
+    """On the math block's 3000 argument sets (the core's ranges): the fast
+    sin and cos within 1.5e-6 of the exact build's (which is within 9e-8 of
+    the true value: the bound of smd_fastmath.h plus that), atan2 within
+    2.5e-6 + 4 ulp of pi; exp, expm1, floor, sqrt and fabs the same bits (the
+    fast build keeps them). And the fast functions are not the exact ones:
+    they differ on most arguments."""
+    fast = np.frombuffer(_by_name(cases, runs["fast"][0])["block.math"][4:], "<f4").reshape(-1, 8)
+    exact = np.frombuffer(_by_name(cases, runs["fmath"][0])["block.math"][4:],
+                          "<f4").reshape(-1, 8)
+    bound = {"sin": 1.5e-6 + 9e-8, "cos": 1.5e-6 + 9e-8, "atan2": 2.5e-6 + 4 * 2.4e-7}
+    for j, name in enumerate(T.MATH_FUNCS):
+        a, b = fast[:, j].astype(float), exact[:, j].astype(float)
+        ok = np.isfinite(b)
+        if name in bound:
+            assert np.max(np.abs(a[ok] - b[ok])) <= bound[name], name
+            assert np.mean(a[ok] != b[ok]) > 0.5, name
+        else:
+            assert T.ulp_distance(fast[:, j].copy(), exact[:, j].copy()).max() == 0, name
 
 
 def test_libm_blocks_without_elementary_functions_agree(cases, runs):
@@ -165,6 +194,35 @@ def test_cortex_m4_timings_of_instruction_classes():
     assert c("sdiv", "r0, r1, r2", 4).cost == (2, 7, 12)
 
 
+def test_the_flash_cache_model_of_a_synthetic_fetch_stream():
+    """STM32F4 (5 wait states, 64 lines of 16 B): straight-line code of one
+    instruction a cycle enters a new line every 8 two-byte instructions; the
+    prefetch started there hides the next line's 5 wait states behind those
+    8 cycles, so only the first line stalls (5). A loop of 32 lines fits the
+    cache: its second pass never stalls. A loop of 80 lines does not: with
+    LRU every line is gone when it comes round again, and a jump back (not
+    sequential, no prefetch) stalls a full 5; slow code (1 cycle a line
+    after the first instruction's 10) hides every sequential miss."""
+    from smodrive.firmware.cycles import _ICache
+    f4 = T.FLASH["stm32f4"]
+
+    def run(ic, pcs, cost=1):
+        return sum(ic.fetch(pc, cost) for pc in pcs)
+
+    ic = _ICache(f4)
+    line = list(range(0x1000, 0x1000 + 32 * 16, 2))
+    assert run(ic, line) == 5           # the first line only
+    assert run(ic, line) == 0           # warm: all 32 lines cached
+    ic = _ICache(f4)
+    big = list(range(0x1000, 0x1000 + 80 * 16, 2))
+    run(ic, big)
+    assert run(ic, big) == 5            # the jump back misses; then prefetch hides the rest
+    ic.flush()
+    assert run(ic, [0x2000, 0x2010, 0x2020], cost=10) == 5  # sequential lines hidden by 10 cycles
+    ic.flush()
+    assert run(ic, [0x2000, 0x2020, 0x2040], cost=1) == 15  # not sequential: 5 each
+
+
 def test_cycle_windows_are_consistent(tmp_path):
     """The traced windows of the PI block (100 calls): the same code path
     each call gives the same count; every instruction costs at least its
@@ -180,3 +238,10 @@ def test_cycle_windows_are_consistent(tmp_path):
         assert w.cycles[0] <= w.cycles[1] <= w.cycles[2]
         assert w.cycles[1] >= w.instructions
         assert 20 <= w.instructions <= 60
+        # in flash: the stalls only add; a cold cache never beats a warm one;
+        # a cold call of 20-60 instructions in 2-8 lines stalls 5 at least
+        # once and at most once a line (G4: 4)
+        for mem, fl in T.FLASH.items():
+            warm, cold = w.flash[mem]["warm"], w.flash[mem]["cold"]
+            assert w.cycles[1] <= warm <= cold
+            assert fl.wait_states <= cold - w.cycles[1] <= fl.wait_states * 8

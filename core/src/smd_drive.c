@@ -1220,12 +1220,14 @@ SMD_COLD static void supervise(const smd_drive_params *p, smd_drive_state *s)
         } else {
             s->hunt_rail = 0;
         }
-        if (s->hunt > (smd_real)p->hunt_max) {
-            s->fault |= (uint32_t)SMD_FAULT_HUNTING;
-        }
-        s->hunt -= p->hunt_decay;
-        if (s->hunt < SMD_R(0.0)) {
-            s->hunt = SMD_R(0.0);
+        if (s->hunt > SMD_R(0.0)) { /* (most samples: none counted) */
+            if (s->hunt > (smd_real)p->hunt_max) {
+                s->fault |= (uint32_t)SMD_FAULT_HUNTING;
+            }
+            s->hunt -= p->hunt_decay;
+            if (s->hunt < SMD_R(0.0)) {
+                s->hunt = SMD_R(0.0);
+            }
         }
     }
     if (s->phase == SMD_PHASE_FORCED) {

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "smd_test.h"
+#include "smodrive/smd_fastmath.h"
 #include "smodrive/smd_fmath.h"
 
 /* ulp of the float nearest to r (r finite) */
@@ -167,6 +168,63 @@ static void test_sincos_same_bits(void)
     }
 }
 
+/* The fast build's math (smd_fastmath.h) within its stated bounds: sin,
+ * cos 1.5e-6 absolute for |x| <= 8192 rad, atan2 2.5e-6 rad, over 2e6
+ * arguments each (dense near zero, whole range, the quadrant edges k pi/4
+ * where the reduction switches); sincos the bits of sin and cos; beyond the
+ * range and the special values the exact functions' results. A fast
+ * function that is not near the bound would be hiding accuracy it does not
+ * need to, so the worst error must also exceed a tenth of it (a check that
+ * these are the short polynomials, not the exact ones). */
+static void test_fast(void)
+{
+    double ws = 0.0, wc = 0.0, wa = 0.0;
+    int k, bad = 0;
+    for (k = 0; k < 2000000; k++) {
+        float x, s, c;
+        double es, ec;
+        if (k % 4 == 0) {
+            x = (float)urand(-8.0, 8.0);
+        } else if (k % 4 == 1) {
+            x = (float)urand(-8192.0, 8192.0);
+        } else if (k % 4 == 2) { /* the switch points of the reduction */
+            x = (float)((double)((int)urand(-10000.0, 10000.0)) * 0.78539816339744831 +
+                        urand(-1e-3, 1e-3));
+        } else {
+            x = (float)urand(-0.01, 0.01);
+        }
+        smd_fast_sincosf(x, &s, &c);
+        bad += !(same_bits(s, smd_fast_sinf(x)) && same_bits(c, smd_fast_cosf(x)));
+        es = fabs((double)s - sin((double)x));
+        ec = fabs((double)c - cos((double)x));
+        if (es > ws) ws = es;
+        if (ec > wc) wc = ec;
+    }
+    for (k = 0; k < 2000000; k++) {
+        float y = (float)urand(-300.0, 300.0), x = (float)urand(-300.0, 300.0);
+        double e;
+        if (k % 3 == 0) x *= 1e-3f;
+        if (k % 5 == 0) y *= 1e-4f;
+        e = fabs((double)smd_fast_atan2f(y, x) - atan2((double)y, (double)x));
+        if (e > wa) wa = e;
+    }
+    printf("    fast sin worst %.3g, cos %.3g, atan2 %.3g (bounds 1.5e-6, 1.5e-6, 2.5e-6)\n",
+           ws, wc, wa);
+    CHECK(ws <= 1.5e-6 && wc <= 1.5e-6 && wa <= 2.5e-6);
+    CHECK(ws > 1.5e-7 && wa > 2.5e-7);
+    CHECK(bad == 0);
+    /* outside the range and the special values: the exact functions' */
+    CHECK(same_bits(smd_fast_sinf(1e5f), smd_sinf(1e5f)));
+    CHECK(same_bits(smd_fast_cosf(-9000.0f), smd_cosf(-9000.0f)));
+    CHECK(isnan(smd_fast_sinf(NAN)) && isnan(smd_fast_cosf(INFINITY)));
+    CHECK(smd_fast_sinf(0.0f) == 0.0f && smd_fast_cosf(0.0f) == 1.0f);
+    CHECK(same_bits(smd_fast_atan2f(-0.0f, -1.0f), smd_atan2f(-0.0f, -1.0f)));
+    CHECK(same_bits(smd_fast_atan2f(-0.0f, 0.0f), smd_atan2f(-0.0f, 0.0f)));
+    CHECK(same_bits(smd_fast_atan2f(1.0f, -INFINITY), smd_atan2f(1.0f, -INFINITY)));
+    CHECK(isnan(smd_fast_atan2f(NAN, 1.0f)));
+    CHECK(fabsf(smd_fast_atan2f(-1.0f, -1.0f) + 2.3561945f) < 2.5e-6f);
+}
+
 int main(void)
 {
     RUN_TEST(test_sin_cos);
@@ -174,5 +232,6 @@ int main(void)
     RUN_TEST(test_atan2);
     RUN_TEST(test_exp);
     RUN_TEST(test_huge_finite);
+    RUN_TEST(test_fast);
     return smdt_summary("fmath");
 }

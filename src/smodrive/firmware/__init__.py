@@ -8,8 +8,18 @@ model; the scenarios it runs are given to it
 (:mod:`smodrive.scenarios.target_cases` names the standard ones).
 """
 
-from .build import FMATH_DEFINES, MATH_FUNCS, TargetError, build, c_root
-from .cycles import BUDGET, TABLE6_PAPER, CycleRow, cycle_table, sizes, table6_cycles, trace_windows
+from .build import FAST_DEFINES, FMATH_DEFINES, MATH_DEFINES, MATH_FUNCS, TargetError, build, c_root
+from .cycles import (
+    BUDGET,
+    FLASH,
+    TABLE6_PAPER,
+    CycleRow,
+    Flash,
+    cycle_table,
+    sizes,
+    table6_cycles,
+    trace_windows,
+)
 from .pil import PilResult, pil
 from .run import compare, drive_case, record, run_both, run_host, run_m4, ulp_distance
 from .vectors import (
@@ -22,8 +32,8 @@ from .vectors import (
                       write_vectors,
 )
 
-__all__ = ["FMATH_DEFINES", "MATH_FUNCS", "TargetError", "build", "c_root", "BUDGET",
-           "TABLE6_PAPER", "CycleRow", "cycle_table", "sizes", "table6_cycles", "trace_windows",
+__all__ = ["FAST_DEFINES", "FMATH_DEFINES", "MATH_DEFINES", "MATH_FUNCS", "TargetError", "build",
+           "c_root", "BUDGET", "FLASH", "Flash", "TABLE6_PAPER", "CycleRow", "cycle_table", "sizes", "table6_cycles", "trace_windows",
            "PilResult", "pil", "compare", "drive_case", "record", "run_both", "run_host", "run_m4",
            "ulp_distance", "BlockCase", "DriveCase", "TablesCase", "drive_outputs",
            "read_outputs", "variants", "write_vectors"]

@@ -5,9 +5,11 @@ plant, and cycle counts from the emulator's instruction trace.
 
 The runner is the same C for both (``core/target/smd_vec.c``); the host
 build is the simulator's float core (same sources, ``-ffp-contract=off``).
-Two math variants: ``libm`` (each platform's C library: glibc on the host,
-newlib on the target) and ``fmath`` (the core's portable float math,
-``smodrive/smd_fmath.h``, on both), see :data:`FMATH_DEFINES`.
+Three math variants: ``libm`` (each platform's C library: glibc on the host,
+newlib on the target), ``fmath`` (the core's portable float math,
+``smodrive/smd_fmath.h``, on both) and ``fast`` (the fast build's shorter
+portable sin, cos and atan2, ``smodrive/smd_fastmath.h``), see
+:data:`MATH_DEFINES`.
 
 Needs ``arm-none-eabi-gcc`` (Debian: gcc-arm-none-eabi, libnewlib-arm-none-eabi)
 and ``qemu-system-arm`` (Debian: qemu-system-arm); ``make toolchain``
@@ -35,6 +37,13 @@ MATH_FUNCS = ("sin", "cos", "atan2", "exp", "expm1", "floor", "sqrt", "fabs")
 FMATH_DEFINES = ['-DSMD_MATH_HEADER="smodrive/smd_fmath.h"', "-DSMD_SINF=smd_sinf",
                  "-DSMD_COSF=smd_cosf", "-DSMD_SINCOSF=smd_sincosf", "-DSMD_ATAN2F=smd_atan2f",
                  "-DSMD_EXPF=smd_expf", "-DSMD_EXPM1F=smd_expm1f"]
+#: the fast build's math (``smodrive/smd_fastmath.h``): shorter sin, cos and atan2 with stated
+#: error bounds, as portable as the exact ones (the host and the target still agree bit for bit)
+FAST_DEFINES = ['-DSMD_MATH_HEADER="smodrive/smd_fastmath.h"', "-DSMD_SINF=smd_fast_sinf",
+                "-DSMD_COSF=smd_fast_cosf", "-DSMD_SINCOSF=smd_fast_sincosf",
+                "-DSMD_ATAN2F=smd_fast_atan2f", "-DSMD_EXPF=smd_expf", "-DSMD_EXPM1F=smd_expm1f"]
+#: the math variants: each platform's C library, the portable exact math, the fast math
+MATH_DEFINES = {"libm": [], "fmath": FMATH_DEFINES, "fast": FAST_DEFINES}
 M4_FLAGS = ["-mcpu=cortex-m4", "-mthumb", "-mfpu=fpv4-sp-d16", "-mfloat-abi=hard"]
 COMMON_FLAGS = ["-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Werror"]
 IN_WORDS = ct.sizeof(_ffi.DriveIn) // 4
@@ -83,15 +92,16 @@ def _cache_dir() -> Path:
 
 def build(kind: str, math: str = "fmath", out_dir: Path | None = None,
           extra: tuple[str, ...] = ()) -> Path:
-    """The runner for `kind` ("host" or "m4") with `math` ("libm" or
-    "fmath"), built once per content of its sources and flags; `extra`
-    flags go last (tests build deliberately wrong variants with them)."""
-    if kind not in ("host", "m4") or math not in ("libm", "fmath"):
+    """The runner for `kind` ("host" or "m4") with `math` ("libm", "fmath"
+    or "fast", :data:`MATH_DEFINES`), built once per content of its sources
+    and flags; `extra` flags go last (tests build deliberately wrong variants
+    with them)."""
+    if kind not in ("host", "m4") or math not in MATH_DEFINES:
         raise ValueError(f"build({kind!r}, {math!r})")
     root = c_root()
     srcs = _sources(root, kind)
     headers = sorted((root / "core").glob("*/**/*.h")) + [root / "core/target/m4/mps2_an386.ld"]
-    flags = list(COMMON_FLAGS) + (FMATH_DEFINES if math == "fmath" else [])
+    flags = list(COMMON_FLAGS) + MATH_DEFINES[math]
     tail_flags = list(extra)
     if kind == "host":
         cc = shutil.which("gcc") or shutil.which("cc")
