@@ -12,6 +12,7 @@
 #include "smd_test.h"
 #include "smodrive/smd_fastmath.h"
 #include "smodrive/smd_fmath.h"
+#include "smodrive/smd_types.h"
 
 /* ulp of the float nearest to r (r finite) */
 static double ulp_of(double r)
@@ -225,6 +226,33 @@ static void test_fast(void)
     CHECK(fabsf(smd_fast_atan2f(-1.0f, -1.0f) + 2.3561945f) < 2.5e-6f);
 }
 
+/* smd_floor (smd_types.h, the angle wrap's floor) gives floorf's bits:
+ * integers and half-integers of both signs, +-0, values next to integers,
+ * the 2^23 edge, 1e6 random arguments within +-1e4 and +-1e8, and the
+ * non-finite ones. */
+static void test_floor_same_bits(void)
+{
+#ifdef SMD_REAL_DOUBLE
+    CHECK(smd_floor(-2.5) == -3.0 && smd_floor(2.5) == 2.0); /* the double build: SMD_FLOOR */
+#else
+    const float special[] = {0.0f, -0.0f, 0.5f, -0.5f, 1.0f, -1.0f, 1.5f, -1.5f, 2.0f, -2.0f,
+                             0.99999994f, -0.99999994f, 1.0000001f, -1.0000001f, 8388607.5f,
+                             -8388607.5f, 8388608.0f, -8388608.0f, 8388609.0f, -8388609.0f,
+                             1e-40f, -1e-40f, FLT_MAX, -FLT_MAX, 3e9f, -3e9f};
+    int k, bad = 0;
+    for (k = 0; k < (int)(sizeof special / sizeof special[0]); k++) {
+        bad += !same_bits(smd_floor(special[k]), floorf(special[k]));
+    }
+    for (k = 0; k < 1000000; k++) {
+        float x = (float)(k % 2 ? urand(-1e4, 1e4) : urand(-1e8, 1e8));
+        bad += !same_bits(smd_floor(x), floorf(x));
+    }
+    CHECK(bad == 0);
+    CHECK(isnan(smd_floor(NAN)) && smd_floor(INFINITY) == INFINITY &&
+          smd_floor(-INFINITY) == -INFINITY);
+#endif
+}
+
 int main(void)
 {
     RUN_TEST(test_sin_cos);
@@ -233,5 +261,6 @@ int main(void)
     RUN_TEST(test_exp);
     RUN_TEST(test_huge_finite);
     RUN_TEST(test_fast);
+    RUN_TEST(test_floor_same_bits);
     return smdt_summary("fmath");
 }

@@ -45,7 +45,13 @@ FAST_DEFINES = ['-DSMD_MATH_HEADER="smodrive/smd_fastmath.h"', "-DSMD_SINF=smd_f
 #: the math variants: each platform's C library, the portable exact math, the fast math
 MATH_DEFINES = {"libm": [], "fmath": FMATH_DEFINES, "fast": FAST_DEFINES}
 M4_FLAGS = ["-mcpu=cortex-m4", "-mthumb", "-mfpu=fpv4-sp-d16", "-mfloat-abi=hard"]
-COMMON_FLAGS = ["-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Werror"]
+#: -O3 as CMake's Release build of the core gives a firmware project (2,890 -> 2,690 cycles for
+#: the yang2018 sensorless step, 7,289 -> 6,342 for yao2022's, 11 % more code than -O2);
+#: -fno-math-errno lets sqrtf be the VSQRT instruction (IEEE: the same bits as newlib's call);
+#: -ffp-contract=off keeps a*b + c two roundings (the host's bits). -flto would move the
+#: runner's cycle markers.
+COMMON_FLAGS = ["-std=c99", "-O3", "-fno-math-errno", "-ffp-contract=off", "-Wall", "-Wextra",
+                "-Werror"]
 IN_WORDS = ct.sizeof(_ffi.DriveIn) // 4
 VIEW_BYTES = ct.sizeof(_ffi.DriveView)
 OUT_BYTES = ct.sizeof(_ffi.DriveOut)  # d_abc, fault, pwm_off
