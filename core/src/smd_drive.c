@@ -255,19 +255,19 @@ static void source_reframe(const smd_drive_params *p, smd_drive_state *s, smd_re
 /* The source's back-EMF estimate in the frame of sample k (feed-forward of
  * the current PI). */
 static smd_cplx source_emf_dq(const smd_drive_params *p, const smd_drive_state *s,
-                              smd_real theta_k, smd_real w_k)
+                              smd_cplx ej_k, smd_cplx ej_15, smd_real w_k)
 {
     switch (p->position) {
     case SMD_POS_LCL_SMO_PLL:
         return smd_c(s->pos.u.smo.e_hat[0], s->pos.u.smo.e_hat[1]);
     case SMD_POS_LCL_LINEAR:
-        return smd_ab_to_dq(smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3]), theta_k);
+        return smd_cmul(smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3]), smd_cconj(ej_k));
     case SMD_POS_SMDO_EMF:
-        /* u_d_hat^{k+1} belongs to the middle of [t_{k+1}, t_{k+2}); the
-         * disturbance of model (15) is minus the EMF, u_d = -j w psi e^{j theta}
-         * (eq. (43)), so the EMF estimate is -u_d_hat */
-        return smd_ab_to_dq(smd_cscale(s->smdo.u_d_hat, SMD_R(-1.0)),
-                            theta_k + SMD_R(1.5) * w_k * p->T_sp);
+        /* u_d_hat^{k+1} belongs to the middle of [t_{k+1}, t_{k+2}) (the
+         * frame ej_15); the disturbance of model (15) is minus the EMF,
+         * u_d = -j w psi e^{j theta} (eq. (43)), so the EMF estimate is
+         * -u_d_hat */
+        return smd_cmul(smd_cscale(s->smdo.u_d_hat, SMD_R(-1.0)), smd_cconj(ej_15));
     default:
         return smd_c(SMD_R(0.0), w_k * p->psi_r_hat); /* e = j w psi, rotor frame */
     }
@@ -642,6 +642,12 @@ typedef struct sample {
     smd_real w_k;
     smd_real theta_next;          /* the frame of k+1 */
     smd_real w_next;
+    /* e^{j theta_k} and e^{j (theta_k + 1.5 w_k T)} (the middle of the
+     * period the voltage is applied in), each taken once for the transforms
+     * of steps 6 that need them (rotations()): the bits smd_ab_to_dq and
+     * smd_dq_to_ab give with the angle */
+    smd_cplx ej_k;
+    smd_cplx ej_15;
 } sample;
 
 /* The speed reference of the sample: the input, or slew-limited at a_ref. */
@@ -888,21 +894,35 @@ static smd_cplx current_pi(const smd_drive_params *p, smd_drive_state *s, const 
                            const smd_cplx *i1_ab, const sample *x)
 {
     const smd_real T = x->T;
-    const smd_real theta_k = x->theta_k;
     const smd_real w_k = x->w_k;
-    const smd_cplx i2 = s->i_dq = smd_ab_to_dq(*i_s_ab, theta_k);
+    const smd_cplx ej_k_c = smd_cconj(x->ej_k);
+    const smd_cplx i2 = s->i_dq = smd_cmul(*i_s_ab, ej_k_c);
     const smd_cplx e = smd_csub(s->i_dq_ref, i2);
     const smd_cplx x_i = smd_cadd(s->x_i, smd_cscale(e, p->k_i_i * T));
     smd_cplx u = smd_cadd(smd_cscale(e, p->k_p_i), x_i);
     u = smd_cadd(u, smd_cscale(smd_cj(i2), w_k * p->L_dec));
     if (p->emf_ff && s->phase != SMD_PHASE_FORCED) {
-        u = smd_cadd(u, source_emf_dq(p, s, theta_k, w_k));
+        u = smd_cadd(u, source_emf_dq(p, s, x->ej_k, x->ej_15, w_k));
     }
     if (p->lcl) {
-        u = smd_csub(u, smd_cscale(smd_csub(smd_ab_to_dq(*i1_ab, theta_k), i2), p->R_v));
+        u = smd_csub(u, smd_cscale(smd_csub(smd_cmul(*i1_ab, ej_k_c), i2), p->R_v));
     }
     s->x_i = x_i;
-    return smd_dq_to_ab(u, theta_k + SMD_R(1.5) * w_k * T);
+    return smd_cmul(u, x->ej_15);
+}
+
+/* The rotations of step 6, each once: e^{j theta_k} for the PI's Park
+ * transforms, e^{j (theta_k + 1.5 w_k T)} for its output, its anti-windup
+ * and the dead-time compensation (the sines a composition does not use are
+ * not taken). */
+static void rotations(const smd_drive_params *p, sample *x)
+{
+    const int pi = p->current == SMD_CC_PI;
+    const smd_cplx one = smd_c(SMD_R(1.0), SMD_R(0.0)); /* (unused: not taken) */
+    x->ej_k = pi ? smd_cexpj(x->theta_k) : one;
+    x->ej_15 = (pi || p->dtc_ratio > SMD_R(0.0))
+                   ? smd_cexpj(x->theta_k + SMD_R(1.5) * x->w_k * x->T)
+                   : one;
 }
 
 /* 6. Current control: DBPC eq. (8)-(9), robust DBPC eq. (7) and (42), or
@@ -930,9 +950,6 @@ static smd_status modulate(const smd_drive_params *p, smd_drive_state *s, const 
                            smd_drive_out *out, const sample *x, smd_cplx u_ref, smd_status st_in)
 {
     smd_status st = st_in;
-    const smd_real T = x->T;
-    const smd_real theta_k = x->theta_k;
-    const smd_real w_k = x->w_k;
     if (!smd_cfinite(u_ref)) {
         st = SMD_ERR_NONFINITE;
         u_ref = smd_c(SMD_R(0.0), SMD_R(0.0));
@@ -946,13 +963,13 @@ static smd_status modulate(const smd_drive_params *p, smd_drive_state *s, const 
          * integrator to keep: a P law must not remember a saturation) */
         smd_cplx du = smd_csub(s->u_ab_next, u_ref);
         if (smd_cabs(du) > SMD_R(1e-6) * (SMD_R(1.0) + smd_cabs(u_ref))) {
-            s->x_i = smd_cadd(s->x_i, smd_ab_to_dq(du, theta_k + SMD_R(1.5) * w_k * T));
+            s->x_i = smd_cadd(s->x_i, smd_cmul(du, smd_cconj(x->ej_15)));
         }
     }
     if (p->dtc_ratio > SMD_R(0.0)) {
         /* current expected in the middle of the next period, t_k + 1.5 T_sp */
         smd_real i_abc[3];
-        smd_cplx i_mid = smd_dq_to_ab(s->i_dq_ref, theta_k + SMD_R(1.5) * w_k * T);
+        smd_cplx i_mid = smd_cmul(s->i_dq_ref, x->ej_15);
         smd_ab_to_abc(i_mid, i_abc);
         smd_svm_deadtime_comp(out->d_abc, i_abc, p->dtc_ratio, p->i_dtc);
     }
@@ -1006,6 +1023,7 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
     /* 5. the SMDO */
     st = observe_disturbance(p, s, &i_s_ab, &x, st);
     /* 6. current control, and the duties */
+    rotations(p, &x);
     st = modulate(p, s, in, out, &x, current_control(p, s, &i_s_ab, &i1_ab, &x), st);
     end_sample(p, s, &x);
     return st;

@@ -258,11 +258,13 @@ smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, s
                             smd_cplx i2_ab, smd_cplx u_ab, smd_real theta_hat, smd_real w_hat)
 {
     smd_lcl_model m;
+    /* e^{-j theta_hat} once for the three Park transforms (the bits of
+     * smd_ab_to_dq, which would take it three times) */
+    const smd_cplx r = smd_cconj(smd_cexpj(theta_hat));
     int i;
     smd_lcl_smo_model(p, w_hat, &m);
-    smd_lcl_smo_reach(p, s, &m, smd_ab_to_dq(i1_ab, theta_hat), smd_ab_to_dq(i2_ab, theta_hat),
-                      w_hat);
-    smd_lcl_smo_predict(&m, s, smd_ab_to_dq(u_ab, theta_hat));
+    smd_lcl_smo_reach(p, s, &m, smd_cmul(i1_ab, r), smd_cmul(i2_ab, r), w_hat);
+    smd_lcl_smo_predict(&m, s, smd_cmul(u_ab, r));
     s->theta_prev = theta_hat;
     for (i = 0; i < 6; i++) {
         if (!isfinite(s->x_hat[i])) {
