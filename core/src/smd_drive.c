@@ -308,31 +308,33 @@ static void source_restart(const smd_drive_params *p, smd_drive_state *s)
 /* Every value of the source's state finite. */
 static int source_finite(const smd_drive_params *p, const smd_drive_state *s)
 {
-    int ok = 1, k;
+    /* a sum of x - x (smd_nf): 0 exactly when every value is finite */
+    smd_real nf = SMD_R(0.0);
+    int k;
     switch (p->position) {
     case SMD_POS_SMDO_EMF: {
         const smd_emf_pos_state *e = &s->pos.u.emf;
-        ok = isfinite(e->theta_r_hat) && isfinite(e->w_r_hat) && isfinite(e->w_r_dir) &&
-             isfinite(e->phi_prev) && isfinite(e->w_r_raw);
+        nf = smd_nf(e->theta_r_hat) + smd_nf(e->w_r_hat) + smd_nf(e->w_r_dir) +
+             smd_nf(e->phi_prev) + smd_nf(e->w_r_raw);
         break;
     }
     case SMD_POS_LCL_SMO_PLL:
-        for (k = 0; k < 6; k++) ok = ok && isfinite(s->pos.u.smo.x_hat[k]);
+        for (k = 0; k < 6; k++) nf += smd_nf(s->pos.u.smo.x_hat[k]);
         for (k = 0; k < 2; k++) {
-            ok = ok && isfinite(s->pos.u.smo.e_hat[k]) && isfinite(s->pos.u.smo.x_c[k]) &&
-                 isfinite(s->pos.u.smo.d_hat[k]) && isfinite(s->pos.u.smo.v_prev[k]);
+            nf += smd_nf(s->pos.u.smo.e_hat[k]) + smd_nf(s->pos.u.smo.x_c[k]) +
+                  smd_nf(s->pos.u.smo.d_hat[k]) + smd_nf(s->pos.u.smo.v_prev[k]);
         }
         break;
     case SMD_POS_LCL_LINEAR:
-        for (k = 0; k < 4; k++) ok = ok && isfinite(s->pos.u.lin.z[k]) && isfinite(s->pos.u.lin.x2[k]);
+        for (k = 0; k < 4; k++) nf += smd_nf(s->pos.u.lin.z[k]) + smd_nf(s->pos.u.lin.x2[k]);
         break;
     default: break;
     }
     if (source_is_lcl(p->position)) {
-        ok = ok && isfinite(s->pos.pll.theta) && isfinite(s->pos.pll.w) &&
-             isfinite(s->pos.pll.a) && isfinite(s->pos.theta_err);
+        nf += smd_nf(s->pos.pll.theta) + smd_nf(s->pos.pll.w) + smd_nf(s->pos.pll.a) +
+              smd_nf(s->pos.theta_err);
     }
-    return ok;
+    return nf == SMD_R(0.0);
 }
 
 /* The source's internals in the view (the LCL observers'). */
@@ -1031,7 +1033,9 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
 
 /* ------------------------------------------------------------ protection */
 
-static int in_lim(smd_real x, smd_real lim) { return isfinite(x) && SMD_FABS(x) <= lim; }
+/* finite and within +-lim (lim finite): a NaN or an infinity fails the
+ * compare itself */
+static int in_lim(smd_real x, smd_real lim) { return SMD_FABS(x) <= lim; }
 
 /* SMD_FAULT_INPUT if an input the configuration uses is not finite or
  * beyond any physical range (smd_drive.h). */
@@ -1128,16 +1132,15 @@ static smd_status hold_safe(const smd_drive_params *p, smd_drive_state *s, smd_d
 
 static int state_finite(const smd_drive_params *p, const smd_drive_state *s)
 {
-    int ok = isfinite(s->theta) && isfinite(s->w) && isfinite(s->theta_k) && isfinite(s->w_k) &&
-             isfinite(s->theta_f) && isfinite(s->w_f) && smd_cfinite(s->x_i) &&
-             smd_cfinite(s->u_ab_next) && smd_cfinite(s->i_dq_ref) &&
-             isfinite(s->speed_pi.x_i) && isfinite(s->speed_pi.y);
+    smd_real nf = smd_nf(s->theta) + smd_nf(s->w) + smd_nf(s->theta_k) + smd_nf(s->w_k) +
+                  smd_nf(s->theta_f) + smd_nf(s->w_f) + smd_cnf(s->x_i) + smd_cnf(s->u_ab_next) +
+                  smd_cnf(s->i_dq_ref) + smd_nf(s->speed_pi.x_i) + smd_nf(s->speed_pi.y);
     if (p->use_smdo) {
         const smd_smdo_state *o = &s->smdo;
-        ok = ok && smd_cfinite(o->i_s_hat) && smd_cfinite(o->u_d_hat) && smd_cfinite(o->e_i_prev) &&
-             smd_cfinite(o->u_smo_prev) && isfinite(o->lambda);
+        nf += smd_cnf(o->i_s_hat) + smd_cnf(o->u_d_hat) + smd_cnf(o->e_i_prev) +
+              smd_cnf(o->u_smo_prev) + smd_nf(o->lambda);
     }
-    return ok && source_finite(p, s);
+    return nf == SMD_R(0.0) && source_finite(p, s);
 }
 
 /* After a non-finite value: every block restarts from the last good frame

@@ -218,6 +218,12 @@ static inline smd_cplx smd_cexpj(smd_real theta)
 #endif
 }
 static inline bool smd_cfinite(smd_cplx a) { return isfinite(a.re) && isfinite(a.im); }
+/* x - x: +0 for a finite x, NaN for NaN and +-inf (IEEE 754; no
+ * -ffinite-math-only). A sum of these is 0 exactly when every term is
+ * finite: a check of n values in 2n additions and one compare, where n
+ * isfinite() calls take a compare and a branch each. */
+static inline smd_real smd_nf(smd_real x) { return x - x; }
+static inline smd_real smd_cnf(smd_cplx a) { return (a.re - a.re) + (a.im - a.im); }
 
 /* floor(y), bit for bit, through the integer conversion where |y| < 2^23
  * (every float there is exact as an int32, and floor of a float that large
