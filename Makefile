@@ -76,8 +76,10 @@ fuzz: toolchain
 dev: $(STAMP)
 	cmake -S . -B build/dev -DSMD_BUILD_TESTS=OFF -DSMD_BUILD_PYLIB=ON >/dev/null
 	cmake --build build/dev -j 2
-	cp build/dev/libsmodrive.so src/smodrive/.libsmodrive.so.tmp
-	mv src/smodrive/.libsmodrive.so.tmp src/smodrive/libsmodrive.so  # atomic: running tests keep the old one
+	for l in libsmodrive libsmodrive_fast; do \
+	  cp build/dev/$$l.so src/smodrive/.$$l.so.tmp && \
+	  mv src/smodrive/.$$l.so.tmp src/smodrive/$$l.so; \
+	done  # atomic: running tests keep the old one
 
 # The documentation site (Sphinx: docs/, the API reference from the
 # docstrings, the parameter reference from the dataclass metadata, the

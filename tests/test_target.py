@@ -245,3 +245,64 @@ def test_cycle_windows_are_consistent(tmp_path):
             warm, cold = w.flash[mem]["warm"], w.flash[mem]["cold"]
             assert w.cycles[1] <= warm <= cold
             assert fl.wait_states <= cold - w.cycles[1] <= fl.wait_states * 8
+
+
+def test_the_example_firmware_links_the_core_into_ccm_sram(tmp_path):
+    """core/target/stm32g4: an STM32G474 image with the core's code in CCM
+    SRAM (zero wait states on the I-bus) and the rest in flash. Linked from
+    the core as the static library a firmware project uses
+    (libsmodrive_core.a, -O3, portable math) with a main that runs the
+    example drive: the drive step and every other core function sit in CCM
+    SRAM (0x10000000, 32 kB), their load image in flash (copied by the
+    start-up code), the firmware's own main in flash; and the core fits the
+    32 kB."""
+    import shutil
+    import subprocess
+
+    from smodrive.firmware.build import COMMON_FLAGS, FMATH_DEFINES, M4_FLAGS
+
+    root = T.c_root()
+    gcc, ar, nm, objdump = (shutil.which(f"arm-none-eabi-{t}")
+                            for t in ("gcc", "ar", "nm", "objdump"))
+    assert gcc and ar and nm and objdump, "the arm-none-eabi toolchain (make toolchain)"
+    flags = [*M4_FLAGS, *COMMON_FLAGS, *FMATH_DEFINES, "-ffunction-sections",
+             "-fdata-sections", f"-I{root / 'core/include'}"]
+    objs = []
+    for src in sorted((root / "core/src").glob("*.c")):
+        obj = tmp_path / (src.stem + ".o")
+        subprocess.run([gcc, *flags, "-c", str(src), "-o", str(obj)], check=True)
+        objs.append(str(obj))
+    lib = tmp_path / "libsmodrive_core.a"
+    subprocess.run([ar, "rcs", str(lib), *objs], check=True)
+    main = tmp_path / "main.c"
+    main.write_text(
+        '#include "smodrive/smd_drive.h"\n#include "smodrive/smd_example.h"\n'
+        "static smd_drive_params p;\nstatic smd_drive_state s;\n"
+        "int main(void)\n{\n    smd_drive_config c;\n    smd_drive_in in = {0};\n"
+        "    smd_drive_out out;\n    int k;\n    smd_example_drive_config(&c);\n"
+        "    if (smd_drive_init(&p, &c) != SMD_OK) return 1;\n"
+        "    smd_drive_reset(&p, &s, 0.0f, 0.0f, 0.0f);\n    in.u_dc = 300.0f;\n"
+        "    for (k = 0; k < 10; k++) (void)smd_drive_step(&p, &s, &in, &out);\n"
+        "    return (int)out.fault;\n}\n")
+    ld = root / "core/target/stm32g4/stm32g474_ccm.ld"
+    elf = tmp_path / "fw.elf"
+    subprocess.run([gcc, *flags, "-nostartfiles", "-T", str(ld), "-Wl,--gc-sections",
+                    str(main), str(root / "core/target/stm32g4/startup_ccm.c"), str(lib),
+                    "-lm", "-lc", "-lgcc", "-o", str(elf)], check=True)
+    syms = {}
+    for line in subprocess.run([nm, str(elf)], capture_output=True, text=True,
+                               check=True).stdout.splitlines():
+        parts = line.split()
+        if len(parts) == 3:
+            syms[parts[2]] = int(parts[0], 16)
+    ccm = range(0x10000000, 0x10000000 + 32 * 1024)
+    for f in ("smd_drive_step", "smd_drive_init", "smd_smdo_step", "smd_svm_step",
+              "smd_sincosf"):
+        assert syms[f] in ccm, f
+    assert 0x08000000 <= syms["main"] < 0x08080000  # the firmware's own code in flash
+    head = subprocess.run([objdump, "-h", str(elf)], capture_output=True, text=True,
+                          check=True).stdout
+    row = next(ln.split() for ln in head.splitlines() if ".ramfunc" in ln)
+    size, vma, lma = (int(x, 16) for x in row[2:5])
+    assert vma == 0x10000000 and 0x08000000 <= lma < 0x08080000
+    assert 10_000 < size <= 32 * 1024

@@ -40,7 +40,7 @@ from rich.text import Text
 from . import firmware, plots
 from . import sweep as sw
 from .claims import count, describe_counts
-from .engine import FAULT_BITS, LATCHED_FAULTS, SimulationError, export, log_plan, simulate
+from .engine import FAULT_BITS, LATCHED_FAULTS, SimulationError, _ffi, export, log_plan, simulate
 from .engine.export import write_npz
 from .firmware import header as fw_header
 from .model import RPM, ParameterError, derive
@@ -258,9 +258,17 @@ def main() -> None:
 @click.argument("papers", nargs=-1)
 @click.option("--out", type=click.Path(path_type=Path), default=Path("results"),
               show_default=True, help="results folder")
-def reproduce(papers: tuple[str, ...], out: Path) -> None:
+@click.option("--math", "math_build", type=click.Choice(["exact", "fast"]), default=None,
+              help="the build of the core the simulator runs: exact (default; the C "
+                   "library's sin, cos, atan2) or fast (the fast build's math, "
+                   "docs/firmware.md); also SMODRIVE_MATH")
+def reproduce(papers: tuple[str, ...], out: Path, math_build: str | None) -> None:
     """Run every experiment of PAPERS (default: all) and write figures,
     claims.json and report.md into OUT."""
+    if math_build is not None and math_build != _ffi.MATH:
+        # the core's library is loaded at import: run again with the other one
+        env = dict(os.environ, SMODRIVE_MATH=math_build)
+        os.execve(sys.executable, [sys.executable, "-m", "smodrive.cli", *sys.argv[1:]], env)
     chosen = list(papers) or list(PAPERS)
     unknown = [p for p in chosen if p not in PAPERS]
     if unknown:

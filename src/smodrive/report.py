@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Callable, Collection
 
 from .claims import KINDS, Claim, count, describe_counts, write_claims
+from .engine import _ffi
 from .scenarios import PAPERS
 
 
@@ -136,7 +137,8 @@ def render_report(rep: Reproduction, papers: list[str], out: Path) -> str:
         f"{n['pass']} claims passed, {n['fail']} failed"
         + (f", {n['not measured']} not measured" if n["not measured"] else "")
         + f". {rep.samples:,} control samples simulated in {rep.seconds:.1f} s wall time on "
-        f"{platform.machine()} ({platform.python_version()}).",
+        f"{platform.machine()} ({platform.python_version()}), the {_ffi.MATH} build of the "
+        "core (docs/firmware.md).",
         "",
         f"By kind: {describe_counts(rep.claims)}. A claim against the paper's numbers compares "
         "with a value or a statement of the paper; one against the paper's own equations with "

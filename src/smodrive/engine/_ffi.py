@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import ctypes as ct
 import keyword
+import os
 from pathlib import Path
 
 from ._codes import LOG_CHANNELS as _LOG_CHANNELS
@@ -26,18 +27,34 @@ from ._structs import (  # noqa: F401 (the mirrors, re-exported)
 )
 
 
-def _load() -> ct.CDLL:
+#: the builds of the core the simulator can run: the exact one (each elementary function
+#: from the C library) and the fast one (smodrive/smd_fastmath.h, docs/firmware.md)
+MATHS = {"exact": "libsmodrive", "fast": "libsmodrive_fast"}
+
+
+def _math() -> str:
+    """The build SMODRIVE_MATH asks for ("exact" when unset)."""
+    m = os.environ.get("SMODRIVE_MATH", "exact") or "exact"
+    if m not in MATHS:
+        raise ImportError(f"SMODRIVE_MATH = {m!r}: must be one of {', '.join(MATHS)}")
+    return m
+
+
+def _load(math: str) -> ct.CDLL:
     here = Path(__file__).resolve().parent.parent  # the package root, where the wheel puts it
-    for cand in (here / "libsmodrive.so", here / "libsmodrive.dylib"):
+    for suffix in (".so", ".dylib"):
+        cand = here / (MATHS[math] + suffix)
         if cand.exists():
             return ct.CDLL(str(cand))
     raise ImportError(
-        f"smodrive's compiled library was not found in {here}; install the package with "
-        "'pip install .' so that its C core is built"
+        f"smodrive's compiled library ({MATHS[math]}, the {math} build) was not found in "
+        f"{here}; install the package with 'pip install .' so that its C core is built"
     )
 
 
-lib = _load()
+#: the build this process runs (fixed at import: SMODRIVE_MATH)
+MATH = _math()
+lib = _load(MATH)
 
 # The mirrors, one a C struct, are generated from the headers
 # (src/smodrive/engine/_structs.py by tools/gen_layout.py).
