@@ -79,5 +79,6 @@ STRUCT_FIELDS = {
         ('bw_rel2', 'real', (0.0, 2.0)),
         ('bw_rel3', 'real', (0.0, 2.0)),
         ('w_bp_min', 'real', (0.0, 5000.0)),
+        ('decimation', 'int', (-1, 70)),
     ),
 }

@@ -18,6 +18,7 @@ static inline void fz_smd_lcl_smo_config(fz *f, smd_lcl_smo_config *c)
     c->bw_rel2 = fz_r(f, 0.0, 2.0);
     c->bw_rel3 = fz_r(f, 0.0, 2.0);
     c->w_bp_min = fz_r(f, 0.0, 5000.0);
+    c->decimation = fz_int(f, -1, 70);
 }
 
 static inline void fz_drive_config(fz *f, smd_drive_config *c, fz_tables *t)

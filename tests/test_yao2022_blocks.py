@@ -48,6 +48,7 @@ DELAY = _ffi.SMO_DELAY
 SMD_OK, SMD_ERR_NULL, SMD_ERR_TS = 0, 1, 2
 SMD_ERR_LIMIT, SMD_ERR_MODE, SMD_ERR_STABILITY = 12, 13, 14
 SMD_ERR_TABLE = 23
+SMD_ERR_DECIMATION = 17
 
 
 def w_of(n_rpm: float) -> float:
@@ -883,6 +884,8 @@ NAN = float("nan")
     (dict(bw_rel2=0.0), SMD_ERR_LIMIT), (dict(bw_rel2=-0.1), SMD_ERR_LIMIT),
     (dict(bw_rel3=0.0), SMD_ERR_LIMIT), (dict(bw_rel3=NAN), SMD_ERR_LIMIT),
     (dict(w_bp_min=-1.0), SMD_ERR_LIMIT),
+    (dict(decimation=-1), SMD_ERR_DECIMATION), (dict(decimation=65), SMD_ERR_DECIMATION),
+    (dict(decimation=64), SMD_OK), (dict(decimation=8), SMD_OK),
     (dict(Q1=-0.9, Q2=0.0, bw_rel2=1.0, w_bp_min=0.0), SMD_OK),
 ])
 def test_smo_init_rejects_bad_arguments(change, code):
@@ -905,8 +908,10 @@ def test_smo_init_rejects_bad_arguments(change, code):
     else:
         assert obj.law == a["law"] and obj.n == a["n"] and obj.Q1 == np.float32(a["Q1"])
         assert obj.T_sp == np.float32(T_sp)
-        assert [getattr(obj, f) for f, _ in SmoParams._fields_ if f != "T_sp"] == \
-            [getattr(cfg, f) for f, _ in SmoConfig._fields_]
+        assert obj.decimation == max(1, cfg.decimation)  # 0 and 1: every sample
+        assert [getattr(obj, f) for f, _ in SmoParams._fields_ if f not in ("T_sp",
+                                                                           "decimation")] == \
+            [getattr(cfg, f) for f, _ in SmoConfig._fields_ if f != "decimation"]
 
 
 @pytest.mark.parametrize("change,code", [
@@ -1002,3 +1007,35 @@ def test_reframe_keeps_the_converged_estimate(use_reframe):
         assert np.max(err[300:]) < E_FLOOR
     else:
         assert np.max(err[300:305]) > 0.5 * abs(e0) * 0.01
+
+
+def test_a_spread_refresh_interpolates_the_model_of_one_call():
+    """With decimation 8 the step interpolates the model in two halves on
+    two samples, at the speed of the first: after both the state's model is
+    the bits of one smd_lcl_smo_model call at that speed, whatever the speed
+    of the second sample; and it is not refreshed again until the eighth
+    sample (the model of a later speed is not taken before). Decimation 1
+    refreshes every sample, as before."""
+    tab, _, w0, dw = tables()
+    cfg = smo_config(PROPOSED, tab, w0, dw, decimation=8)
+    p = SmoParams()
+    assert smo_init(ct.byref(p), T, ct.byref(cfg)) == SMD_OK
+    st = SmoState()
+    smo_reset(ct.byref(st), 0.0)
+    z = Cplx(0.0, 0.0)
+    wa, wb = w_of(40e3), w_of(41e3)
+
+    def model_at(w):
+        m = LclModel()
+        smo_model(ct.byref(p), w, ct.byref(m))
+        return bytes(m)
+
+    assert smo_step(ct.byref(p), ct.byref(st), z, z, z, 0.0, wa) == SMD_OK  # whole (reset)
+    assert bytes(st.m) == model_at(wa)
+    for k in range(7):  # the rest of the cycle: no refresh
+        assert smo_step(ct.byref(p), ct.byref(st), z, z, z, 0.0, wb + k) == SMD_OK
+        assert bytes(st.m) == model_at(wa)
+    assert smo_step(ct.byref(p), ct.byref(st), z, z, z, 0.0, wb) == SMD_OK  # first half at wb
+    assert bytes(st.m) not in (model_at(wa), model_at(wb))
+    assert smo_step(ct.byref(p), ct.byref(st), z, z, z, 0.0, wa) == SMD_OK  # second half at wb
+    assert bytes(st.m) == model_at(wb)

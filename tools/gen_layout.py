@@ -84,6 +84,7 @@ MIRRORED = {
     "smd_emf_pos_state": "EmfPosState", "smd_bandpass": "Bandpass",
     "smd_pll_params": "PllParams", "smd_pll_state": "PllState", "smd_lcl_model": "LclModel",
     "smd_lcl_smo_config": "SmoConfig", "smd_lcl_smo_params": "SmoParams",
+    "smd_lcl_smo_taps": "SmoTaps",
     "smd_lcl_smo_state": "SmoState", "smd_linobs_model": "LinModel",
     "smd_linobs_config": "LinConfig", "smd_linobs_params": "LinParams",
     "smd_linobs_state": "LinState", "smd_drive_config": "DriveConfig",

@@ -26,6 +26,9 @@ smd_status smd_lcl_smo_init(smd_lcl_smo_params *p, smd_real T_sp, const smd_lcl_
         !smd_in_range(c->w_bp_min, SMD_R(0.0), SMD_R(1e7))) {
         return SMD_ERR_LIMIT;
     }
+    if (c->decimation < 0 || c->decimation > 64) {
+        return SMD_ERR_DECIMATION;
+    }
     p->T_sp = T_sp;
     p->law = c->law;
     p->table = c->table;
@@ -37,6 +40,7 @@ smd_status smd_lcl_smo_init(smd_lcl_smo_params *p, smd_real T_sp, const smd_lcl_
     p->bw_rel2 = c->bw_rel2;
     p->bw_rel3 = c->bw_rel3;
     p->w_bp_min = c->w_bp_min;
+    p->decimation = c->decimation < 1 ? 1 : c->decimation;
     return SMD_OK;
 }
 
@@ -61,6 +65,15 @@ void smd_lcl_smo_reset(smd_lcl_smo_state *s, smd_real theta0)
     smd_bandpass_reset(&s->bp2);
     smd_bandpass_reset(&s->bp3);
     s->primed = 0;
+    for (k = 0; k < (int)(sizeof(smd_lcl_model) / sizeof(smd_real)); k++) {
+        ((smd_real *)&s->m)[k] = SMD_R(0.0); /* (recomputed before its first use) */
+    }
+    s->taps2.a = s->taps2.b = s->taps3.a = s->taps3.b = SMD_R(0.0);
+    s->taps2.n = s->taps3.n = 0;
+    s->taps2.ok = s->taps3.ok = 0;
+    s->age = 0;
+    s->w_m = SMD_R(0.0);
+    s->m_ok = 0;
 }
 
 void smd_lcl_smo_model(const smd_lcl_smo_params *p, smd_real w, smd_lcl_model *m)
@@ -76,40 +89,47 @@ static void mv2(const smd_real M[4], const smd_real x[2], smd_real y[2])
     y[1] = M[2] * x[0] + M[3] * x[1];
 }
 
-/* Delay line read with a two-tap interpolation exact for a sinusoid of
- * W rad/sample: v(k - D) = a v(k - n) + b v(k - n - 1), n = floor(D),
- * a = sin(W (1 - f)) / sin W, b = sin(W f) / sin W, f = D - n. */
-static smd_cplx delayed(const smd_lcl_smo_state *s, smd_real D, smd_real W)
-{
-    int n = (int)D;
-    smd_real f = D - (smd_real)n;
-    smd_real sw = SMD_SIN(W);
-    smd_real a = SMD_SIN(W * (SMD_R(1.0) - f)) / sw;
-    smd_real b = SMD_SIN(W * f) / sw;
-    int i0 = (s->v_head - n + 2 * SMD_LCL_SMO_DELAY) % SMD_LCL_SMO_DELAY;
-    int i1 = (i0 - 1 + SMD_LCL_SMO_DELAY) % SMD_LCL_SMO_DELAY;
-    return smd_cadd(smd_cscale(s->v_hist[i0], a), smd_cscale(s->v_hist[i1], b));
-}
-
 /* One harmonic channel of eq. (35): band-pass at h |w| of v delayed by N - 1
  * samples, N = 2 pi / (h |w| T) the samples per harmonic period (fractional
- * in general). Returns 0 when the delay does not fit the line. */
+ * in general), read from the delay line with a two-tap interpolation exact
+ * for a sinusoid of W rad/sample: v(k - D) = a v(k - n) + b v(k - n - 1),
+ * n = floor(D), a = sin(W (1 - f)) / sin W, b = sin(W f) / sin W, f = D - n.
+ * The band-pass coefficients and the taps are recomputed when `refresh`
+ * (every sample unless the config decimates) and kept in *tap between.
+ * Returns 0 when the delay does not fit the line. */
 static smd_cplx harmonic(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, smd_bandpass *bp,
-                         smd_real h, smd_real bw, smd_real w_abs)
+                         smd_lcl_smo_taps *tap, smd_real h, smd_real bw, smd_real w_abs,
+                         int refresh)
 {
-    smd_real W = h * w_abs * p->T_sp;
-    smd_real D;
-    if (!(W < SMD_R(0.95) * SMD_PI)) {
+    int i0, i1;
+    if (refresh) {
+        smd_real W = h * w_abs * p->T_sp;
+        smd_real D, f, sw;
+        tap->ok = 0;
+        if (!(W < SMD_R(0.95) * SMD_PI)) {
+            return smd_c(SMD_R(0.0), SMD_R(0.0));
+        }
+        D = SMD_TWO_PI / W - SMD_R(1.0);
+        if (!(D < (smd_real)(SMD_LCL_SMO_DELAY - 2)) || D < SMD_R(0.0)) {
+            return smd_c(SMD_R(0.0), SMD_R(0.0));
+        }
+        if (smd_bandpass_set(bp, h * w_abs, bw, p->T_sp) != SMD_OK) {
+            return smd_c(SMD_R(0.0), SMD_R(0.0));
+        }
+        tap->n = (int)D;
+        f = D - (smd_real)tap->n;
+        sw = SMD_SIN(W);
+        tap->a = SMD_SIN(W * (SMD_R(1.0) - f)) / sw;
+        tap->b = SMD_SIN(W * f) / sw;
+        tap->ok = 1;
+    }
+    if (!tap->ok) {
         return smd_c(SMD_R(0.0), SMD_R(0.0));
     }
-    D = SMD_TWO_PI / W - SMD_R(1.0);
-    if (!(D < (smd_real)(SMD_LCL_SMO_DELAY - 2)) || D < SMD_R(0.0)) {
-        return smd_c(SMD_R(0.0), SMD_R(0.0));
-    }
-    if (smd_bandpass_set(bp, h * w_abs, bw, p->T_sp) != SMD_OK) {
-        return smd_c(SMD_R(0.0), SMD_R(0.0));
-    }
-    return smd_bandpass_step(bp, delayed(s, D, W));
+    i0 = (s->v_head - tap->n + 2 * SMD_LCL_SMO_DELAY) % SMD_LCL_SMO_DELAY;
+    i1 = (i0 - 1 + SMD_LCL_SMO_DELAY) % SMD_LCL_SMO_DELAY;
+    return smd_bandpass_step(bp, smd_cadd(smd_cscale(s->v_hist[i0], tap->a),
+                                          smd_cscale(s->v_hist[i1], tap->b)));
 }
 
 void smd_lcl_smo_reframe(smd_lcl_smo_state *s, smd_real dth)
@@ -127,8 +147,22 @@ void smd_lcl_smo_reframe(smd_lcl_smo_state *s, smd_real dth)
     s->e_hat[1] = e.im;
 }
 
+static void reach(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, const smd_lcl_model *mp,
+                  smd_cplx i1, smd_cplx i2, smd_real w_hat, int refresh);
+
+#define SMD_REFRESH_H2 1 /* refresh the 2 f_e channel's band-pass and taps */
+#define SMD_REFRESH_H3 2 /* the 3 f_e channel's */
+
 void smd_lcl_smo_reach(const smd_lcl_smo_params *p, smd_lcl_smo_state *s,
                        const smd_lcl_model *mp, smd_cplx i1, smd_cplx i2, smd_real w_hat)
+{
+    reach(p, s, mp, i1, i2, w_hat, SMD_REFRESH_H2 | SMD_REFRESH_H3);
+}
+
+/* smd_lcl_smo_reach, the harmonic channels whose bit `refresh` holds
+ * refreshed */
+static void reach(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, const smd_lcl_model *mp,
+                  smd_cplx i1, smd_cplx i2, smd_real w_hat, int refresh)
 {
     const smd_lcl_model *m = mp;
     smd_real err[4], t1[2], t2[2], t3[2], D0[2], Qs[2];
@@ -193,11 +227,14 @@ void smd_lcl_smo_reach(const smd_lcl_smo_params *p, smd_lcl_smo_state *s,
         s->e_hat[1] -= m->k * Qs[1];
         /* eq. (35): periodic disturbance at 2 f_e and 3 f_e */
         if (w_abs > p->w_bp_min) {
-            d = smd_cadd(harmonic(p, s, &s->bp2, SMD_R(2.0), p->bw_rel2 * w_abs, w_abs),
-                         harmonic(p, s, &s->bp3, SMD_R(3.0), p->bw_rel3 * w_abs, w_abs));
+            d = smd_cadd(harmonic(p, s, &s->bp2, &s->taps2, SMD_R(2.0), p->bw_rel2 * w_abs,
+                                  w_abs, (refresh & SMD_REFRESH_H2) || !s->taps2.ok),
+                         harmonic(p, s, &s->bp3, &s->taps3, SMD_R(3.0), p->bw_rel3 * w_abs,
+                                  w_abs, (refresh & SMD_REFRESH_H3) || !s->taps3.ok));
         } else {
             smd_bandpass_reset(&s->bp2);
             smd_bandpass_reset(&s->bp3);
+            s->taps2.ok = s->taps3.ok = 0;
         }
         s->d_hat[0] = d.re;
         s->d_hat[1] = d.im;
@@ -257,14 +294,37 @@ void smd_lcl_smo_predict(const smd_lcl_model *m, smd_lcl_smo_state *s, smd_cplx 
 smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, smd_cplx i1_ab,
                             smd_cplx i2_ab, smd_cplx u_ab, smd_real theta_hat, smd_real w_hat)
 {
-    smd_lcl_model m;
     /* e^{-j theta_hat} once for the three Park transforms (the bits of
      * smd_ab_to_dq, which would take it three times) */
     const smd_cplx r = smd_cconj(smd_cexpj(theta_hat));
-    int i;
-    smd_lcl_smo_model(p, w_hat, &m);
-    smd_lcl_smo_reach(p, s, &m, smd_cmul(i1_ab, r), smd_cmul(i2_ab, r), w_hat);
-    smd_lcl_smo_predict(&m, s, smd_cmul(u_ab, r));
+    const int age = s->age;
+    int refresh = 0, i;
+    if (p->decimation < 4 || !s->m_ok) {
+        /* everything at once, every decimation-th sample (every sample: the
+         * method as published) */
+        if (age == 0 || !s->m_ok) {
+            smd_lcl_smo_model(p, w_hat, &s->m);
+            refresh = SMD_REFRESH_H2 | SMD_REFRESH_H3;
+            s->m_ok = 1;
+            s->w_m = w_hat; /* (a spread refresh's second half uses it) */
+        }
+    } else if (age < 2) {
+        /* the model in two halves at the speed of the first (a worst call
+         * of half the interpolation), then each channel on its own sample */
+        const int nf = (int)(sizeof(smd_lcl_model) / sizeof(smd_real)), half = 56;
+        if (age == 0) {
+            s->w_m = w_hat;
+        }
+        smd_table_interp_range((const smd_real *)p->table, nf, p->n, p->w_min, p->dw, s->w_m,
+                               (smd_real *)&s->m, age == 0 ? 0 : half, age == 0 ? half : nf);
+    } else if (age == 2) {
+        refresh = SMD_REFRESH_H2;
+    } else if (age == 3) {
+        refresh = SMD_REFRESH_H3;
+    }
+    s->age = age + 1 >= p->decimation ? 0 : age + 1;
+    reach(p, s, &s->m, smd_cmul(i1_ab, r), smd_cmul(i2_ab, r), w_hat, refresh);
+    smd_lcl_smo_predict(&s->m, s, smd_cmul(u_ab, r));
     s->theta_prev = theta_hat;
     for (i = 0; i < 6; i++) {
         if (!isfinite(s->x_hat[i])) {

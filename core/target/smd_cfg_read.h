@@ -17,6 +17,7 @@ static void smd_rd_smd_lcl_smo_config(smd_reader *r, smd_lcl_smo_config *x)
     smd_rd_reals(r, (smd_real *)&x->bw_rel2, sizeof x->bw_rel2 / sizeof(smd_real));
     smd_rd_reals(r, (smd_real *)&x->bw_rel3, sizeof x->bw_rel3 / sizeof(smd_real));
     smd_rd_reals(r, (smd_real *)&x->w_bp_min, sizeof x->w_bp_min / sizeof(smd_real));
+    smd_rd_ints(r, (int *)&x->decimation, sizeof x->decimation / sizeof(int));
 }
 
 static void smd_rd_smd_linobs_config(smd_reader *r, smd_linobs_config *x)

@@ -71,6 +71,12 @@ typedef struct smd_lcl_smo_config {
     smd_real bw_rel3;           /* the same for the 3 f_e band-pass @fuzz(0, 2) */
     smd_real w_bp_min;          /* band-pass suppression active above this |w|, rad/s
                                    @fuzz(0, 5000) */
+    int decimation;             /* the model, the band-pass coefficients and the delay
+                                   taps are recomputed every this many samples, [0, 64]
+                                   (0 and 1: every sample, the method as published; more:
+                                   the fast build's option, docs/firmware.md); from 4 on the
+                                   work is spread: the model's two halves, then each
+                                   harmonic channel, one a sample @fuzz(-1, 70) */
 } smd_lcl_smo_config;
 
 typedef struct smd_lcl_smo_params {
@@ -83,7 +89,15 @@ typedef struct smd_lcl_smo_params {
     smd_real Q1, Q2;
     smd_real bw_rel2, bw_rel3;
     smd_real w_bp_min;
+    int decimation;              /* >= 1 */
 } smd_lcl_smo_params;
+
+/* A harmonic channel's delay-line taps of eq. (35), kept between refreshes. */
+typedef struct smd_lcl_smo_taps {
+    smd_real a, b; /* v(k - D) = a v(k - n) + b v(k - n - 1) */
+    int n;
+    int ok;        /* 0: the channel is off (delay out of the line, band-pass refused) */
+} smd_lcl_smo_taps;
 
 typedef struct smd_lcl_smo_state {
     smd_real x_hat[6];   /* [u_c, i_1, i_2] estimates, gamma-delta frame */
@@ -102,6 +116,11 @@ typedef struct smd_lcl_smo_state {
     int v_head;
     smd_bandpass bp2, bp3;
     int primed;
+    smd_lcl_model m;     /* the model at the last refresh */
+    smd_lcl_smo_taps taps2, taps3;
+    int age;             /* samples since the last refresh began (0: begin now) */
+    smd_real w_m;        /* the speed of the refresh under way */
+    int m_ok;            /* 0: the next refresh is a whole one (after a reset) */
 } smd_lcl_smo_state;
 
 /* T_sp: the sampling period, s, in (0, 1]. */

@@ -143,8 +143,10 @@ typedef enum smd_status {
     SMD_ERR_WLPF = 15,         /* speed low-pass bandwidth not in (0, pi/T_sp)
                                   @scenario(controller.w_lpf, T_sp) */
     SMD_ERR_NONFINITE = 16,    /* a step produced NaN or Inf; outputs were zeroed */
-    SMD_ERR_DECIMATION = 17,   /* speed-loop decimation not in [1, 1000]
-                                  @scenario(controller.speed_decimation) */
+    SMD_ERR_DECIMATION = 17,   /* speed-loop decimation not in [1, 1000], or the LCL
+                                  observer's refresh decimation not in [0, 64]
+                                  @scenario(controller.speed_decimation,
+                                  controller.smo_decimation) */
     SMD_ERR_WHYS = 18,         /* direction hysteresis not in [0, 1e5] rad/s
                                   @scenario(controller.w_hys) */
     SMD_ERR_WMAX = 19,         /* speed-estimate limit not in (w_hys, pi/T_sp] rad/s
@@ -275,11 +277,12 @@ static inline smd_status smd_check_model(smd_real T_sp, smd_real L_s_hat, smd_re
     return SMD_OK;
 }
 
-/* Linear interpolation in a speed-indexed table of n rows of nf reals each
- * (row k at w_min + k dw), clamped to the table: out = row(w). The yao2022
- * observers' matrices (smd_lcl_smo, smd_lcl_linobs) are such tables. */
-static inline void smd_table_interp(const smd_real *table, int nf, int n, smd_real w_min,
-                                    smd_real dw, smd_real w, smd_real *out)
+/* smd_table_interp (below) for the values [i0, i1) of each row only (the
+ * others of out untouched): the same operations on each value, so that a
+ * row's halves interpolated in two calls give the bits of one call. */
+static inline void smd_table_interp_range(const smd_real *table, int nf, int n, smd_real w_min,
+                                          smd_real dw, smd_real w, smd_real *out, int i0,
+                                          int i1)
 {
     smd_real x = (w - w_min) / dw;
     smd_real f;
@@ -301,8 +304,8 @@ static inline void smd_table_interp(const smd_real *table, int nf, int n, smd_re
     b = a + nf;
     /* four at a time: the same operations on each value, a quarter of the
      * loop's compare-and-branch (113 values a sample for the LCL observer) */
-    n4 = nf - nf % 4;
-    for (i = 0; i < n4; i += 4) {
+    n4 = i1 - (i1 - i0) % 4;
+    for (i = i0; i < n4; i += 4) {
         smd_real a0 = a[i], a1 = a[i + 1], a2 = a[i + 2], a3 = a[i + 3];
         smd_real b0 = b[i], b1 = b[i + 1], b2 = b[i + 2], b3 = b[i + 3];
         out[i] = a0 + f * (b0 - a0);
@@ -310,9 +313,18 @@ static inline void smd_table_interp(const smd_real *table, int nf, int n, smd_re
         out[i + 2] = a2 + f * (b2 - a2);
         out[i + 3] = a3 + f * (b3 - a3);
     }
-    for (i = n4; i < nf; i++) {
+    for (i = n4; i < i1; i++) {
         out[i] = a[i] + f * (b[i] - a[i]);
     }
+}
+
+/* Linear interpolation in a speed-indexed table of n rows of nf reals each
+ * (row k at w_min + k dw), clamped to the table: out = row(w). The yao2022
+ * observers' matrices (smd_lcl_smo, smd_lcl_linobs) are such tables. */
+static inline void smd_table_interp(const smd_real *table, int nf, int n, smd_real w_min,
+                                    smd_real dw, smd_real w, smd_real *out)
+{
+    smd_table_interp_range(table, nf, n, w_min, dw, w, out, 0, nf);
 }
 
 #ifdef __cplusplus

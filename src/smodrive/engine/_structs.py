@@ -149,6 +149,7 @@ class SmoConfig(ct.Structure):
     _fields_ = [
         ("law", ct.c_int), ("table", ct.c_void_p), ("n", ct.c_int), ("w_min", real), ("dw", real),
         ("Q1", real), ("Q2", real), ("bw_rel2", real), ("bw_rel3", real), ("w_bp_min", real),
+        ("decimation", ct.c_int),
     ]
 
 
@@ -159,7 +160,16 @@ class SmoParams(ct.Structure):
     _fields_ = [
         ("T_sp", real), ("law", ct.c_int), ("table", ct.c_void_p), ("n", ct.c_int), ("w_min", real),
         ("dw", real), ("Q1", real), ("Q2", real), ("bw_rel2", real), ("bw_rel3", real),
-        ("w_bp_min", real),
+        ("w_bp_min", real), ("decimation", ct.c_int),
+    ]
+
+
+class SmoTaps(ct.Structure):
+    """smd_lcl_smo_taps (core/include/smodrive/smd_lcl_smo.h)"""
+
+    _c_name_ = "smd_lcl_smo_taps"
+    _fields_ = [
+        ("a", real), ("b", real), ("n", ct.c_int), ("ok", ct.c_int),
     ]
 
 
@@ -172,7 +182,8 @@ class SmoState(ct.Structure):
         ("s_prev", real * 2), ("w_att", real * 2), ("v_prev", real * 2), ("D1", real * 2),
         ("D2", real * 2), ("e_hat", real * 2), ("d_hat", real * 2), ("theta_prev", real),
         ("v_hist", Cplx * SMD_LCL_SMO_DELAY), ("v_head", ct.c_int), ("bp2", Bandpass),
-        ("bp3", Bandpass), ("primed", ct.c_int),
+        ("bp3", Bandpass), ("primed", ct.c_int), ("m", LclModel), ("taps2", SmoTaps),
+        ("taps3", SmoTaps), ("age", ct.c_int), ("w_m", real), ("m_ok", ct.c_int),
     ]
 
 
@@ -335,11 +346,12 @@ MIRRORS: dict[str, type[ct.Structure]] = {
     "smd_svm_params": SvmParams, "smd_emf_pos_params": EmfPosParams,
     "smd_emf_pos_state": EmfPosState, "smd_bandpass": Bandpass, "smd_pll_params": PllParams,
     "smd_pll_state": PllState, "smd_lcl_model": LclModel, "smd_lcl_smo_config": SmoConfig,
-    "smd_lcl_smo_params": SmoParams, "smd_lcl_smo_state": SmoState, "smd_linobs_model": LinModel,
-    "smd_linobs_config": LinConfig, "smd_linobs_params": LinParams, "smd_linobs_state": LinState,
-    "smd_drive_config": DriveConfig, "smd_drive_view": DriveView, "smd_drive_in": DriveIn,
-    "smd_drive_out": DriveOut, "smd_plant_config": PlantConfig, "smd_pwl": Pwl,
-    "smd_profiles": Profiles, "smd_engine_start": EngineStart, "smd_plant": PlantHead,
+    "smd_lcl_smo_params": SmoParams, "smd_lcl_smo_taps": SmoTaps, "smd_lcl_smo_state": SmoState,
+    "smd_linobs_model": LinModel, "smd_linobs_config": LinConfig, "smd_linobs_params": LinParams,
+    "smd_linobs_state": LinState, "smd_drive_config": DriveConfig, "smd_drive_view": DriveView,
+    "smd_drive_in": DriveIn, "smd_drive_out": DriveOut, "smd_plant_config": PlantConfig,
+    "smd_pwl": Pwl, "smd_profiles": Profiles, "smd_engine_start": EngineStart,
+    "smd_plant": PlantHead,
 }
 #: each table model's fields in C order: (C field, design field, its block
 #: ((row0, row1), (col0, col1)) or None for all of it), row-major

@@ -216,7 +216,7 @@ def drive_config(s: Scenario, tables=None) -> _ffi.DriveConfig:
         smo = _every_field(_ffi.SmoConfig, dict(
             law=LAWS[k.law], table=m.ctypes.data, n=m.shape[0], w_min=w_min, dw=dw,
             Q1=k.Q[0], Q2=k.Q[1], bw_rel2=k.bw_rel[0], bw_rel3=k.bw_rel[1],
-            w_bp_min=k.w_M_bp_min * n_p), "drive_config")
+            w_bp_min=k.w_M_bp_min * n_p, decimation=k.smo_decimation), "drive_config")
         lin_c = _every_field(_ffi.LinConfig, dict(
             table=lin.ctypes.data, n=lin.shape[0], w_min=w_min, dw=dw), "drive_config")
     else:  # no LCL observer: their configs all 0

@@ -236,6 +236,10 @@ class ControllerCfg(_Validated):
     bw_rel: tuple[float, float] = num((0.2, 0.2), 1e-3, 1.9, "", "band-pass widths / f_e")
     w_M_bp_min: float = num(5e3 * RPM, 0.0, 1e5, "rad/s",
                             "band-pass suppression above this speed (mechanical, assumed)")
+    smo_decimation: int = num(1, 1, 64, "", "the sliding-mode observer recomputes its model, "
+                              "band-pass coefficients and delay taps every this many samples "
+                              "(1: every sample, as published; more: the fast build's option, "
+                              "docs/firmware.md)", integer=True)
     # start
     t_handover: float = num(0.0, 0.0, 1e3, "s", "handover: time run on the encoder first")
     i_start: float | None = num(None, 0.0, 1e5, "A",
