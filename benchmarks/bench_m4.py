@@ -65,7 +65,7 @@ def main() -> None:
               f"reaching law {t6[m]['reaching_law']:.0f}, PLL {t6[m]['pll']:.0f}: "
               f"{total:.0f} cycles against the paper's 785 on the TMS320F28335")
     code, ram = T.sizes()
-    print("\ncode size for the Cortex-M4F (-O2, .text + .rodata, bytes): " + ", ".join(
+    print("\ncode size for the Cortex-M4F (-O3, .text + .rodata, bytes): " + ", ".join(
         f"{k} {v}" for k, v in code.items()) + f"; total {sum(code.values())}")
     print("RAM (bytes): " + ", ".join(f"{k} {v}" for k, v in ram.items()))
     if args.json:

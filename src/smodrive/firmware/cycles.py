@@ -411,7 +411,7 @@ SIZE_STRUCTS = ("smd_drive_config", "smd_drive_params", "smd_drive_state", "smd_
 
 def sizes(math: str = "libm") -> tuple[dict[str, int], dict[str, int]]:
     """Code size (.text + .rodata, bytes) of each core source compiled for
-    the Cortex-M4F (-O2, as the firmware check) and the size of each struct
+    the Cortex-M4F (-O3, the cycle table's flags) and the size of each struct
     of :data:`SIZE_STRUCTS` in the M4F build (from the symbol sizes of
     objects sized like them)."""
     cc = _tool("arm-none-eabi-gcc", "gcc-arm-none-eabi")
