@@ -80,8 +80,13 @@ static void check_out(smd_status st, const smd_drive_out *out)
     /* smd_drive.h: a step with a fault bit returns SMD_ERR_FAULT (or
      * SMD_ERR_NONFINITE for an internal one) and the safe state (duties
      * 0.5); one without returns SMD_OK; the warnings and events
-     * (SMD_FAULT_WARNINGS) are reported by a step that runs normally */
-    const uint32_t stops = out->fault & ~(uint32_t)SMD_FAULT_WARNINGS;
+     * (SMD_FAULT_WARNINGS) are reported by a step that runs normally; so is
+     * the cause (lost lock, failed start) that the sample of an automatic
+     * restart reports with SMD_FAULT_RESTART: the drive runs on, restarted */
+    uint32_t stops = out->fault & ~(uint32_t)SMD_FAULT_WARNINGS;
+    if (out->fault & (uint32_t)SMD_FAULT_RESTART) {
+        stops &= ~(uint32_t)(SMD_FAULT_LOST_LOCK | SMD_FAULT_START);
+    }
     FZ_CHECK((stops != 0u) == (st != SMD_OK));
     if (stops != 0u) {
         FZ_CHECK(st == SMD_ERR_FAULT || st == SMD_ERR_NONFINITE);

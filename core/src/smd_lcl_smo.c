@@ -147,8 +147,12 @@ void smd_lcl_smo_reframe(smd_lcl_smo_state *s, smd_real dth)
     s->e_hat[1] = e.im;
 }
 
-static void reach(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, const smd_lcl_model *mp,
-                  smd_cplx i1, smd_cplx i2, smd_real w_hat, int refresh);
+/* (m restrict: the state's own model, which neither writes, so that the
+ * state's writes do not make the compiler load the model again) */
+static void reach(const smd_lcl_smo_params *p, smd_lcl_smo_state *s,
+                  const smd_lcl_model *restrict mp, smd_cplx i1, smd_cplx i2, smd_real w_hat,
+                  int refresh);
+static void predict(const smd_lcl_model *restrict m, smd_lcl_smo_state *s, smd_cplx u);
 
 #define SMD_REFRESH_H2 1 /* refresh the 2 f_e channel's band-pass and taps */
 #define SMD_REFRESH_H3 2 /* the 3 f_e channel's */
@@ -161,8 +165,9 @@ void smd_lcl_smo_reach(const smd_lcl_smo_params *p, smd_lcl_smo_state *s,
 
 /* smd_lcl_smo_reach, the harmonic channels whose bit `refresh` holds
  * refreshed */
-static void reach(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, const smd_lcl_model *mp,
-                  smd_cplx i1, smd_cplx i2, smd_real w_hat, int refresh)
+static void reach(const smd_lcl_smo_params *p, smd_lcl_smo_state *s,
+                  const smd_lcl_model *restrict mp, smd_cplx i1, smd_cplx i2, smd_real w_hat,
+                  int refresh)
 {
     const smd_lcl_model *m = mp;
     smd_real err[4], t1[2], t2[2], t3[2], D0[2], Qs[2];
@@ -267,6 +272,11 @@ static void reach(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, const smd_l
 
 void smd_lcl_smo_predict(const smd_lcl_model *m, smd_lcl_smo_state *s, smd_cplx u)
 {
+    predict(m, s, u);
+}
+
+static void predict(const smd_lcl_model *restrict m, smd_lcl_smo_state *s, smd_cplx u)
+{
     smd_real x_next[6], t1[2], t2[2], t3[2];
     int i, j;
     /* observer, eq. (9): x(k+1) = G x + H u + F w */
@@ -324,7 +334,7 @@ smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, s
     }
     s->age = age + 1 >= p->decimation ? 0 : age + 1;
     reach(p, s, &s->m, smd_cmul(i1_ab, r), smd_cmul(i2_ab, r), w_hat, refresh);
-    smd_lcl_smo_predict(&s->m, s, smd_cmul(u_ab, r));
+    predict(&s->m, s, smd_cmul(u_ab, r));
     s->theta_prev = theta_hat;
     for (i = 0; i < 6; i++) {
         if (!isfinite(s->x_hat[i])) {

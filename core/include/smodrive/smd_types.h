@@ -227,16 +227,24 @@ static inline bool smd_cfinite(smd_cplx a) { return isfinite(a.re) && isfinite(a
 static inline smd_real smd_nf(smd_real x) { return x - x; }
 static inline smd_real smd_cnf(smd_cplx a) { return (a.re - a.re) + (a.im - a.im); }
 
-/* floor(y), bit for bit, through the integer conversion where |y| < 2^23
- * (every float there is exact as an int32, and floor of a float that large
- * is itself): one VCVT each way on a Cortex-M4F, where newlib's floorf is a
- * call of some 40 cycles; NaN, inf and larger values take SMD_FLOOR. */
+/* floor(y) for |y| < 2^23 through the integer conversion, bit for bit
+ * floorf's (every float there is exact as an int32; y itself when it is an
+ * integer, so -0 stays -0): one VCVT each way on a Cortex-M4F, where
+ * newlib's floorf is a call of some 40 cycles. */
+static inline smd_real smd_floor_small(smd_real y)
+{
+    const smd_real f = (smd_real)(int32_t)y;
+    return f > y ? f - SMD_R(1.0) : (f < y ? f : y);
+}
+
+/* floor(y): smd_floor_small where it applies on targets whose C library's
+ * floorf is a call (x86-64's is one instruction), SMD_FLOOR otherwise (NaN,
+ * inf, larger values, the double build). The same bits either way. */
 static inline smd_real smd_floor(smd_real y)
 {
-#if !defined(SMD_REAL_DOUBLE)
+#if !defined(SMD_REAL_DOUBLE) && !defined(__x86_64__)
     if (y > SMD_R(-8388608.0) && y < SMD_R(8388608.0)) {
-        const smd_real f = (smd_real)(int32_t)y;
-        return f > y ? f - SMD_R(1.0) : (f < y ? f : y); /* y itself: -0 stays -0 */
+        return smd_floor_small(y);
     }
 #endif
     return SMD_FLOOR(y);
