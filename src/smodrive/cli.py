@@ -333,10 +333,15 @@ def _load(scenario: str):
                    "QEMU (mps2-an386) against the host plant, beside the host-only run")
 @click.option("--seconds", type=float, default=0.2, show_default=True,
               help="with --pil: simulated time")
-@click.option("--math", type=click.Choice(["fmath", "libm"]), default="fmath",
+@click.option("--math", type=click.Choice(["fmath", "fast", "libm"]), default="fmath",
               show_default=True,
               help="with --pil: the core's portable float math on both sides (bit-identical), "
-                   "or each platform's C library (glibc against newlib)")
+                   "the fast build's (bit-identical too), or each platform's C library (glibc "
+                   "against newlib)")
+@click.option("--cycles", is_flag=True,
+              help="with --pil: the Cortex-M4F's cycles of every step of the run (mean, 99th "
+                   "percentile, worst call; with the code in STM32F4 and STM32G4 flash too), "
+                   "in pil.json")
 @click.option("--format", "formats", default="npz", show_default=True, metavar="FORMATS",
               help="the log's formats, comma-separated: npz, mat (MATLAB, with the structs "
                    "units and descriptions), csv (units in signals.csv.json), parquet (units "
@@ -346,7 +351,7 @@ def _load(scenario: str):
                    "OUT that holds any: summary.json, scenario.toml, signals.*, pil.json or "
                    "a run's figure)")
 def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
-        math: str, formats: str, force: bool) -> None:
+        math: str, cycles: bool, formats: str, force: bool) -> None:
     """Simulate one SCENARIO (a TOML file or a catalogue name); write
     signals.npz (or the --format files), summary.json and a figure (with
     --pil: pil.json and the comparison figure) into OUT, which must not hold
@@ -365,7 +370,7 @@ def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
             _fail(f"--seconds {seconds}: must be in (0, 10] s", 2)
         _prepare_out(out)
         earlier = _claim_out(out, [f"{_file_stem(s.name)}_pil.png"], force)
-        written = _run_pil(s, out, seconds, math)
+        written = _run_pil(s, out, seconds, math, cycles)
         _remove_stale(out, earlier, written)
         return
     try:
@@ -490,12 +495,13 @@ def run_summary(s, r, plan) -> dict[str, Any]:
     }
 
 
-def _run_pil(s, out: Path, seconds: float, math: str) -> list[str]:
+def _run_pil(s, out: Path, seconds: float, math: str, cycles: bool = False) -> list[str]:
     """The PIL run: pil.json and the comparison figure; returns their names."""
     with _progress() as prog:
-        task = _task(prog, f"{s.name} (PIL, {math})")
+        task = _task(prog, f"{s.name} (PIL, {math}" + (", then its cycles)" if cycles else ")"))
         try:
-            r = firmware.pil(s, seconds, math=math, progress=lambda f: prog.update(task, completed=f))
+            r = firmware.pil(s, seconds, math=math, cycles=cycles,
+                             progress=lambda f: prog.update(task, completed=f))
         except firmware.TargetError as exc:
             _fail(str(exc), 1)
     summary = {
@@ -504,6 +510,17 @@ def _run_pil(s, out: Path, seconds: float, math: str) -> list[str]:
         "max_theta_hat_diff_rad": r.max_theta_diff_rad,
         "max_w_hat_diff_rad_s": r.max_w_diff, "max_word_diff_ulp": r.max_view_ulp,
     }
+    if r.cycles is not None:
+        c = r.cycles
+        budget = firmware.BUDGET[c.paper]
+        summary["cycles"] = {
+            "steps": c.calls, "mean": c.nominal, "p99": c.p99, "worst": c.worst,
+            "range_mean": [c.low, c.high], "flash": c.flash, "budget": budget,
+            "worst_share_flash_stm32f4": c.worst_flash("stm32f4") / budget}
+        _say(f"cycles per step on the Cortex-M4F over {c.calls:,} steps: mean {c.nominal:,.0f}, "
+             f"99th percentile {c.p99:,.0f}, worst {c.worst:,}; in STM32F4 flash worst "
+             f"{c.worst_flash('stm32f4'):,.0f} ({c.worst_flash('stm32f4') / budget:.0%} of the "
+             f"{budget:,.0f} of its period)")
     export.write_text(out / "pil.json", _json(summary))
     fig = _save_figure(plots.pil_panels(r), out, _file_stem(s.name) + "_pil")
     click.echo(_json(summary), nl=False)

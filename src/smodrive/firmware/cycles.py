@@ -400,6 +400,24 @@ def cycle_table(cases: list, paper: dict[str, str], math: str = "fmath",
     return rows
 
 
+def step_cycles(case: DriveCase, paper: str, math: str = "fmath",
+                work: Path | None = None) -> CycleRow:
+    """Every step of one drive case (e.g. a whole PIL run's inputs,
+    :func:`smodrive.firmware.pil` with cycles=True) traced on the Cortex-M4F:
+    one row over all its samples (mean, 99th percentile, worst; in flash)."""
+    work = Path(work) if work else _cache_dir()
+    work.mkdir(parents=True, exist_ok=True)
+    vec = work / f"steps_{math}_{os.getpid()}.bin"
+    write_vectors(vec, [case])
+    try:
+        wins = trace_windows(build("m4", math), vec, work)
+    finally:
+        vec.unlink(missing_ok=True)
+    if len(wins) != case.inputs.shape[0]:
+        raise TargetError(f"step cycles: {len(wins)} windows for {case.inputs.shape[0]} samples")
+    return _row(case.name, paper, wins)
+
+
 #: the structs whose RAM the size table reports (params: derived once at
 #: init, constant; state: changes every sample)
 SIZE_STRUCTS = ("smd_drive_config", "smd_drive_params", "smd_drive_state", "smd_dbpc_params",

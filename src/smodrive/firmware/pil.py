@@ -29,6 +29,7 @@ from .build import (
     _cache_dir,
     build,
 )
+from .cycles import CycleRow, step_cycles
 from .run import qemu_command, ulp_distance
 from .vectors import DriveCase
 
@@ -101,13 +102,12 @@ def _closed_loop(s, n: int, controller: str, math: str, work: Path, progress=Non
     row = (ct.c_double * nch)()
     log = np.zeros((n, nch))
     duty = np.zeros((n, 3), np.float32)
-    raw = []
+    raw, ins = [], []
     link = None
+    st0 = eng._st
+    case = DriveCase(s.name, eng._dc, eng._tables, (_wrap_pi(st0.theta0), st0.w0, st0.i_q0),
+                     np.zeros((0, IN_WORDS), np.float32))
     if controller != "sim":
-        st0 = eng._st
-        case = DriveCase(s.name, eng._dc, eng._tables,
-                         (_wrap_pi(st0.theta0), st0.w0, st0.i_q0),
-                         np.zeros((0, IN_WORDS), np.float32))
         link = _Link(controller, math, case, work)
     try:
         if link is not None and link.init != 0:
@@ -115,6 +115,7 @@ def _closed_loop(s, n: int, controller: str, math: str, work: Path, progress=Non
                               f"{link.init} ({_ffi.status_str(link.init)})")
         for k in range(n):
             lib.smd_engine_ext_inputs(eng._buf, ct.byref(din))
+            ins.append(bytes(din))
             if link is None:
                 st = lib.smd_engine_host_step(eng._buf, ct.byref(din), ct.byref(dout),
                                               ct.byref(view))
@@ -135,7 +136,10 @@ def _closed_loop(s, n: int, controller: str, math: str, work: Path, progress=Non
             link.close()
     if progress is not None:
         progress(1.0)
-    return {"raw": b"".join(raw), "duty": duty.astype(float), "log": log}
+    # the run's controller inputs, as a vector case (its cycles: pil(cycles=True))
+    inputs = np.frombuffer(b"".join(ins), "<f4").reshape(n, IN_WORDS)
+    case = dataclasses.replace(case, inputs=inputs)
+    return {"raw": b"".join(raw), "duty": duty.astype(float), "log": log, "case": case}
 
 
 @dataclasses.dataclass
@@ -151,10 +155,13 @@ class PilResult:
     identical: bool             # status, duties and view bit for bit
     log_host: np.ndarray
     log_pil: np.ndarray
+    #: with cycles=True: the M4F's cycles per step over every sample of the run
+    #: (smodrive.firmware.CycleRow: mean, 99th percentile, worst; in flash too)
+    cycles: CycleRow | None = None
 
 
 def pil(s, seconds: float, math: str = "fmath", progress=None,
-        work: Path | None = None) -> PilResult:
+        work: Path | None = None, cycles: bool = False) -> PilResult:
     """Processor in the loop: scenario `s` for `seconds` with the controller
     compiled for the Cortex-M4F on QEMU against the host plant, sample by
     sample, beside the host-only run of the same controller on its own copy
@@ -164,11 +171,16 @@ def pil(s, seconds: float, math: str = "fmath", progress=None,
     n = int(round(seconds / s.T_sp))
     work = Path(work) if work else _cache_dir()
     work.mkdir(parents=True, exist_ok=True)
-    ref_kind = "host" if math == "fmath" else "sim"
+    ref_kind = "host" if math in ("fmath", "fast") else "sim"
     half = (lambda f: progress(0.5 * f)) if progress else None
     rest = (lambda f: progress(0.5 + 0.5 * f)) if progress else None
     ref = _closed_loop(s, n, ref_kind, math, work, half)
     tgt = _closed_loop(s, n, "m4", math, work, rest)
+    row = None
+    if cycles:
+        # the same inputs replayed through the traced runner: every step's cost
+        # (the run's inputs include whatever faults the scenario injects)
+        row = step_cycles(tgt["case"], _paper_of(s), math, work)
     wa = np.frombuffer(tgt["raw"], "<u4")
     wb = np.frombuffer(ref["raw"], "<u4")
     fa, fb = wa.view("<f4"), wb.view("<f4")
@@ -177,11 +189,17 @@ def pil(s, seconds: float, math: str = "fmath", progress=None,
     dth = np.abs(np.angle(np.exp(1j * (tgt["log"][:, i_th] - ref["log"][:, i_th]))))
     return PilResult(
         scenario=s.name, samples=n, math=math,
-        reference="host runner (fmath)" if ref_kind == "host" else "simulator (glibc libm)",
+        reference=f"host runner ({math})" if ref_kind == "host" else "simulator (glibc libm)",
         max_duty_diff=float(np.max(np.abs(tgt["duty"] - ref["duty"]))),
         max_theta_diff_rad=float(dth.max()),
         max_w_diff=float(np.max(np.abs(tgt["log"][:, i_w] - ref["log"][:, i_w]))),
         max_view_ulp=int(ulp_distance(fa, fb).max()),
-        identical=bool(same.all()), log_host=ref["log"], log_pil=tgt["log"])
+        identical=bool(same.all()), log_host=ref["log"], log_pil=tgt["log"], cycles=row)
+
+
+def _paper_of(s) -> str:
+    """Whose control period budgets scenario `s` (smodrive.firmware.BUDGET):
+    the LCL drive's (50 us) or the yang2018 drive's (100 us)."""
+    return "yao2022" if s.lcl is not None else "yang2018"
 
 
