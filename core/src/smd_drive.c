@@ -864,7 +864,8 @@ static void current_reference(const smd_drive_params *p, smd_drive_state *s,
             if (s->count == 0) {
                 s->i_dq_ref.im = smd_pi_step(&p->speed_pi, &s->speed_pi, x->w_ref - x->w_k);
             }
-            s->count = (s->count + 1) % p->speed_decimation;
+            /* (count + 1) mod speed_decimation, without the division */
+            s->count = s->count + 1 >= p->speed_decimation ? 0 : s->count + 1;
         } else {
             s->i_dq_ref.im = in->i_dq_ref.im;
         }
@@ -1298,7 +1299,7 @@ SMD_COLD static void supervise(const smd_drive_params *p, smd_drive_state *s)
         if (s->osc_n >= 1) {
             const smd_real x = s->w_k * p->T_sp, x2 = x * x;
             const smd_cplx rot = smd_c(SMD_R(1.0) - SMD_R(0.5) * x2,
-                                       x * (SMD_R(1.0) - x2 / SMD_R(6.0)));
+                                       x * (SMD_R(1.0) - x2 * SMD_R(0.16666667)));
             const smd_cplx d1 = smd_csub(s->i_s_ab, smd_cmul(s->i_prev1, rot));
             const smd_real lim = p->osc_i + p->osc_rel * smd_cabs(s->i_dq_ref);
             s->osc_ms += (d1.re * d1.re + d1.im * d1.im - s->osc_ms) * p->osc_k;

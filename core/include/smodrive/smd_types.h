@@ -250,10 +250,16 @@ static inline smd_real smd_floor(smd_real y)
     return SMD_FLOOR(y);
 }
 
-/* Wrap an angle to [-pi, pi). */
+/* Wrap an angle to [-pi, pi). The fast build (SMD_FAST, docs/firmware.md)
+ * multiplies by 1/(2 pi) instead of dividing (a VDIV is 14 cycles): the
+ * result may differ in its last bit and land on -pi for x just below pi. */
 static inline smd_real smd_wrap_pi(smd_real x)
 {
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+    return x - SMD_TWO_PI * smd_floor((x + SMD_PI) * SMD_R(0.159154943091895336));
+#else
     return x - SMD_TWO_PI * smd_floor((x + SMD_PI) / SMD_TWO_PI);
+#endif
 }
 
 /* Range check helper: lo <= x <= hi and finite. */

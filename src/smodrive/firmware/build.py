@@ -37,9 +37,11 @@ MATH_FUNCS = ("sin", "cos", "atan2", "exp", "expm1", "floor", "sqrt", "fabs")
 FMATH_DEFINES = ['-DSMD_MATH_HEADER="smodrive/smd_fmath.h"', "-DSMD_SINF=smd_sinf",
                  "-DSMD_COSF=smd_cosf", "-DSMD_SINCOSF=smd_sincosf", "-DSMD_ATAN2F=smd_atan2f",
                  "-DSMD_EXPF=smd_expf", "-DSMD_EXPM1F=smd_expm1f"]
-#: the fast build's math (``smodrive/smd_fastmath.h``): shorter sin, cos and atan2 with stated
-#: error bounds, as portable as the exact ones (the host and the target still agree bit for bit)
-FAST_DEFINES = ['-DSMD_MATH_HEADER="smodrive/smd_fastmath.h"', "-DSMD_SINF=smd_fast_sinf",
+#: the fast build (``SMD_FAST``): its math (``smodrive/smd_fastmath.h``: shorter sin, cos and
+#: atan2 with stated error bounds) and reciprocals for the hot divisions, as portable as the
+#: exact build (the host and the target still agree bit for bit)
+FAST_DEFINES = ["-DSMD_FAST", '-DSMD_MATH_HEADER="smodrive/smd_fastmath.h"',
+                "-DSMD_SINF=smd_fast_sinf",
                 "-DSMD_COSF=smd_fast_cosf", "-DSMD_SINCOSF=smd_fast_sincosf",
                 "-DSMD_ATAN2F=smd_fast_atan2f", "-DSMD_EXPF=smd_expf", "-DSMD_EXPM1F=smd_expm1f"]
 #: the math variants: each platform's C library, the portable exact math, the fast math
