@@ -1,5 +1,6 @@
 """Physics tests of the LCL-filtered SPMSM plant (sim/src/smd_lcl.c with the
-mechanics, ADC and PWM shared with the filterless plant in sim/src/smd_plant.c)
+mechanics of sim/src/smd_mech.c, ADC of smd_adc.c and PWM of smd_pwm.c shared with
+the filterless plant)
 through smodrive.engine.plant.Plant: a Scenario with its `lcl` section.
 
 The plant diagonalises the filter matrix and solves each mode in closed form.

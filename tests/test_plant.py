@@ -1,5 +1,5 @@
-"""Physics tests of the host plant without the filter (sim/src/smd_spmsm.c and
-the shared mechanics, ADC and PWM of sim/src/smd_plant.c) through
+"""Physics tests of the host plant without the filter (sim/src/smd_spmsm.c, the
+shared mechanics of sim/src/smd_mech.c, ADC of smd_adc.c and PWM of smd_pwm.c) through
 smodrive.engine.plant.Plant; the plant behind the LCL filter: test_lcl_plant.py.
 
 Every reference below is computed independently of the plant's own
