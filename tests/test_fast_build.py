@@ -113,14 +113,14 @@ def test_the_fast_build_moves_each_value_within_its_spread(both):
 def test_a_decimated_observer_refresh_keeps_the_drive(n_rpm):
     """The fast build's option for the yao2022 observer: its model, band-pass
     coefficients and delay taps refreshed every 8 samples (400 us; the model
-    in two halves, each channel on its own sample) instead of every sample.
+    in four parts, each channel on its own sample) instead of every sample.
     At 30, 60 and 100 kr/min (warm start, ADC noise seed 1) the drive runs
     without a fault and its position error keeps its mean within 1 mrad
     (twice the largest ADC-seed range of that mean, 0.5 mrad, over seeds
     1-3) and its spread within 15 %; the speed ripple within the 35 % of
     NOISE. (A spread refresh that began with the model's second half at
     speed 0 lost the rotor at 100 kr/min: the reset's whole refresh now
-    sets the speed the halves use.)"""
+    sets the speed the parts use.)"""
     import numpy as np
 
     from smodrive import simulate

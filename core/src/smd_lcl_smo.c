@@ -318,19 +318,26 @@ smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, s
             s->m_ok = 1;
             s->w_m = w_hat; /* (a spread refresh's second half uses it) */
         }
-    } else if (age < 2) {
-        /* the model in two halves at the speed of the first (a worst call
-         * of half the interpolation), then each channel on its own sample */
-        const int nf = (int)(sizeof(smd_lcl_model) / sizeof(smd_real)), half = 56;
-        if (age == 0) {
-            s->w_m = w_hat;
+    } else {
+        /* the model in parts at the speed of the first (2 parts for a
+         * decimation of 4-5, 4 from 6 on: a worst call of that share of the
+         * interpolation), then each channel on its own sample; the parts'
+         * bounds are multiples of 4 (smd_table_interp_range: one call's bits) */
+        const int nf = (int)(sizeof(smd_lcl_model) / sizeof(smd_real));
+        const int parts = p->decimation >= 6 ? 4 : 2;
+        if (age < parts) {
+            const int step = 112 / parts; /* 28 or 56 */
+            const int i0 = age * step, i1 = age == parts - 1 ? nf : i0 + step;
+            if (age == 0) {
+                s->w_m = w_hat;
+            }
+            smd_table_interp_range((const smd_real *)p->table, nf, p->n, p->w_min, p->dw, s->w_m,
+                                   (smd_real *)&s->m, i0, i1);
+        } else if (age == parts) {
+            refresh = SMD_REFRESH_H2;
+        } else if (age == parts + 1) {
+            refresh = SMD_REFRESH_H3;
         }
-        smd_table_interp_range((const smd_real *)p->table, nf, p->n, p->w_min, p->dw, s->w_m,
-                               (smd_real *)&s->m, age == 0 ? 0 : half, age == 0 ? half : nf);
-    } else if (age == 2) {
-        refresh = SMD_REFRESH_H2;
-    } else if (age == 3) {
-        refresh = SMD_REFRESH_H3;
     }
     s->age = age + 1 >= p->decimation ? 0 : age + 1;
     reach(p, s, &s->m, smd_cmul(i1_ab, r), smd_cmul(i2_ab, r), w_hat, refresh);

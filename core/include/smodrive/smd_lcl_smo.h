@@ -75,8 +75,9 @@ typedef struct smd_lcl_smo_config {
                                    taps are recomputed every this many samples, [0, 64]
                                    (0 and 1: every sample, the method as published; more:
                                    the fast build's option, docs/firmware.md); from 4 on the
-                                   work is spread: the model's two halves, then each
-                                   harmonic channel, one a sample @fuzz(-1, 70) */
+                                   work is spread, one piece a sample: the model in two
+                                   parts (four from 6 on), then each harmonic channel
+                                   @fuzz(-1, 70) */
 } smd_lcl_smo_config;
 
 typedef struct smd_lcl_smo_params {
