@@ -8,6 +8,8 @@ missing tool fails these tests, it does not skip them."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -325,3 +327,22 @@ def test_pil_counts_the_cycles_of_every_step(math, tmp_path):
     assert c.worst_flash("stm32f4") > c.worst and c.flash["stm32g4"]["mean_cold"] > c.nominal
     table = {"fmath": 2619, "fast": 2450}[math]  # README, robust DBPC + SMDO position
     assert abs(c.nominal / table - 1.0) < 0.10
+
+
+def test_the_cycle_table_measures_a_fault_injection_case_over_every_sample(tmp_path):
+    """A drive case with injected faults (the vector tests' .faults
+    variant) is measured over all its samples, the faults included; the
+    others after their first third (the steady phase). And a sample with a
+    bad input (held inputs, the safe state) stays within the clean step's
+    cost: the worst call of the fault case within 5 % of the clean case's."""
+    from smodrive.scenarios.target_cases import FAULTS
+
+    s = catalogue()["yang2018.fig7a"]()
+    clean = T.drive_case("fig7a", s, 150)
+    faults = T.variants(T.drive_case("fig7a", s, 150))[3]
+    faults = dataclasses.replace(faults, name="fig7a" + FAULTS)
+    rows = T.cycle_table([clean, faults], {"fig7a": "yang2018", faults.name: "yang2018"},
+                         "fmath", tmp_path, 150, whole={faults.name})
+    assert [r.calls for r in rows] == [100, 150]
+    assert np.isnan(faults.inputs).any()  # the faults are in the measured samples
+    assert rows[1].worst <= 1.05 * rows[0].worst

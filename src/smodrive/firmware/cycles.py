@@ -12,6 +12,7 @@ import subprocess
 import tempfile
 import threading
 from pathlib import Path
+from typing import Collection
 
 import numpy as np
 
@@ -362,12 +363,15 @@ def _row(name: str, paper: str, ws: list[Window]) -> CycleRow:
 
 
 def cycle_table(cases: list, paper: dict[str, str], math: str = "fmath",
-                work: Path | None = None, samples: int = 150) -> list[CycleRow]:
+                work: Path | None = None, samples: int = 150,
+                whole: Collection[str] = ()) -> list[CycleRow]:
     """Cycles per call on the Cortex-M4F (QEMU instruction trace weighted by
     the Cortex-M4 timings) for every case of `cases` (drive cases of
     `samples` samples, measured after their first third; blocks over their
     first 100 calls), each row labelled with its paper from `paper`
-    (:func:`smodrive.scenarios.target_cases.cycle_cases` makes both)."""
+    (:func:`smodrive.scenarios.target_cases.cycle_cases` makes both); the
+    drive cases named in `whole` are measured over every sample (those with
+    injected faults)."""
     work = Path(work) if work else _cache_dir()
     work.mkdir(parents=True, exist_ok=True)
     vec = work / f"cycles_{math}.bin"
@@ -385,7 +389,8 @@ def cycle_table(cases: list, paper: dict[str, str], math: str = "fmath",
         if isinstance(c, DriveCase):
             ws = wins[pos:pos + c.inputs.shape[0]]
             pos += c.inputs.shape[0]
-            row(c.name, ws[samples // 3:], paper[c.name])  # after the first third
+            # after the first third (the steady phase), or every sample
+            row(c.name, ws if c.name in whole else ws[samples // 3:], paper[c.name])
             continue
         per = {"smdo": 2}.get(c.block, 1) * (3 if c.block == "table6" else 1)
         ws = wins[pos:pos + per * c.n]
