@@ -1280,8 +1280,9 @@ SMD_COLD static void supervise(const smd_drive_params *p, smd_drive_state *s)
         s->forced_count = 0;
         s->start_count = 0;
     }
-    /* chatter: a leaky count of the supervisor's switches */
-    if (p->chatter_max > 0) {
+    /* chatter: a leaky count of the supervisor's switches (nothing to do at
+     * 0, most samples) */
+    if (p->chatter_max > 0 && s->chatter > SMD_R(0.0)) {
         if (s->chatter > (smd_real)p->chatter_max) {
             s->fault |= (uint32_t)SMD_FAULT_CHATTER;
         }
@@ -1420,7 +1421,11 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
     }
     check_lock(p, s);
     supervise(p, s);
-    if (try_restart(p, s)) {
+    /* (try_restart does nothing without a restart to count down or a lost
+     * lock or failed start to restart from: most samples skip the call) */
+    if ((s->restarts > SMD_R(0.0) || (s->fault & (uint32_t)(SMD_FAULT_LOST_LOCK |
+                                                             SMD_FAULT_START))) &&
+        try_restart(p, s)) {
         s->warn |= (uint32_t)SMD_FAULT_RESTART;
     }
     if (s->fault != 0u) {
