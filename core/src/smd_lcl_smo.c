@@ -134,7 +134,7 @@ static smd_cplx harmonic(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, smd_
 
 void smd_lcl_smo_reframe(smd_lcl_smo_state *s, smd_real dth)
 {
-    smd_cplx r = smd_cexpj(-dth);
+    smd_cplx r = smd_cexpj_small(-dth);
     int i;
     smd_cplx e;
     for (i = 0; i < 3; i++) {

@@ -94,7 +94,7 @@ smd_status smd_smdo_step(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i
         s->u_d_hat = smd_cadd(s->u_d_hat, smd_cscale(du, T));
     } else {
         /* eq. (19) discretised with the exact rotation e^{j w T} of (17) */
-        du = smd_cmul(s->u_d_hat, smd_cexpj(w_r * T));
+        du = smd_cmul(s->u_d_hat, smd_cexpj_small(w_r * T));
         s->u_d_hat = smd_cadd(du, smd_cscale(u_smo, p->w_c * T));
     }
     s->e_i_prev = e_i;

@@ -1,0 +1,77 @@
+/*
+ * The fast build's own shortcuts in the core's headers (SMD_FAST, defined
+ * for this file with the fast math hooks, as the fast build compiles the
+ * core): smd_cexpj_small (a rotation by one sample's turn by its series) and
+ * smd_wrap_pi (a product by 1/(2 pi) instead of the division), against
+ * double libm and against the exact forms.
+ */
+#include <float.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "smd_test.h"
+#include "smodrive/smd_types.h"
+
+static uint32_t g_x = 88172645u;
+static double urand(double lo, double hi)
+{
+    g_x ^= g_x << 13;
+    g_x ^= g_x >> 17;
+    g_x ^= g_x << 5;
+    return lo + (hi - lo) * (double)(g_x >> 8) / 16777216.0;
+}
+
+/* |x| < 1/8: within 1.2e-7 of cos x, sin x (the series' 3e-10 and float
+ * rounding of values near 1); beyond: smd_cexpj's bits (the fast sincos) */
+static void test_cexpj_small(void)
+{
+    double worst = 0.0;
+    int k, other = 0;
+    for (k = 0; k < 1000000; k++) {
+        float x = (float)urand(-0.3, 0.3);
+        smd_cplx z = smd_cexpj_small(x);
+        if (fabsf(x) < 0.125f) {
+            double e = fabs((double)z.re - cos((double)x)) + fabs((double)z.im - sin((double)x));
+            if (e > worst) worst = e;
+        } else {
+            smd_cplx r = smd_cexpj(x);
+            other += !(memcmp(&z, &r, sizeof z) == 0);
+        }
+    }
+    printf("    cexpj_small worst %.3g (bound 1.2e-7)\n", worst);
+    CHECK(worst <= 1.2e-7);
+    CHECK_INT(other, 0);
+}
+
+/* the wrap: the exact wrap's value within 1e-6 |x| + 1e-6, or 2 pi from it
+ * at the edge, where the product's rounding (an ulp or two of
+ * y = (x + pi) / (2 pi), at most 2.4e-7 |y|) can floor one turn off: then
+ * it lands outside [-pi, pi) by at most 2 pi times that, 2.3e-4 at |x| =
+ * 1000 (the drive wraps angles below 10 rad: a few 1e-6 there) */
+static void test_wrap_fast(void)
+{
+    int k, bad = 0, off_turn = 0;
+    for (k = 0; k < 1000000; k++) {
+        float x = (float)urand(-1000.0, 1000.0);
+        float w = smd_wrap_pi(x);
+        double exact = remainder((double)x, 6.283185307179586);
+        double d = fabs((double)w - exact);
+        double out = 1.5e-6 * (1.0 + fabs((double)x) / 6.283185307179586);
+        if (d > 3.0) {
+            d = fabs(d - 6.283185307179586);
+            off_turn++;
+        }
+        bad += !(fabs((double)w) <= 3.141592653589793 + out &&
+                 d <= 1e-6 * fabs((double)x) + 1e-6);
+    }
+    printf("    %d of 1e6 wrapped a turn off (at the edge)\n", off_turn);
+    CHECK_INT(bad, 0);
+    CHECK(off_turn < 100);
+}
+
+int main(void)
+{
+    RUN_TEST(test_cexpj_small);
+    RUN_TEST(test_wrap_fast);
+    return smdt_summary("fastbuild");
+}
