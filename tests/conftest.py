@@ -6,8 +6,9 @@ Under xdist each worker is its own process, so what a module computes once
 computed again by every worker that runs one of its tests. So the tests are
 handed to the workers in units, each run by one worker:
 
-- the papers' claims: test_yang2018_claims.py, test_yao2022_claims.py and
-  test_claims_data.py share paper_claims() (every experiment of a paper);
+- the papers' claims: test_yang2018_claims.py, test_yao2022_claims.py,
+  test_claims_data.py and test_fast_build.py share paper_claims() (every
+  experiment of a paper);
 - each test of the modules in SPLIT (long tests that share nothing) alone;
 - every other module as a whole (as `--dist loadscope`).
 
@@ -23,7 +24,8 @@ from __future__ import annotations
 import pytest
 
 #: test files whose tests share paper_claims() (functools.cache, per process)
-PAPER_CLAIMS = ("test_claims_data.py", "test_yang2018_claims.py", "test_yao2022_claims.py")
+PAPER_CLAIMS = ("test_claims_data.py", "test_yang2018_claims.py", "test_yao2022_claims.py",
+                "test_fast_build.py")
 
 #: modules without a module-scoped fixture whose tests are long: one unit a test
 SPLIT = ("test_own_motor.py", "test_gallery.py", "test_sweep.py", "test_cli_results.py",
