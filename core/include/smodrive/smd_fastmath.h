@@ -10,8 +10,8 @@
  *   -DSMD_COSF=smd_fast_cosf -DSMD_SINCOSF=smd_fast_sincosf
  *   -DSMD_ATAN2F=smd_fast_atan2f -DSMD_EXPF=smd_expf -DSMD_EXPM1F=smd_expm1f
  *
- * Error bounds (core/test/test_fmath.c checks each over 2e6 arguments
- * against double libm):
+ * Error bounds (core/test/test_fmath.c checks each over 5e5 arguments
+ * against double libm, the quadrant edges among them):
  *   sin, cos   |error| <= 1.5e-6 absolute for |x| <= 8192 rad: x = k pi/2 + r
  *              with k the nearest integer and pi/2 in two parts (the first
  *              exact in 8 bits, so k pi/2_hi is exact for |k| < 2^16), then
