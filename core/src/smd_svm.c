@@ -36,6 +36,9 @@ void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
     smd_real span;
     smd_real u_avail = (SMD_R(1.0) - SMD_R(2.0) * p->d_min) * u_dc;
     smd_real u_0;
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+    smd_real inv_dc;
+#endif
     int k, overflow;
 
     if (!(u_dc > SMD_R(0.0)) || !smd_cfinite(u_s_ab_ref)) {
@@ -72,8 +75,15 @@ void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
         }
     }
     u_0 = SMD_R(-0.5) * (max3(u_abc) + min3(u_abc));
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+    inv_dc = SMD_R(1.0) / u_dc; /* the fast build: one division, not three */
+#endif
     for (k = 0; k < 3; k++) {
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+        smd_real d = SMD_R(0.5) + (u_abc[k] + u_0) * inv_dc;
+#else
         smd_real d = SMD_R(0.5) + (u_abc[k] + u_0) / u_dc;
+#endif
         if (d < p->d_min) {
             d = p->d_min; /* only by rounding */
         }
@@ -89,8 +99,15 @@ void smd_svm_deadtime_comp(smd_real d_abc[3], const smd_real i_abc[3], smd_real 
                            smd_real i_lin)
 {
     int k;
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+    const smd_real inv = SMD_R(1.0) / i_lin; /* the fast build: one division, not three */
+#endif
     for (k = 0; k < 3; k++) {
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+        smd_real s = i_abc[k] * inv;
+#else
         smd_real s = i_abc[k] / i_lin;
+#endif
         smd_real d;
         if (s > SMD_R(1.0)) {
             s = SMD_R(1.0);
