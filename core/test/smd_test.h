@@ -17,6 +17,7 @@
 #include <complex.h>
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 
 #include "smodrive/smd_types.h"
@@ -39,6 +40,16 @@ static int smdt_failed = 0;
 static int smdt_checks_total = 0;
 static int smdt_cur_checks = 0;
 static int smdt_cur_failed = 0;
+
+/* A uniform number in [lo, hi) from the xorshift32 state *x (24 bits of
+ * it): the tests' reproducible arguments. */
+static inline double smdt_urand(uint32_t *x, double lo, double hi)
+{
+    *x ^= *x << 13;
+    *x ^= *x >> 17;
+    *x ^= *x << 5;
+    return lo + (hi - lo) * (double)(*x >> 8) / 16777216.0;
+}
 
 static inline void smdt_report(int ok, const char *what, const char *file, int line)
 {

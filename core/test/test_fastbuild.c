@@ -13,13 +13,7 @@
 #include "smodrive/smd_types.h"
 
 static uint32_t g_x = 88172645u;
-static double urand(double lo, double hi)
-{
-    g_x ^= g_x << 13;
-    g_x ^= g_x >> 17;
-    g_x ^= g_x << 5;
-    return lo + (hi - lo) * (double)(g_x >> 8) / 16777216.0;
-}
+static double urand(double lo, double hi) { return smdt_urand(&g_x, lo, hi); }
 
 /* |x| < 1/8: within 1.2e-7 of cos x, sin x (the series' 3e-10 and float
  * rounding of values near 1); beyond: smd_cexpj's bits (the fast sincos) */

@@ -29,13 +29,7 @@ static double err_ulp(float got, double ref)
 }
 
 static uint32_t g_x = 2463534242u;
-static double urand(double lo, double hi)
-{
-    g_x ^= g_x << 13;
-    g_x ^= g_x >> 17;
-    g_x ^= g_x << 5;
-    return lo + (hi - lo) * (double)(g_x >> 8) / 16777216.0;
-}
+static double urand(double lo, double hi) { return smdt_urand(&g_x, lo, hi); }
 
 static void test_sin_cos(void)
 {
