@@ -1180,7 +1180,8 @@ static void recover(const smd_drive_params *p, smd_drive_state *s, smd_real thet
 }
 
 /* Loss of lock of a sensorless source (smd_drive.h): its EMF estimate
- * against |w| psi_r_hat, and its speed at the limit it can estimate. */
+ * against |w| psi_r_hat, its speed at the limit it can estimate, a jump of
+ * its angle. */
 static void check_lock(const smd_drive_params *p, smd_drive_state *s)
 {
     smd_real e, w = SMD_FABS(s->w_k), e_exp;
@@ -1206,6 +1207,12 @@ static void check_lock(const smd_drive_params *p, smd_drive_state *s)
                             ? s->lock_count + SMD_LOCK_UP : s->lock_count;
     } else if (s->lock_count > 0) {
         s->lock_count -= 1;
+    }
+    /* a jump of the angle (check_jump): no rotor moves 45 deg in a sample,
+     * so the estimate lost the rotor there, whatever came before (a drive
+     * that ran on used an angle up to 180 deg off: issue 21) */
+    if (s->jumped) {
+        s->lock_count = SMD_LOCK_UP * p->lock_samples;
     }
     if (s->lock_count >= SMD_LOCK_UP * p->lock_samples) {
         s->fault |= (uint32_t)SMD_FAULT_LOST_LOCK;
@@ -1429,7 +1436,9 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
         s->warn |= (uint32_t)SMD_FAULT_RESTART;
     }
     if (s->fault != 0u) {
-        return apply_safe(p, s, out, 0u);
+        /* the sample that latches reports this sample's warnings with it
+         * (an angle jump that declared the lost lock: why) */
+        return apply_safe(p, s, out, s->warn);
     }
     out->fault = s->warn;
     return st;

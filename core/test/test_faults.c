@@ -238,14 +238,22 @@ static void test_latched_trips(void)
     }
 }
 
-/* Loss of lock (sensorless, SMDO position): a rotor that stops dead at
- * sample 3000 (the plant's speed set to 0: its EMF vanishes while the
- * estimate still says 300 rad/s, |u_d_hat| / (|w_hat| psi) falls below
- * 1/lock_ratio) latches SMD_FAULT_LOST_LOCK after lock_samples = 50
- * implausible samples, within 200 samples (the SMDO's disturbance estimate
- * decays with w_c T = 0.15 a sample, ~20 samples to a third); no false
- * alarm before, while the drive tracks. */
-static void test_lost_lock(void)
+/* Loss of lock (sensorless, SMDO position), two ways (lock_samples = 50):
+ * - a rotor that stops dead at sample 3000 (the plant's speed set to 0):
+ *   its EMF vanishes while the estimate still says 300 rad/s; the angle
+ *   derived from the EMF that is left, noise and the decaying estimate,
+ *   jumps by more than 45 deg in a sample within the SMDO's filter time
+ *   (w_c T = 0.15 a sample, ~20 samples to a third), which latches at once
+ *   (issue 21; before it, the 50 implausible samples of the EMF check:
+ *   ~60 samples); within 200 samples, with SMD_FAULT_ANGLE_JUMP reported;
+ * - an estimate that stays smooth but implausible (psi_r_hat, which only
+ *   the check reads in this mode, raised 4x at sample 3000: the EMF estimate
+ *   a quarter of |w_hat| psi_r_hat, below 1/lock_ratio): after exactly
+ *   lock_samples samples in a row, 3049 (the count of quarter samples
+ *   reaches 4 x 50 on the 50th), with no jump.
+ * No false alarm before, while the drive tracks. */
+static void run_lost_lock(int stop, int *first, int *jump, int *false_alarm,
+                          uint32_t *latched)
 {
     smd_drive_params p;
     smd_drive_state s;
@@ -254,7 +262,7 @@ static void test_lost_lock(void)
     smd_drive_out out;
     plant pl;
     double complex u = 0.0, idq = 5.0 * JD;
-    int k, first = -1, false_alarm = 0;
+    int k;
     c.lock_samples = 50;
     c.lock_ratio = R(3.0);
     c.w_lock_min = R(30.0);
@@ -262,20 +270,44 @@ static void test_lost_lock(void)
     pl.i = 0.0;
     pl.th = 1.0;
     pl.w = 300.0;
+    *first = -1;
+    *jump = 0;
+    *false_alarm = 0;
     smd_drive_reset(&p, &s, R(pl.th), R(pl.w), R(0.0));
     for (k = 0; k < 4000; k++) {
+        if (k == 3000 && !stop) p.psi_r_hat *= R(4.0);
         fill_in(&in, &pl, idq);
         (void)smd_drive_step(&p, &s, &in, &out);
-        if (k < 3000 && out.fault != 0u) false_alarm++;
-        if (k >= 3000 && first < 0 && (out.fault & (uint32_t)SMD_FAULT_LOST_LOCK)) first = k;
-        if (k == 3000) pl.w = 0.0;
+        if (k < 3000 && out.fault != 0u) (*false_alarm)++;
+        if (k >= 3000 && *first < 0 && (out.fault & (uint32_t)SMD_FAULT_LOST_LOCK)) {
+            *first = k;
+            *jump = (out.fault & (uint32_t)SMD_FAULT_ANGLE_JUMP) != 0u;
+        }
+        if (k == 3000 && stop) pl.w = 0.0;
         plant_step(&pl, u);
         u = realised(out.d_abc);
     }
-    printf("    loss of lock declared %d samples after the rotor stopped\n", first - 3000);
+    *latched = smd_drive_get_view(&p, &s).fault;
+}
+
+static void test_lost_lock(void)
+{
+    int first, jump, false_alarm;
+    uint32_t latched;
+    run_lost_lock(1, &first, &jump, &false_alarm, &latched);
+    printf("    rotor stopped: loss of lock declared %d samples after (angle jump: %d)\n",
+           first - 3000, jump);
     CHECK_INT(false_alarm, 0);
-    CHECK(first >= 3050 && first <= 3200);
-    CHECK(smd_drive_get_view(&p, &s).fault == (uint32_t)SMD_FAULT_LOST_LOCK);
+    CHECK(first > 3000 && first <= 3200);
+    CHECK_INT(jump, 1);
+    CHECK(latched == (uint32_t)SMD_FAULT_LOST_LOCK);
+    run_lost_lock(0, &first, &jump, &false_alarm, &latched);
+    printf("    EMF implausible: loss of lock declared %d samples after (angle jump: %d)\n",
+           first - 3000, jump);
+    CHECK_INT(false_alarm, 0);
+    CHECK_INT(first, 3049);
+    CHECK_INT(jump, 0);
+    CHECK(latched == (uint32_t)SMD_FAULT_LOST_LOCK);
 }
 
 /* Protection settings out of range name themselves (SMD_ERR_PROTECTION),

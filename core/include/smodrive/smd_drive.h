@@ -64,7 +64,10 @@
  *                            outside [1/lock_ratio, lock_ratio] above
  *                            w_lock_min, or its speed at the limit it can
  *                            estimate (w_max of smdo_emf, the end of the LCL
- *                            observers' table)
+ *                            observers' table); or at once, the sample its
+ *                            angle jumps (SMD_FAULT_ANGLE_JUMP, reported
+ *                            with it): an estimate that moved 45 deg in a
+ *                            sample has lost the rotor (issue 21)
  *     SMD_FAULT_SPEED_TRACKING  the speed the drive uses stays farther than
  *                            w_track from its (slew-limited) reference while
  *                            the speed PI is at its current limit, for
@@ -114,7 +117,9 @@
  *                            from the last one turned at the last speed; a
  *                            rotor cannot, an estimate that lost or flipped
  *                            its direction can (the LCL sources' PLL filters
- *                            their observer's angle: nothing jumps there)
+ *                            their observer's angle: nothing jumps there);
+ *                            the same sample latches SMD_FAULT_LOST_LOCK
+ *                            (or restarts, as a lost lock does)
  *     SMD_FAULT_OSCILLATION  the ripple of the measured current, the RMS of
  *                            its change from one sample to the next in the
  *                            frame turning at the drive's speed, over
