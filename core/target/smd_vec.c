@@ -665,6 +665,56 @@ static void blk_table6(smd_writer *w, rng *g, int n)
     }
 }
 
+/* Table VI's three parts as the drive calls them with the decimated refresh
+ * of the fast build (smd_lcl_smo_config.decimation = 8, spread): one window
+ * over the observer's step (model piece, prediction, reaching law, the
+ * frame's rotations) and the PLL (47)-(48), at 100 kr/min on the tables of
+ * the last TABLES case, as blk_table6. */
+static void blk_table6_dec(smd_writer *w, rng *g, int n)
+{
+    smd_lcl_smo_config c;
+    smd_lcl_smo_params p;
+    static smd_lcl_smo_state s;
+    smd_pll_params pp;
+    smd_pll_state ps;
+    const smd_real wr = SMD_R(10471.98); /* 100 kr/min, one pole pair */
+    smd_real th = SMD_R(0.0);
+    int k;
+    memset(&c, 0, sizeof c);
+    c.law = SMD_LCL_SMO_PROPOSED;
+    c.table = g_models;
+    c.n = g_n_models;
+    c.w_min = g_w_min;
+    c.dw = g_dw;
+    c.Q1 = SMD_R(0.6);
+    c.Q2 = SMD_R(0.6);
+    c.bw_rel2 = SMD_R(0.2);
+    c.bw_rel3 = SMD_R(0.2);
+    c.w_bp_min = SMD_R(1000.0);
+    c.decimation = 8;
+    wr_i32(w, (int)smd_lcl_smo_init(&p, SMD_R(5e-5), &c));
+    wr_i32(w, (int)smd_pll_init(&pp, SMD_R(5e-5), SMD_R(0.1), SMD_R(10.0), SMD_R(10.0)));
+    smd_lcl_smo_reset(&s, SMD_R(0.0));
+    smd_pll_reset(&ps, SMD_R(0.0), wr);
+    for (k = 0; k < n; k++) {
+        smd_cplx e, i1, i2, u;
+        smd_real w_hat = wr + urand(g, SMD_R(-20.0), SMD_R(20.0));
+        smd_status st;
+        th = smd_wrap_pi(th + wr * SMD_R(5e-5));
+        e = smd_cexpj(th);
+        i2 = smd_cadd(smd_cscale(smd_cj(e), SMD_R(30.0)), crand(g, SMD_R(0.3)));
+        i1 = smd_cadd(i2, crand(g, SMD_R(1.0)));
+        u = smd_cscale(smd_cj(e), SMD_R(32.0));
+        smd_mark_begin(SMD_BLK_TABLE6_DEC);
+        st = smd_lcl_smo_step(&p, &s, i1, i2, u, ps.theta, w_hat);
+        smd_pll_step(&pp, &ps, smd_lcl_smo_theta_err(&s, w_hat));
+        smd_mark_end();
+        wr_i32(w, (int)st);
+        wr_reals(w, s.e_hat, 2);
+        wr_real(w, ps.theta);
+    }
+}
+
 static int run_block(smd_reader *r, smd_writer *w)
 {
     int ok = 1;
@@ -691,6 +741,10 @@ static int run_block(smd_reader *r, smd_writer *w)
     case SMD_BLK_TABLE6:
         if (g_n_models < 2) return 0;
         blk_table6(w, &g, n);
+        break;
+    case SMD_BLK_TABLE6_DEC:
+        if (g_n_models < 2) return 0;
+        blk_table6_dec(w, &g, n);
         break;
     case SMD_BLK_LCL_SMO:
         if (g_n_models < 2) return 0;

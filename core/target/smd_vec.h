@@ -46,6 +46,7 @@ enum {
     SMD_BLK_LINOBS = 10,
     SMD_BLK_MATH = 11,
     SMD_BLK_TABLE6 = 12,
+    SMD_BLK_TABLE6_DEC = 13,
     SMD_BLK_N
 };
 

@@ -68,7 +68,8 @@ def standard_cases(samples: int = 600, paper_samples: int = 3000) -> list:
               BlockCase("block.lcl_smo.b", "lcl_smo", 3000, 3001),
               BlockCase("block.lcl_smo.c", "lcl_smo", 3000, 3002),
               BlockCase("block.linobs", "linobs", 3000, 3003),
-              BlockCase("block.table6", "table6", 1000, 3004)]
+              BlockCase("block.table6", "table6", 1000, 3004),
+              BlockCase("block.table6_dec", "table6_dec", 1000, 3005)]
     cat = catalogue()
     for name in PAPER_CASES:
         cases.append(drive_case("paper." + name, cat[name](), paper_samples))
@@ -133,9 +134,10 @@ def cycle_cases(samples: int = 150):
     cases += [TablesCase("tables", tables),
               BlockCase("block.lcl_smo", "lcl_smo", 120, 3000),
               BlockCase("block.linobs", "linobs", 120, 3003),
-              BlockCase("table6", "table6", 120, 7)]
+              BlockCase("table6", "table6", 120, 7),
+              BlockCase("table6 (refresh / 8)", "table6_dec", 160, 7)]
     paper.update({"block.lcl_smo": "yao2022", "block.linobs": "yao2022",
-                  "table6": "yao2022"})
+                  "table6": "yao2022", "table6 (refresh / 8)": "yao2022"})
     return cases, paper
 
 
