@@ -10,10 +10,23 @@ smd_status smd_bandpass_set(smd_bandpass *f, smd_real w_n, smd_real Omega, smd_r
         !smd_in_pos_range(Omega, SMD_PI / T) || !(w_n < SMD_PI / T) || !(Omega < SMD_PI / T)) {
         return SMD_ERR_LIMIT;
     }
-    /* yao2022 eq. (46) */
-    t = SMD_SIN(SMD_R(0.5) * Omega * T) / SMD_COS(SMD_R(0.5) * Omega * T);
+    /* yao2022 eq. (46); the sine and cosine of one angle from one call
+     * (smd_cexpj: one argument reduction, the bits of SMD_SIN and SMD_COS) */
+    {
+        const smd_cplx z = smd_cexpj(SMD_R(0.5) * Omega * T);
+        t = z.im / z.re;
+    }
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+    {
+        /* the fast build divides once */
+        const smd_real inv = SMD_R(1.0) / (SMD_R(1.0) + t);
+        f->a1 = SMD_R(2.0) * SMD_COS(w_n * T) * inv;
+        f->a2 = (SMD_R(1.0) - t) * inv;
+    }
+#else
     f->a1 = SMD_R(2.0) * SMD_COS(w_n * T) / (SMD_R(1.0) + t);
     f->a2 = (SMD_R(1.0) - t) / (SMD_R(1.0) + t);
+#endif
     f->b0 = SMD_R(0.5) * (SMD_R(1.0) - f->a2);
     return SMD_OK;
 }

@@ -116,11 +116,17 @@ static void source_reset(const smd_drive_params *p, smd_drive_state *s, smd_real
 /* The LCL observers in the frame predicted for k (theta_o, w_o): the angle
  * error of eq. (47) into s->pos.theta_err. */
 static smd_status observe_lcl(const smd_drive_params *p, smd_drive_state *s, smd_cplx i1_ab,
-                              smd_cplx i2_ab, smd_real theta_o, smd_real w_o)
+                              smd_cplx i2_ab, smd_real theta_o, smd_real w_o, smd_cplx *ej_o,
+                              int *ej_ok)
 {
     smd_status st;
     if (p->position == SMD_POS_LCL_SMO_PLL) {
-        st = smd_lcl_smo_step(&p->smo, &s->pos.u.smo, i1_ab, i2_ab, s->u_ab, theta_o, w_o);
+        /* e^{j theta_o} once: the observer's transforms and, when the
+         * frame of k is theta_o (on the source), the drive's (rotations()) */
+        *ej_o = smd_cexpj(theta_o);
+        *ej_ok = 1;
+        st = smd_lcl_smo_step_r(&p->smo, &s->pos.u.smo, i1_ab, i2_ab, s->u_ab, smd_cconj(*ej_o),
+                                theta_o, w_o);
         s->pos.theta_err = smd_lcl_smo_theta_err(&s->pos.u.smo, w_o);
     } else {
         /* angle of the linear observer's EMF, e = j w psi e^{j theta} */
@@ -147,13 +153,13 @@ static smd_status observe_lcl(const smd_drive_params *p, smd_drive_state *s, smd
  * only the LCL sources read them. */
 static smd_status source_observe(const smd_drive_params *p, smd_drive_state *s,
                                  const smd_cplx *i1_ab, const smd_cplx *i2_ab, smd_real theta_o,
-                                 smd_real w_o)
+                                 smd_real w_o, smd_cplx *ej_o, int *ej_ok)
 {
     smd_status st = SMD_OK;
     if (p->position == SMD_POS_SMDO_EMF) {
         smd_emf_pos_step(&p->emf, &s->pos.u.emf, s->smdo.u_d_hat);
     } else if (source_is_lcl(p->position)) {
-        st = observe_lcl(p, s, *i1_ab, *i2_ab, theta_o, w_o);
+        st = observe_lcl(p, s, *i1_ab, *i2_ab, theta_o, w_o, ej_o, ej_ok);
     }
     return st;
 }
@@ -650,6 +656,11 @@ typedef struct sample {
      * smd_dq_to_ab give with the angle */
     smd_cplx ej_k;
     smd_cplx ej_15;
+    /* e^{j theta_ej}, taken by step 1 for the LCL sliding-mode observer's
+     * Park transforms (ej_ok); step 6 reuses it when theta_k is theta_ej */
+    smd_cplx ej_o;
+    smd_real theta_ej;
+    int ej_ok;
 } sample;
 
 /* The speed reference of the sample: the input, or slew-limited at a_ref. */
@@ -671,6 +682,7 @@ static void take_sample(const smd_drive_params *p, smd_drive_state *s, const smd
                         const smd_cplx *i_s_ab, sample *x)
 {
     x->T = p->T_sp;
+    x->ej_ok = 0;
     x->theta_o = s->theta;
     x->w_o = s->w;
     x->settled = s->phase_samples >= p->dwell;
@@ -922,7 +934,15 @@ static void rotations(const smd_drive_params *p, sample *x)
 {
     const int pi = p->current == SMD_CC_PI;
     const smd_cplx one = smd_c(SMD_R(1.0), SMD_R(0.0)); /* (unused: not taken) */
-    x->ej_k = pi ? smd_cexpj(x->theta_k) : one;
+    x->ej_k = pi ? ((x->ej_ok && x->theta_k == x->theta_ej) ? x->ej_o : smd_cexpj(x->theta_k))
+                 : one;
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+    /* the fast build turns e^{j theta_k} by 1.5 w_k T (smd_cexpj_unit) */
+    if (pi) {
+        x->ej_15 = smd_cmul(x->ej_k, smd_cexpj_unit(SMD_R(1.5) * x->w_k * x->T));
+        return;
+    }
+#endif
     x->ej_15 = (pi || p->dtc_ratio > SMD_R(0.0))
                    ? smd_cexpj(x->theta_k + SMD_R(1.5) * x->w_k * x->T)
                    : one;
@@ -965,7 +985,16 @@ static smd_status modulate(const smd_drive_params *p, smd_drive_state *s, const 
          * the law would have given (without integral action there is no
          * integrator to keep: a P law must not remember a saturation) */
         smd_cplx du = smd_csub(s->u_ab_next, u_ref);
-        if (smd_cabs(du) > SMD_R(1e-6) * (SMD_R(1.0) + smd_cabs(u_ref))) {
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+        /* (the fast build without the square roots: |du|^2 > 1e-12 (1 +
+         * |u_ref|^2), a threshold within a factor sqrt 2 of the exact
+         * build's 1e-6 (1 + |u_ref|): either only skips rounding noise) */
+        const int limited = du.re * du.re + du.im * du.im >
+                            SMD_R(1e-12) * (SMD_R(1.0) + u_ref.re * u_ref.re + u_ref.im * u_ref.im);
+#else
+        const int limited = smd_cabs(du) > SMD_R(1e-6) * (SMD_R(1.0) + smd_cabs(u_ref));
+#endif
+        if (limited) {
             s->x_i = smd_cadd(s->x_i, smd_cmul(du, smd_cconj(x->ej_15)));
         }
     }
@@ -1016,7 +1045,8 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
     smd_status st;
     take_sample(p, s, in, &i_s_ab, &x);
     /* 1. the position source's estimates at k */
-    st = source_observe(p, s, &i1_ab, &i_s_ab, x.theta_o, x.w_o);
+    st = source_observe(p, s, &i1_ab, &i_s_ab, x.theta_o, x.w_o, &x.ej_o, &x.ej_ok);
+    x.theta_ej = x.theta_o;
     /* 2. the frame of sample k */
     frame_now(p, s, in, &x);
     /* 3. the frame of k+1, start-up transitions */

@@ -94,40 +94,50 @@ static void mv2(const smd_real M[4], const smd_real x[2], smd_real y[2])
  * in general), read from the delay line with a two-tap interpolation exact
  * for a sinusoid of W rad/sample: v(k - D) = a v(k - n) + b v(k - n - 1),
  * n = floor(D), a = sin(W (1 - f)) / sin W, b = sin(W f) / sin W, f = D - n.
- * The band-pass coefficients and the taps are recomputed when `refresh`
- * (every sample unless the config decimates) and kept in *tap between.
- * Returns 0 when the delay does not fit the line. */
+ * The band-pass coefficients (SMD_HARM_BP) and the taps (SMD_HARM_TAPS) are
+ * recomputed as `what` says (both every sample unless the config decimates;
+ * a decimation of 8 or more does each on its own sample) and kept in *bp,
+ * *tap between. Returns 0 when the delay does not fit the line. */
+#define SMD_HARM_BP 1
+#define SMD_HARM_TAPS 2
 static smd_cplx harmonic(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, smd_bandpass *bp,
                          smd_lcl_smo_taps *tap, smd_real h, smd_real bw, smd_real w_abs,
-                         int refresh)
+                         int what)
 {
     int i0, i1;
-    if (refresh) {
+    if (what) {
         smd_real W = h * w_abs * p->T_sp;
         smd_real D, f, sw;
-        tap->ok = 0;
         if (!(W < SMD_R(0.95) * SMD_PI)) {
+            tap->ok = 0;
             return smd_c(SMD_R(0.0), SMD_R(0.0));
         }
         D = SMD_TWO_PI / W - SMD_R(1.0);
         if (!(D < (smd_real)(SMD_LCL_SMO_DELAY - 2)) || D < SMD_R(0.0)) {
+            tap->ok = 0;
             return smd_c(SMD_R(0.0), SMD_R(0.0));
         }
-        if (smd_bandpass_set(bp, h * w_abs, bw, p->T_sp) != SMD_OK) {
+        if ((what & SMD_HARM_BP) && smd_bandpass_set(bp, h * w_abs, bw, p->T_sp) != SMD_OK) {
+            tap->ok = 0;
             return smd_c(SMD_R(0.0), SMD_R(0.0));
         }
-        tap->n = (int)D;
-        f = D - (smd_real)tap->n;
-        sw = SMD_SIN(W);
-        tap->a = SMD_SIN(W * (SMD_R(1.0) - f)) / sw;
-        tap->b = SMD_SIN(W * f) / sw;
-        tap->ok = 1;
+        if (what & SMD_HARM_TAPS) {
+            tap->n = (int)D;
+            f = D - (smd_real)tap->n;
+            sw = SMD_SIN(W);
+            tap->a = SMD_SIN(W * (SMD_R(1.0) - f)) / sw;
+            tap->b = SMD_SIN(W * f) / sw;
+            tap->ok = 1;
+        }
     }
     if (!tap->ok) {
         return smd_c(SMD_R(0.0), SMD_R(0.0));
     }
-    i0 = (s->v_head - tap->n + 2 * SMD_LCL_SMO_DELAY) % SMD_LCL_SMO_DELAY;
-    i1 = (i0 - 1 + SMD_LCL_SMO_DELAY) % SMD_LCL_SMO_DELAY;
+    /* (non-negative operands: the remainder of the unsigned value, a mask
+     * for the power-of-two line) */
+    i0 = (int)((unsigned)(s->v_head - tap->n + 2 * SMD_LCL_SMO_DELAY) %
+               (unsigned)SMD_LCL_SMO_DELAY);
+    i1 = (int)((unsigned)(i0 - 1 + SMD_LCL_SMO_DELAY) % (unsigned)SMD_LCL_SMO_DELAY);
     return smd_bandpass_step(bp, smd_cadd(smd_cscale(s->v_hist[i0], tap->a),
                                           smd_cscale(s->v_hist[i1], tap->b)));
 }
@@ -154,8 +164,11 @@ static void reach(const smd_lcl_smo_params *p, smd_lcl_smo_state *s,
                   int refresh);
 static void predict(const smd_lcl_model *restrict m, smd_lcl_smo_state *s, smd_cplx u);
 
-#define SMD_REFRESH_H2 1 /* refresh the 2 f_e channel's band-pass and taps */
-#define SMD_REFRESH_H3 2 /* the 3 f_e channel's */
+/* what to refresh: each harmonic channel's band-pass coefficients and taps
+ * (SMD_HARM_BP, SMD_HARM_TAPS), the 2 f_e channel's in bits 0-1, the 3 f_e
+ * channel's in bits 2-3 */
+#define SMD_REFRESH_H2 (SMD_HARM_BP | SMD_HARM_TAPS)
+#define SMD_REFRESH_H3 ((SMD_HARM_BP | SMD_HARM_TAPS) << 2)
 
 void smd_lcl_smo_reach(const smd_lcl_smo_params *p, smd_lcl_smo_state *s,
                        const smd_lcl_model *mp, smd_cplx i1, smd_cplx i2, smd_real w_hat)
@@ -223,7 +236,7 @@ static void reach(const smd_lcl_smo_params *p, smd_lcl_smo_state *s,
     if (p->law == SMD_LCL_SMO_PROPOSED) {
         smd_cplx v = smd_c(Qs[0] + s->d_hat[0], Qs[1] + s->d_hat[1]);
         smd_cplx d = smd_c(SMD_R(0.0), SMD_R(0.0));
-        s->v_head = (s->v_head + 1) % SMD_LCL_SMO_DELAY;
+        s->v_head = (int)((unsigned)(s->v_head + 1) % (unsigned)SMD_LCL_SMO_DELAY);
         s->v_hist[s->v_head] = v;
         /* eq. (34) with the sign that converges: s(k) - Q s(k-1) is
          * e_hat(k-1) - e(k-1) + (d - d_hat), so e_hat must move against it
@@ -233,9 +246,11 @@ static void reach(const smd_lcl_smo_params *p, smd_lcl_smo_state *s,
         /* eq. (35): periodic disturbance at 2 f_e and 3 f_e */
         if (w_abs > p->w_bp_min) {
             d = smd_cadd(harmonic(p, s, &s->bp2, &s->taps2, SMD_R(2.0), p->bw_rel2 * w_abs,
-                                  w_abs, (refresh & SMD_REFRESH_H2) || !s->taps2.ok),
+                                  w_abs, s->taps2.ok ? (refresh & SMD_REFRESH_H2)
+                                                     : (SMD_HARM_BP | SMD_HARM_TAPS)),
                          harmonic(p, s, &s->bp3, &s->taps3, SMD_R(3.0), p->bw_rel3 * w_abs,
-                                  w_abs, (refresh & SMD_REFRESH_H3) || !s->taps3.ok));
+                                  w_abs, s->taps3.ok ? (refresh & SMD_REFRESH_H3) >> 2
+                                                     : (SMD_HARM_BP | SMD_HARM_TAPS)));
         } else {
             smd_bandpass_reset(&s->bp2);
             smd_bandpass_reset(&s->bp3);
@@ -306,9 +321,17 @@ smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, s
 {
     /* e^{-j theta_hat} once for the three Park transforms (the bits of
      * smd_ab_to_dq, which would take it three times) */
-    const smd_cplx r = smd_cconj(smd_cexpj(theta_hat));
+    return smd_lcl_smo_step_r(p, s, i1_ab, i2_ab, u_ab, smd_cconj(smd_cexpj(theta_hat)),
+                              theta_hat, w_hat);
+}
+
+smd_status smd_lcl_smo_step_r(const smd_lcl_smo_params *p, smd_lcl_smo_state *s,
+                              smd_cplx i1_ab, smd_cplx i2_ab, smd_cplx u_ab, smd_cplx r,
+                              smd_real theta_hat, smd_real w_hat)
+{
     const int age = s->age;
     int refresh = 0, i;
+    smd_real fin;
     if (p->decimation < 4 || !s->m_ok) {
         /* everything at once, every decimation-th sample (every sample: the
          * method as published) */
@@ -333,24 +356,25 @@ smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, s
             }
             smd_table_interp_range((const smd_real *)p->table, nf, p->n, p->w_min, p->dw, s->w_m,
                                    (smd_real *)&s->m, i0, i1);
-        } else if (age == parts) {
-            refresh = SMD_REFRESH_H2;
-        } else if (age == parts + 1) {
-            refresh = SMD_REFRESH_H3;
+        } else if (p->decimation < 8) {
+            refresh = age == parts ? SMD_REFRESH_H2 : (age == parts + 1 ? SMD_REFRESH_H3 : 0);
+        } else {
+            /* from 8 on, each channel's band-pass and taps on samples of
+             * their own: four pieces of about a model part's size */
+            const int k = age - parts; /* 0-3: H2's band-pass, H2's taps, H3's, H3's */
+            refresh = k < 4 ? ((k & 1) ? SMD_HARM_TAPS : SMD_HARM_BP) << (2 * (k >> 1)) : 0;
         }
     }
     s->age = age + 1 >= p->decimation ? 0 : age + 1;
     reach(p, s, &s->m, smd_cmul(i1_ab, r), smd_cmul(i2_ab, r), w_hat, refresh);
     predict(&s->m, s, smd_cmul(u_ab, r));
     s->theta_prev = theta_hat;
+    /* every estimate finite: a sum of x - x (smd_nf), 0 exactly then */
+    fin = smd_nf(s->e_hat[0]) + smd_nf(s->e_hat[1]) + smd_nf(s->x_c[0]) + smd_nf(s->x_c[1]);
     for (i = 0; i < 6; i++) {
-        if (!isfinite(s->x_hat[i])) {
-            smd_lcl_smo_reset(s, theta_hat);
-            return SMD_ERR_NONFINITE;
-        }
+        fin += smd_nf(s->x_hat[i]);
     }
-    if (!isfinite(s->e_hat[0]) || !isfinite(s->e_hat[1]) || !isfinite(s->x_c[0]) ||
-        !isfinite(s->x_c[1])) {
+    if (fin != SMD_R(0.0)) {
         smd_lcl_smo_reset(s, theta_hat);
         return SMD_ERR_NONFINITE;
     }

@@ -668,8 +668,8 @@ static void blk_table6(smd_writer *w, rng *g, int n)
 /* Table VI's three parts as the drive calls them with the decimated refresh
  * of the fast build (smd_lcl_smo_config.decimation = 8, spread): one window
  * over the observer's step (model piece, prediction, reaching law, the
- * frame's rotations) and the PLL (47)-(48), at 100 kr/min on the tables of
- * the last TABLES case, as blk_table6. */
+ * Park transforms with the drive's e^{-j theta}) and the PLL (47)-(48), at
+ * 100 kr/min on the tables of the last TABLES case, as blk_table6. */
 static void blk_table6_dec(smd_writer *w, rng *g, int n)
 {
     smd_lcl_smo_config c;
@@ -697,7 +697,7 @@ static void blk_table6_dec(smd_writer *w, rng *g, int n)
     smd_lcl_smo_reset(&s, SMD_R(0.0));
     smd_pll_reset(&ps, SMD_R(0.0), wr);
     for (k = 0; k < n; k++) {
-        smd_cplx e, i1, i2, u;
+        smd_cplx e, i1, i2, u, r;
         smd_real w_hat = wr + urand(g, SMD_R(-20.0), SMD_R(20.0));
         smd_status st;
         th = smd_wrap_pi(th + wr * SMD_R(5e-5));
@@ -705,8 +705,11 @@ static void blk_table6_dec(smd_writer *w, rng *g, int n)
         i2 = smd_cadd(smd_cscale(smd_cj(e), SMD_R(30.0)), crand(g, SMD_R(0.3)));
         i1 = smd_cadd(i2, crand(g, SMD_R(1.0)));
         u = smd_cscale(smd_cj(e), SMD_R(32.0));
+        /* the frame's e^{-j theta}: the drive takes it for its own transforms
+         * and hands it to the observer (smd_lcl_smo_step_r) */
+        r = smd_cconj(smd_cexpj(ps.theta));
         smd_mark_begin(SMD_BLK_TABLE6_DEC);
-        st = smd_lcl_smo_step(&p, &s, i1, i2, u, ps.theta, w_hat);
+        st = smd_lcl_smo_step_r(&p, &s, i1, i2, u, r, ps.theta, w_hat);
         smd_pll_step(&pp, &ps, smd_lcl_smo_theta_err(&s, w_hat));
         smd_mark_end();
         wr_i32(w, (int)st);

@@ -77,7 +77,8 @@ typedef struct smd_lcl_smo_config {
                                    the fast build's option, docs/firmware.md); from 4 on the
                                    work is spread, one piece a sample: the model in two
                                    parts (four from 6 on), then each harmonic channel
-                                   @fuzz(-1, 70) */
+                                   (from 8 on its band-pass coefficients and its taps on
+                                   samples of their own) @fuzz(-1, 70) */
 } smd_lcl_smo_config;
 
 typedef struct smd_lcl_smo_params {
@@ -134,6 +135,12 @@ void smd_lcl_smo_model(const smd_lcl_smo_params *p, smd_real w, smd_lcl_model *m
 /* One sample; returns the EMF estimate e_hat(k) (gamma-delta frame). */
 smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, smd_cplx i1_ab,
                             smd_cplx i2_ab, smd_cplx u_ab, smd_real theta_hat, smd_real w_hat);
+/* The same with r = e^{-j theta_hat} given (a caller that has e^{j theta_hat}
+ * for its own transforms takes the sines once: the bits of
+ * smd_lcl_smo_step with r = conj(smd_cexpj(theta_hat))). */
+smd_status smd_lcl_smo_step_r(const smd_lcl_smo_params *p, smd_lcl_smo_state *s,
+                              smd_cplx i1_ab, smd_cplx i2_ab, smd_cplx u_ab, smd_cplx r,
+                              smd_real theta_hat, smd_real w_hat);
 
 /* The two halves of a step (public so that each can be costed, Table VI):
  * the reaching law (switching function (18), law (33)-(35) or the TDE
