@@ -10,6 +10,9 @@
  *   block 4  smd_emf_pos_init, smd_emf_pos_reset, smd_emf_pos_step
  *   block 5  smd_pll_init, smd_pll_reset, smd_pll_step
  *   block 6  smd_bandpass_set, smd_bandpass_reset, smd_bandpass_step
+ *   ident    smd_ident_rs_init, smd_ident_rs_reset, smd_ident_rs_step (a first
+ *            byte of 0xF0 or more; issue 23's R_s test: its duties in [0, 1],
+ *            0.5 once ended; a result's values finite)
  * Input: the block (u8 % 7), its parameters, then steps until the input
  * ends (op byte: even a step on new values, odd a run of 1 + u8 steps on a
  * rotating vector or, for the PI and the PLL, a constant error).
@@ -26,6 +29,7 @@
 #include "smodrive/smd_bandpass.h"
 #include "smodrive/smd_dbpc.h"
 #include "smodrive/smd_emf_pos.h"
+#include "smodrive/smd_ident.h"
 #include "smodrive/smd_pi.h"
 #include "smodrive/smd_pll.h"
 #include "smodrive/smd_smdo.h"
@@ -317,10 +321,60 @@ static void fuzz_bandpass(fz *f)
     }
 }
 
+static void fuzz_ident(fz *f)
+{
+    smd_ident_rs_config c;
+    smd_ident_rs_params p;
+    smd_ident_rs_state s;
+    int steps = 0;
+    c.T_sp = fz_r(f, 0.0, 1e-3);
+    c.i_test = fz_r(f, -1.0, 200.0);
+    c.u_max = fz_r(f, -1.0, 1000.0);
+    c.t_win = fz_r(f, 0.0, 0.05);
+    c.t_level_max = fz_r(f, 0.0, 0.5);
+    c.levels = fz_int(f, 0, 40);
+    if (smd_ident_rs_init(&p, &c) != SMD_OK) {
+        return;
+    }
+    FZ_CHECK(smd_ident_rs_init(0, &c) == SMD_ERR_NULL);
+    smd_ident_rs_reset(&s);
+    while (fz_more(f) && steps < FZ_MAX_STEPS) {
+        uint8_t op = fz_u8(f);
+        smd_real ia = fz_r(f, -300.0, 300.0), ib = fz_r(f, -300.0, 300.0);
+        smd_real u_dc = fz_r(f, -10.0, 1000.0);
+        int n = (op & 1) ? 1 + fz_u8(f) : 1, k;
+        if (op & 2) {
+            smd_ident_rs_reset(&s);
+        }
+        for (k = 0; k < n && steps < FZ_MAX_STEPS; k++, steps++) {
+            smd_real d[3];
+            smd_status st = smd_ident_rs_step(&p, &s, ia, ib, u_dc, d);
+            int j;
+            FZ_CHECK(st == SMD_OK || st == SMD_ERR_FAULT);
+            for (j = 0; j < 3; j++) {
+                FZ_CHECK(d[j] >= SMD_R(0.0) && d[j] <= SMD_R(1.0));
+                if (s.phase == SMD_IDENT_DONE || s.phase == SMD_IDENT_FAILED) {
+                    FZ_CHECK(d[j] == SMD_R(0.5));
+                }
+            }
+            FZ_CHECK(s.level >= 0 && s.level <= p.levels);
+            if (s.phase == SMD_IDENT_DONE && s.outcome == SMD_IDENT_OK) {
+                FZ_CHECK(isfinite(s.R_s) && isfinite(s.u_0));
+            }
+            fz_use((double)s.u + (double)s.R_s);
+        }
+    }
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     fz f = {data, size};
-    switch (fz_u8(&f) % 7) {
+    const uint8_t b = fz_u8(&f);
+    if (b >= 0xF0) {
+        fuzz_ident(&f);
+        return 0;
+    }
+    switch (b % 7) {
     case 0: fuzz_svm(&f); break;
     case 1: fuzz_pi(&f); break;
     case 2: fuzz_dbpc(&f); break;

@@ -469,6 +469,13 @@ def block_seeds() -> None:
     w.u8(1 + 4).u8(255).f64(1.0).f64(0.0).f64(0.1)
     w.u8(2).f32(5e-5).f32(70000.0).f32(400.0).f32(1.0).f32(0.0)
     write("fuzz_blocks", "bandpass-yao2022", w.bytes())
+    # ident (a first byte of 0xF0 or more): issue 23's R_s test as core/target runs it (Table I
+    # stator, 10 kHz, i_test 4 A, 2 ms windows, 8 levels), a search's currents, then a NaN
+    w = W().u8(0xF0).f32(1e-4).f32(4.0).f32(311.0).f32(2e-3).f32(0.2).int(8, 0, 40)
+    for i_a in (0.0, 0.0, 0.1, 0.5, 1.0, 2.0, 4.5):
+        w.u8(1).f32(i_a).f32(-0.5 * i_a).f32(540.0).u8(40)
+    w.u8(0).special(NAN).f32(0.0).f32(540.0)
+    write("fuzz_blocks", "ident-yang2018", w.bytes())
 
 
 def math_seeds() -> None:

@@ -31,6 +31,8 @@ FLOORS: dict[str, int] = {
     "smodrive.sweep": 8,
     "smodrive.report": 9,
     "smodrive.cli": 10,
+    "smodrive.cli_identify": 10,
+    "smodrive.commission": 4,
     "smodrive": 11,
 }
 #: the line count above which a module is a dumping ground to split

@@ -72,6 +72,7 @@ HEADERS = [
     "core/include/smodrive/smd_lcl_smo.h",
     "core/include/smodrive/smd_lcl_linobs.h",
     "core/include/smodrive/smd_drive.h",
+    "core/include/smodrive/smd_ident.h",
     "sim/include/smdsim/smd_plant.h",
     "sim/include/smdsim/smd_engine.h",
 ]
@@ -91,6 +92,8 @@ MIRRORED = {
     "smd_drive_view": "DriveView", "smd_drive_in": "DriveIn", "smd_drive_out": "DriveOut",
     "smd_plant_config": "PlantConfig", "smd_pwl": "Pwl", "smd_profiles": "Profiles",
     "smd_engine_start": "EngineStart",
+    "smd_ident_rs_config": "IdentRsConfig", "smd_ident_rs_params": "IdentRsParams",
+    "smd_ident_rs_state": "IdentRsState",
     "smd_plant": "PlantHead",  # its public head only, checked as a prefix
 }
 # Hand-written methods of a mirror (a base class in src/smodrive/engine/_mirror_methods.py).

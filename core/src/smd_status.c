@@ -43,6 +43,10 @@ const char *smd_status_str(smd_status s)
                "lock_samples in [0, 1e6], lock_ratio > 1, w_lock_min >= 0 rad/s, "
                "0 <= w_if_enter < w_handover rad/s";
     case SMD_ERR_FAULT: return "a fault is active: the outputs are the safe state (see the fault word)";
+    case SMD_ERR_IDENT:
+        return "identification: T_sp in (0, 1] s, i_test in (0, 1e5] A, u_max in (0, 1e5] V, "
+               "t_win in [10 T_sp, 10] s, t_level_max in [2 t_win, 100] s and at most 1e8 T_sp, "
+               "levels in [8, 32]";
     default: return "unknown status";
     }
 }

@@ -10,6 +10,7 @@
 #include "smodrive/smd_dbpc.h"
 #include "smodrive/smd_drive.h"
 #include "smodrive/smd_emf_pos.h"
+#include "smodrive/smd_ident.h"
 #include "smodrive/smd_lcl_linobs.h"
 #include "smodrive/smd_lcl_smo.h"
 #include "smodrive/smd_pi.h"
@@ -468,6 +469,55 @@ static void blk_pll(smd_writer *w, rng *g, int n)
     }
 }
 
+/* Commissioning's R_s test (smd_ident.h) on a stator at standstill along
+ * alpha (yang2018 Table I: 2.25 ohm, 23.45 mH; 14.4 V of inverter drop
+ * against the current, clamped at zero), solved exactly in float each sample
+ * with the duties of the sample before, +-0.05 A of noise on the current;
+ * the test's windows shortened (2 ms) so that the search, the staircase and
+ * the fit all happen within a few thousand samples. */
+static void blk_ident(smd_writer *w, rng *g, int n)
+{
+    smd_ident_rs_config c;
+    smd_ident_rs_params p;
+    smd_ident_rs_state s;
+    const smd_real Rs = SMD_R(2.25), U0 = SMD_R(14.4), udc = SMD_R(540.0);
+    const smd_real e = SMD_EXP(-Rs / SMD_R(23.45e-3) * SMD_R(1e-4));
+    smd_real i = SMD_R(0.0), u_now = SMD_R(0.0), u_next = SMD_R(0.0);
+    int k;
+    c.T_sp = SMD_R(1e-4);
+    c.i_test = SMD_R(4.0);
+    c.u_max = SMD_R(311.0);
+    c.t_win = SMD_R(2e-3);
+    c.t_level_max = SMD_R(0.2);
+    c.levels = 8;
+    wr_i32(w, (int)smd_ident_rs_init(&p, &c));
+    smd_ident_rs_reset(&s);
+    for (k = 0; k < n; k++) {
+        smd_real d[3], ia, u, sg;
+        smd_status st;
+        ia = edge(g, k, n, i + urand(g, SMD_R(-0.05), SMD_R(0.05)));
+        smd_mark_begin(SMD_BLK_IDENT);
+        st = smd_ident_rs_step(&p, &s, ia, SMD_R(-0.5) * ia, udc, d);
+        smd_mark_end();
+        wr_i32(w, (int)st);
+        wr_i32(w, s.phase);
+        wr_i32(w, s.outcome);
+        wr_reals(w, d, 3);
+        /* the plant over the period, with the voltage computed last time */
+        sg = i > SMD_R(0.0) ? SMD_R(1.0) : (i < SMD_R(0.0) ? SMD_R(-1.0)
+                                                          : (u_now > SMD_R(0.0) ? SMD_R(1.0)
+                                                                                : SMD_R(-1.0)));
+        u = u_now - U0 * sg;
+        i = e * (i - u / Rs) + u / Rs;
+        i = i * sg < SMD_R(0.0) ? SMD_R(0.0) : i;
+        u_now = u_next;
+        u_next = SMD_R(2.0) / SMD_R(3.0) * udc * (d[0] - SMD_R(0.5) * (d[1] + d[2]));
+    }
+    wr_real(w, s.R_s);
+    wr_real(w, s.u_0);
+    wr_real(w, s.r2);
+}
+
 static void blk_bandpass(smd_writer *w, rng *g, int n)
 {
     smd_bandpass f;
@@ -740,6 +790,7 @@ static int run_block(smd_reader *r, smd_writer *w)
     case SMD_BLK_EMF_POS: blk_emf_pos(w, &g, n); break;
     case SMD_BLK_PLL: blk_pll(w, &g, n); break;
     case SMD_BLK_BANDPASS: blk_bandpass(w, &g, n); break;
+    case SMD_BLK_IDENT: blk_ident(w, &g, n); break;
     case SMD_BLK_MATH: blk_math(w, &g, n); break;
     case SMD_BLK_TABLE6:
         if (g_n_models < 2) return 0;

@@ -47,6 +47,7 @@ enum {
     SMD_BLK_MATH = 11,
     SMD_BLK_TABLE6 = 12,
     SMD_BLK_TABLE6_DEC = 13,
+    SMD_BLK_IDENT = 14,
     SMD_BLK_N
 };
 

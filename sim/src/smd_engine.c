@@ -229,6 +229,35 @@ long smd_engine_run(smd_engine *e, long n, double *log, long stride)
     return rows;
 }
 
+long smd_engine_run_ident_rs(smd_engine *e, const smd_ident_rs_params *p, smd_ident_rs_state *s,
+                             long n, double *log, long stride)
+{
+    long j, rows = 0;
+    if (stride < 1) stride = 1;
+    for (j = 0; j < n; j++) {
+        engine_sample x;
+        smd_drive_in in;
+        smd_drive_out out;
+        smd_status st;
+        engine_inputs(e, &x, &in);
+        st = smd_ident_rs_step(p, s, in.i_a, in.i_b, in.u_dc, out.d_abc);
+        out.fault = 0u;
+        out.pwm_off = 0;
+        if (log != 0 && (j % stride) == 0) {
+            double *r = log + 3 * rows;
+            r[0] = x.t;
+            r[1] = e->plant.i_re;
+            r[2] = (double)s->u_applied.re;
+            rows++;
+        }
+        engine_apply(e, &x, &out, st, 0, 0);
+        if (s->phase == SMD_IDENT_DONE || s->phase == SMD_IDENT_FAILED) {
+            return j + 1;
+        }
+    }
+    return n;
+}
+
 void smd_engine_ext_inputs(smd_engine *e, smd_drive_in *in)
 {
     engine_inputs(e, &e->ext, in);

@@ -45,7 +45,8 @@ from .engine.export import write_npz
 from .firmware import header as fw_header
 from .model import RPM, ParameterError, derive
 from .report import reproduce as reproduce_papers
-from .scenario_io import load_scenario, scenario_to_toml
+from .cli_identify import identify
+from .scenario_io import resolve_scenario, scenario_to_toml
 from .scenarios import PAPERS, catalogue
 from .sweep import plot_all
 
@@ -254,6 +255,9 @@ def main() -> None:
     """smodrive: sliding-mode observer based PMSM drive control."""
 
 
+main.add_command(identify)
+
+
 @main.command()
 @click.argument("papers", nargs=-1)
 @click.option("--out", type=click.Path(path_type=Path), default=Path("results"),
@@ -306,16 +310,9 @@ def _f(x: float | None) -> str:
 def _load(scenario: str):
     """A TOML file, or a name of the catalogue (`smodrive scenarios`); its
     warnings (older key names) are printed as one line each."""
-    path = Path(scenario)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        if path.is_file():
-            s = load_scenario(path)
-        elif scenario in catalogue():
-            s = catalogue()[scenario]()
-        else:
-            raise ParameterError(f"{scenario}: neither a scenario file nor a catalogue name "
-                                 "(see `smodrive scenarios`)")
+        s = resolve_scenario(scenario)
     for w in caught:
         _say(f"warning: {w.message}", "yellow")
     return s

@@ -377,6 +377,17 @@ def load_scenario(path: str | Path) -> Scenario:
     return s
 
 
+def resolve_scenario(scenario: str) -> Scenario:
+    """A TOML file, or a name of the catalogue (`smodrive scenarios`)."""
+    path = Path(scenario)
+    if path.is_file():
+        return load_scenario(path)
+    if scenario in catalogue():
+        return catalogue()[scenario]()
+    raise ParameterError(f"{scenario}: neither a scenario file nor a catalogue name "
+                         "(see `smodrive scenarios`)")
+
+
 def _toml_value(v: Any) -> Any:
     """A field value as tomli-w writes it: a profile as a table {t, y}, tuples
     as arrays, NumPy scalars as Python numbers (floats keep their repr, so a

@@ -174,8 +174,9 @@ typedef enum smd_status {
                                   controller.t_lock, controller.lock_ratio,
                                   controller.w_M_lock_min, controller.w_M_if_enter,
                                   inverter.u_dc) */
-    SMD_ERR_FAULT = 28         /* a step: a fault is active, the outputs are the safe state
+    SMD_ERR_FAULT = 28,        /* a step: a fault is active, the outputs are the safe state
                                   (smd_drive_out.fault says which) */
+    SMD_ERR_IDENT = 29         /* commissioning (smd_ident.h): a test setting out of range */
 } smd_status;
 
 /* Human-readable text for a status, e.g. for a debugger or a binding. */

@@ -19,6 +19,7 @@
 
 #include "smdsim/smd_plant.h"
 #include "smodrive/smd_drive.h"
+#include "smodrive/smd_ident.h"
 
 #define SMD_PWL_MAX 64
 
@@ -144,6 +145,15 @@ int smd_engine_init(smd_engine *e, const smd_plant_config *plant, const smd_driv
  * into log (which must hold ceil(n / stride) rows; NULL: no logging). Returns
  * the number of rows written. */
 long smd_engine_run(smd_engine *e, long n, double *log, long stride);
+
+/* Commissioning against the plant (issue 23): the identification of R_s and
+ * the inverter's drop (smd_ident.h) in place of the drive, sample by sample
+ * with the same ADC, PWM and plant, from where the engine is, until the
+ * test ends or n samples; returns the samples run. With log != 0 every
+ * stride-th sample writes t, the true current i_alpha and the applied alpha
+ * voltage command (3 doubles a row). */
+long smd_engine_run_ident_rs(smd_engine *e, const smd_ident_rs_params *p, smd_ident_rs_state *s,
+                             long n, double *log, long stride);
 
 /* One sample split in two, for a controller outside the engine (processor
  * in the loop: src/smodrive/target.py). ext_inputs forms the controller's

@@ -175,6 +175,7 @@ SMD_ERR_CURRENT_PI = 25
 SMD_ERR_START = 26
 SMD_ERR_PROTECTION = 27
 SMD_ERR_FAULT = 28
+SMD_ERR_IDENT = 29
 #: drive status -> the scenario fields behind it (an init's refusal)
 DRIVE_FIELDS: dict[int, tuple[str, ...]] = {
     2: ('T_sp',),  # SMD_ERR_TS

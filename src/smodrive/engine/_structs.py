@@ -14,6 +14,7 @@ from ._mirror_methods import CplxMethods
 
 real = ct.c_float  # smd_real of the default (float) build
 
+SMD_IDENT_MAX_LEVELS = 32
 SMD_LCL_SMO_DELAY = 256
 SMD_PWL_MAX = 64
 
@@ -325,6 +326,41 @@ class EngineStart(ct.Structure):
     ]
 
 
+class IdentRsConfig(ct.Structure):
+    """smd_ident_rs_config (core/include/smodrive/smd_ident.h)"""
+
+    _c_name_ = "smd_ident_rs_config"
+    _fields_ = [
+        ("T_sp", real), ("i_test", real), ("u_max", real), ("t_win", real), ("t_level_max", real),
+        ("levels", ct.c_int),
+    ]
+
+
+class IdentRsParams(ct.Structure):
+    """smd_ident_rs_params (core/include/smodrive/smd_ident.h)"""
+
+    _c_name_ = "smd_ident_rs_params"
+    _fields_ = [
+        ("i_test", real), ("u_max", real), ("du", real), ("n_win", ct.c_int),
+        ("n_level_max", ct.c_int), ("levels", ct.c_int), ("svm", SvmParams),
+    ]
+
+
+class IdentRsState(ct.Structure):
+    """smd_ident_rs_state (core/include/smodrive/smd_ident.h)"""
+
+    _c_name_ = "smd_ident_rs_state"
+    _fields_ = [
+        ("phase", ct.c_int), ("outcome", ct.c_int), ("u", real), ("u_lo", real), ("u_hi", real),
+        ("i_lo", real), ("du_cur", real), ("backoffs", ct.c_int), ("u_prev_pt", real),
+        ("i_prev_pt", real), ("level", ct.c_int), ("n_level", ct.c_int), ("n", ct.c_int),
+        ("acc_i", real), ("acc_i2", real), ("acc_u", real), ("prev_i", real),
+        ("have_prev", ct.c_int), ("i_lv", real * SMD_IDENT_MAX_LEVELS),
+        ("u_lv", real * SMD_IDENT_MAX_LEVELS), ("u_applied", Cplx), ("samples", ct.c_int),
+        ("R_s", real), ("u_0", real), ("r2", real), ("resid", real),
+    ]
+
+
 class PlantHead(ct.Structure):
     """smd_plant (sim/include/smdsim/smd_plant.h): its public head,
     the fields before "--- private ---" (checked as a prefix)"""
@@ -351,7 +387,8 @@ MIRRORS: dict[str, type[ct.Structure]] = {
     "smd_linobs_state": LinState, "smd_drive_config": DriveConfig, "smd_drive_view": DriveView,
     "smd_drive_in": DriveIn, "smd_drive_out": DriveOut, "smd_plant_config": PlantConfig,
     "smd_pwl": Pwl, "smd_profiles": Profiles, "smd_engine_start": EngineStart,
-    "smd_plant": PlantHead,
+    "smd_ident_rs_config": IdentRsConfig, "smd_ident_rs_params": IdentRsParams,
+    "smd_ident_rs_state": IdentRsState, "smd_plant": PlantHead,
 }
 #: each table model's fields in C order: (C field, design field, its block
 #: ((row0, row1), (col0, col1)) or None for all of it), row-major

@@ -1,0 +1,122 @@
+/*
+ * Commissioning, step 1 (issue 23): the stator resistance R_s and the
+ * inverter's voltage drop, measured by the drive itself before it runs,
+ * sample by sample, with no knowledge of the motor.
+ *
+ * The test drives a DC current along the alpha axis (the rotor aligns to
+ * it: a d-axis current, no torque once aligned). A search finds the
+ * voltages that give i_test / 10 and i_test: each voltage is held until the
+ * current settles (the window means below), then the next is applied, in
+ * steps of u_max / 1000 until the current appears (the inverter's drop
+ * hides it at first), then in steps of a quarter of i_test at the slope of
+ * the last two points; whatever the motor's L/R, the current cannot run
+ * ahead of a voltage that waits for it. Then a staircase of `levels`
+ * voltages between the two, each held until the current's mean over a
+ * window stops moving (two windows agree within 0.2 % of i_test plus three
+ * standard errors of their noise), then averaged over the next window. A
+ * least-squares line through the
+ * levels, u = R_s i + u_0, gives R_s (slope) and the inverter's drop u_0
+ * (intercept: dead time and switch drops, which a voltage command does not
+ * see), with the fit's R^2 and residual.
+ *
+ * The applied voltage is the commanded one after the modulator's limit
+ * (smd_svm_step), the current the alpha component of the measured phase
+ * currents (c = -a - b).
+ *
+ * Named outcomes (smd_ident_rs_state.outcome) when the result cannot be
+ * trusted: the current never reached i_test below the voltage limit
+ * (no motor, an open phase, R_s too high for the test current), a phase
+ * current beyond 1.5 i_test (the test stops, zero vector), a level that
+ * never settled within t_level_max, a fit whose R^2 is below 0.999, a
+ * non-finite input.
+ */
+#ifndef SMD_IDENT_H
+#define SMD_IDENT_H
+
+#include "smodrive/smd_svm.h"
+#include "smodrive/smd_types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SMD_IDENT_MAX_LEVELS 32
+
+typedef enum smd_ident_phase {
+    SMD_IDENT_RAMP = 0,  /* the voltage ramp toward i_test */
+    SMD_IDENT_LEVEL = 1, /* the staircase */
+    SMD_IDENT_DONE = 2,  /* a result (outcome OK or POOR_FIT); zero vector */
+    SMD_IDENT_FAILED = 3 /* no result (outcome says why); zero vector */
+} smd_ident_phase;
+
+typedef enum smd_ident_outcome {
+    SMD_IDENT_OK = 0,
+    SMD_IDENT_RUNNING = 1,
+    SMD_IDENT_NO_CURRENT = 2,   /* i_test not reached at the voltage limit */
+    SMD_IDENT_OVERCURRENT = 3,  /* a phase current beyond 1.5 i_test */
+    SMD_IDENT_NOT_SETTLED = 4,  /* a level did not settle within t_level_max */
+    SMD_IDENT_POOR_FIT = 5,     /* R^2 below 0.999: the values are given, not trusted */
+    SMD_IDENT_BAD_INPUT = 6     /* a non-finite current or DC-link voltage */
+} smd_ident_outcome;
+
+typedef struct smd_ident_rs_config {
+    smd_real T_sp;        /* sampling period, s, (0, 1] */
+    smd_real i_test;      /* the staircase's top current, A, (0, 1e5] */
+    smd_real u_max;       /* the largest test voltage, V, (0, 1e5] (the modulator limits too) */
+    smd_real t_win;       /* averaging window, s, [10 T_sp, 10] */
+    smd_real t_level_max; /* the longest wait at a level, s, [2 t_win, 100], <= 1e8 T_sp */
+    int levels;           /* levels of the staircase, [8, SMD_IDENT_MAX_LEVELS] */
+} smd_ident_rs_config;
+
+typedef struct smd_ident_rs_params {
+    smd_real i_test;
+    smd_real u_max;
+    smd_real du;          /* the search's first steps, V (u_max / 1000) */
+    int n_win;            /* samples a window */
+    int n_level_max;      /* samples a level at most */
+    int levels;
+    smd_svm_params svm;
+} smd_ident_rs_params;
+
+typedef struct smd_ident_rs_state {
+    int phase;            /* smd_ident_phase */
+    int outcome;          /* smd_ident_outcome */
+    smd_real u;           /* the commanded alpha voltage, V */
+    smd_real u_lo;        /* the ramp's voltage at i_test / 10, V */
+    smd_real u_hi;        /* the ramp's voltage at i_test, V */
+    smd_real i_lo;        /* the current at u_lo, A */
+    smd_real du_cur;      /* the search's step below i_test / 10, V (0: du) */
+    int backoffs;         /* the search's back-offs from 1.2 i_test */
+    smd_real u_prev_pt;   /* the search's last settled point: voltage, V */
+    smd_real i_prev_pt;   /* and current, A */
+    int level;            /* the level being measured */
+    int n_level;          /* samples at this level */
+    int n;                /* samples in this window */
+    smd_real acc_i, acc_i2, acc_u; /* the window's sums: current, its square, voltage */
+    smd_real prev_i;      /* the last window's mean current, A */
+    int have_prev;
+    smd_real i_lv[SMD_IDENT_MAX_LEVELS]; /* each level's mean current, A */
+    smd_real u_lv[SMD_IDENT_MAX_LEVELS]; /* and applied voltage, V */
+    smd_cplx u_applied;   /* the voltage the modulator gives for the next period */
+    int samples;          /* samples since the start */
+    /* results (DONE): R_s, ohm; the inverter's drop, V; R^2; residual RMS, V */
+    smd_real R_s;
+    smd_real u_0;
+    smd_real r2;
+    smd_real resid;
+} smd_ident_rs_state;
+
+smd_status smd_ident_rs_init(smd_ident_rs_params *p, const smd_ident_rs_config *c);
+void smd_ident_rs_reset(smd_ident_rs_state *s);
+/* One sample: the measured phase currents i_a, i_b (A) and the DC-link
+ * voltage (V) in, the duties of the next period out (the zero vector, 0.5
+ * each, once done or failed). Returns SMD_OK while the test runs or has a
+ * result, SMD_ERR_FAULT once it failed (s->outcome says why). */
+smd_status smd_ident_rs_step(const smd_ident_rs_params *p, smd_ident_rs_state *s, smd_real i_a,
+                             smd_real i_b, smd_real u_dc, smd_real d_abc[3]);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

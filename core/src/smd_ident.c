@@ -1,0 +1,304 @@
+#include "smodrive/smd_ident.h"
+
+#include "smodrive/smd_transforms.h"
+
+smd_status smd_ident_rs_init(smd_ident_rs_params *p, const smd_ident_rs_config *c)
+{
+    smd_status st;
+    if (p == 0 || c == 0) {
+        return SMD_ERR_NULL;
+    }
+    if (!smd_in_pos_range(c->T_sp, SMD_R(1.0)) || !smd_in_pos_range(c->i_test, SMD_R(1e5)) ||
+        !smd_in_pos_range(c->u_max, SMD_R(1e5)) ||
+        !smd_in_range(c->t_win, SMD_R(10.0) * c->T_sp, SMD_R(10.0)) ||
+        !smd_in_range(c->t_level_max, SMD_R(2.0) * c->t_win, SMD_R(100.0)) ||
+        !(c->t_level_max <= SMD_R(1e8) * c->T_sp) || c->levels < 8 ||
+        c->levels > SMD_IDENT_MAX_LEVELS) {
+        return SMD_ERR_IDENT;
+    }
+    st = smd_svm_init(&p->svm, SMD_SVM_LIMIT_HEXAGON, SMD_R(0.0));
+    if (st != SMD_OK) {
+        return st;
+    }
+    p->i_test = c->i_test;
+    p->u_max = c->u_max;
+    p->du = c->u_max * SMD_R(0.001);
+    p->n_win = (int)(c->t_win / c->T_sp + SMD_R(0.5));
+    p->n_level_max = (int)(c->t_level_max / c->T_sp + SMD_R(0.5));
+    p->levels = c->levels;
+    return SMD_OK;
+}
+
+static void new_window(smd_ident_rs_state *s)
+{
+    s->n = 0;
+    s->acc_i = s->acc_i2 = s->acc_u = SMD_R(0.0);
+}
+
+void smd_ident_rs_reset(smd_ident_rs_state *s)
+{
+    int k;
+    s->phase = SMD_IDENT_RAMP;
+    s->outcome = SMD_IDENT_RUNNING;
+    s->u = SMD_R(0.0);
+    s->u_lo = s->u_hi = SMD_R(0.0);
+    s->u_prev_pt = s->i_prev_pt = s->i_lo = SMD_R(0.0);
+    s->du_cur = SMD_R(0.0);
+    s->backoffs = 0;
+    s->level = 0;
+    s->n_level = 0;
+    new_window(s);
+    s->prev_i = SMD_R(0.0);
+    s->have_prev = 0;
+    for (k = 0; k < SMD_IDENT_MAX_LEVELS; k++) {
+        s->i_lv[k] = s->u_lv[k] = SMD_R(0.0);
+    }
+    s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+    s->samples = 0;
+    s->R_s = s->u_0 = s->r2 = s->resid = SMD_R(0.0);
+}
+
+/* The voltage of level k: from u_lo (i_test / 10) to u_hi (i_test) in
+ * equal steps. */
+static smd_real level_voltage(const smd_ident_rs_params *p, const smd_ident_rs_state *s, int k)
+{
+    return s->u_lo + (s->u_hi - s->u_lo) * (smd_real)k / (smd_real)(p->levels - 1);
+}
+
+/* The least-squares line u = R i + u_0 through the levels (two passes about
+ * the means, for float precision), its R^2 and residual RMS. */
+static void fit(const smd_ident_rs_params *p, smd_ident_rs_state *s)
+{
+    const int n = p->levels;
+    smd_real mi = SMD_R(0.0), mu = SMD_R(0.0), sii = SMD_R(0.0), siu = SMD_R(0.0),
+             suu = SMD_R(0.0), ss = SMD_R(0.0);
+    int k;
+    for (k = 0; k < n; k++) {
+        mi += s->i_lv[k];
+        mu += s->u_lv[k];
+    }
+    mi /= (smd_real)n;
+    mu /= (smd_real)n;
+    for (k = 0; k < n; k++) {
+        const smd_real di = s->i_lv[k] - mi, du = s->u_lv[k] - mu;
+        sii += di * di;
+        siu += di * du;
+        suu += du * du;
+    }
+    s->R_s = siu / sii;
+    s->u_0 = mu - s->R_s * mi;
+    for (k = 0; k < n; k++) {
+        const smd_real e = s->u_lv[k] - (s->R_s * s->i_lv[k] + s->u_0);
+        ss += e * e;
+    }
+    s->r2 = suu > SMD_R(0.0) ? SMD_R(1.0) - ss / suu : SMD_R(0.0);
+    s->resid = SMD_SQRT(ss / (smd_real)n);
+    s->outcome = (isfinite(s->R_s) && s->r2 >= SMD_R(0.999)) ? SMD_IDENT_OK : SMD_IDENT_POOR_FIT;
+    s->phase = SMD_IDENT_DONE;
+}
+
+static smd_status stop(smd_ident_rs_state *s, int outcome, smd_real d_abc[3])
+{
+    s->phase = SMD_IDENT_FAILED;
+    s->outcome = outcome;
+    s->u = SMD_R(0.0);
+    d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
+    s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+    return SMD_ERR_FAULT;
+}
+
+/* One window of a level: the window's mean current against the last one's;
+ * settled when they agree within 0.2 % of i_test plus three standard errors
+ * of the difference (the ADC's noise averaged over the window). */
+static void level_window(const smd_ident_rs_params *p, smd_ident_rs_state *s)
+{
+    const smd_real nw = (smd_real)s->n;
+    const smd_real mean = s->acc_i / nw;
+    smd_real var = s->acc_i2 / nw - mean * mean;
+    var = var > SMD_R(0.0) ? var : SMD_R(0.0);
+    if (s->have_prev &&
+        SMD_FABS(mean - s->prev_i) <=
+            SMD_R(0.002) * p->i_test + SMD_R(3.0) * SMD_SQRT(SMD_R(2.0) * var / nw)) {
+        s->i_lv[s->level] = mean;
+        s->u_lv[s->level] = s->acc_u / nw;
+        s->level++;
+        s->n_level = 0;
+        s->have_prev = 0;
+        if (s->level < p->levels) {
+            s->u = level_voltage(p, s, s->level);
+        }
+    } else {
+        s->prev_i = mean;
+        s->have_prev = 1;
+    }
+    new_window(s);
+}
+
+/* A window of the search: 1 when the current has settled at this voltage
+ * (two windows agree as in level_window), its mean in *mean; else the
+ * window is kept for the next comparison. */
+static int ramp_window(const smd_ident_rs_params *p, smd_ident_rs_state *s, smd_real *mean)
+{
+    const smd_real nw = (smd_real)s->n;
+    const smd_real m = s->acc_i / nw;
+    smd_real var = s->acc_i2 / nw - m * m;
+    int settled;
+    var = var > SMD_R(0.0) ? var : SMD_R(0.0);
+    settled = s->have_prev && SMD_FABS(m - s->prev_i) <= SMD_R(0.002) * p->i_test +
+                                  SMD_R(3.0) * SMD_SQRT(SMD_R(2.0) * var / nw);
+    new_window(s);
+    if (!settled) {
+        s->prev_i = m;
+        s->have_prev = 1;
+        return 0;
+    }
+    *mean = m;
+    s->have_prev = 0;
+    s->n_level = 0;
+    return 1;
+}
+
+/* The search's next voltage after a settled point (u, i): steps of du_cur
+ * (u_max / 1000 at first, growing by half a step to u_max / 200 while no
+ * current flows and nothing was backed off, halved at each back-off) until
+ * the current reaches i_test / 10 (the first such point is kept: u_lo, i_lo); from
+ * there steps of a quarter of i_test at the slope of the last two points,
+ * at most four times the last step, at least u_max / 1e5. */
+static smd_real next_voltage(const smd_ident_rs_params *p, smd_ident_rs_state *s, smd_real i,
+                             smd_real u_lim)
+{
+    smd_real step = s->du_cur;
+    if (i < SMD_R(0.02) * p->i_test && s->backoffs == 0) {
+        /* no current yet (the inverter's drop, or no motor): the step grows
+         * by half each time, to u_max / 200 */
+        s->du_cur = SMD_R(1.5) * s->du_cur < SMD_R(5.0) * p->du ? SMD_R(1.5) * s->du_cur
+                                                                : SMD_R(5.0) * p->du;
+    } else if (i >= SMD_R(0.1) * p->i_test) {
+        if (s->u_lo == SMD_R(0.0)) {
+            s->u_lo = s->u;
+            s->i_lo = i;
+        }
+        if (s->i_prev_pt >= SMD_R(0.1) * p->i_test &&
+            i - s->i_prev_pt > SMD_R(0.01) * p->i_test) {
+            const smd_real slope = (s->u - s->u_prev_pt) / (i - s->i_prev_pt);
+            const smd_real last = s->u - s->u_prev_pt;
+            step = slope * SMD_R(0.25) * p->i_test;
+            step = step < SMD_R(4.0) * last ? step : SMD_R(4.0) * last;
+        }
+        step = step > SMD_R(0.01) * p->du ? step : SMD_R(0.01) * p->du;
+    }
+    s->u_prev_pt = s->u;
+    s->i_prev_pt = i;
+    return s->u + step < u_lim ? s->u + step : u_lim;
+}
+
+/* The end of the search at (u_hi, i_hi), with a point (u_lo, i_lo) between
+ * i_test / 10 and i_test: the staircase from the voltage the line through
+ * the two gives for i_test / 10 (u_lo itself when they are too close for a
+ * slope) up to u_hi. */
+static void begin_levels(const smd_ident_rs_params *p, smd_ident_rs_state *s, smd_real i_hi)
+{
+    s->u_hi = s->u;
+    if (s->u_lo > SMD_R(0.0) && i_hi - s->i_lo > SMD_R(0.2) * p->i_test) {
+        const smd_real slope = (s->u_hi - s->u_lo) / (i_hi - s->i_lo);
+        const smd_real u = s->u_hi - slope * (i_hi - SMD_R(0.1) * p->i_test);
+        s->u_lo = u > SMD_R(0.0) ? u : s->u_lo;
+    }
+    s->phase = SMD_IDENT_LEVEL;
+    s->level = 0;
+    s->n_level = 0;
+    s->have_prev = 0;
+    new_window(s);
+    s->u = level_voltage(p, s, 0);
+}
+
+smd_status smd_ident_rs_step(const smd_ident_rs_params *p, smd_ident_rs_state *s, smd_real i_a,
+                             smd_real i_b, smd_real u_dc, smd_real d_abc[3])
+{
+    const smd_real i_c = -i_a - i_b;
+    const smd_real i = i_a; /* alpha = a (amplitude-invariant Clarke) */
+    const smd_real trip = SMD_R(1.5) * p->i_test;
+    smd_real u_lim;
+    if (s->phase == SMD_IDENT_DONE || s->phase == SMD_IDENT_FAILED) {
+        d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
+        s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+        return s->phase == SMD_IDENT_DONE ? SMD_OK : SMD_ERR_FAULT;
+    }
+    if (!(isfinite(i_a) && isfinite(i_b) && isfinite(u_dc) && u_dc > SMD_R(0.0))) {
+        return stop(s, SMD_IDENT_BAD_INPUT, d_abc);
+    }
+    if (SMD_FABS(i_a) > trip || SMD_FABS(i_b) > trip || SMD_FABS(i_c) > trip) {
+        return stop(s, SMD_IDENT_OVERCURRENT, d_abc);
+    }
+    s->samples++;
+    /* the alpha axis's reach: 2/3 u_dc along a phase, 0.95 of it */
+    u_lim = SMD_R(0.95) * SMD_R(2.0) / SMD_R(3.0) * u_dc;
+    u_lim = u_lim < p->u_max ? u_lim : p->u_max;
+    if (s->phase == SMD_IDENT_RAMP) {
+        /* the search: a voltage held until the current settles (the same
+         * windows as a level), then the next one */
+        if (s->du_cur == SMD_R(0.0)) {
+            s->du_cur = p->du;
+        }
+        if (i > SMD_R(1.2) * p->i_test) {
+            /* beyond i_test by a fifth while settling: back off to half the
+             * last step, and smaller steps from there (a low R_s, whose
+             * current a step of du takes beyond the trip) */
+            s->u = s->u_prev_pt + SMD_R(0.5) * (s->u - s->u_prev_pt);
+            s->du_cur *= SMD_R(0.5);
+            s->have_prev = 0;
+            new_window(s);
+            if (++s->backoffs > 40) {
+                return stop(s, SMD_IDENT_OVERCURRENT, d_abc);
+            }
+        }
+        s->acc_i += i;
+        s->acc_i2 += i * i;
+        s->n++;
+        s->n_level++;
+        if (s->n >= p->n_win) {
+            smd_real mean;
+            if (ramp_window(p, s, &mean)) {
+                if (mean >= p->i_test && s->u_lo > SMD_R(0.0)) {
+                    begin_levels(p, s, mean);
+                } else if (mean >= p->i_test) {
+                    /* past i_test with no point between i_test / 10 and
+                     * i_test yet: back to half the last step, smaller steps */
+                    s->u = s->u_prev_pt + SMD_R(0.5) * (s->u - s->u_prev_pt);
+                    s->du_cur *= SMD_R(0.5);
+                    if (++s->backoffs > 40) {
+                        return stop(s, SMD_IDENT_OVERCURRENT, d_abc);
+                    }
+                } else if (s->u >= u_lim) {
+                    return stop(s, SMD_IDENT_NO_CURRENT, d_abc);
+                } else {
+                    s->u = next_voltage(p, s, mean, u_lim);
+                }
+            }
+        }
+        if (s->n_level > p->n_level_max) {
+            return stop(s, SMD_IDENT_NOT_SETTLED, d_abc);
+        }
+    } else {
+        /* the sample measures the voltage applied over the last period */
+        s->acc_i += i;
+        s->acc_i2 += i * i;
+        s->acc_u += s->u_applied.re;
+        s->n++;
+        s->n_level++;
+        if (s->n >= p->n_win) {
+            level_window(p, s);
+            if (s->level >= p->levels) {
+                fit(p, s);
+                d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
+                s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+                return SMD_OK;
+            }
+        }
+        if (s->n_level > p->n_level_max) {
+            return stop(s, SMD_IDENT_NOT_SETTLED, d_abc);
+        }
+    }
+    smd_svm_step(&p->svm, smd_c(s->u, SMD_R(0.0)), u_dc, d_abc, &s->u_applied);
+    return SMD_OK;
+}

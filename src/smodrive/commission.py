@@ -1,0 +1,96 @@
+"""Commissioning (issue 23): the drive measures its own motor before it runs.
+
+Step 1, here: the stator resistance R_s and the inverter's voltage drop u_0,
+by the core's test (``core/include/smodrive/smd_ident.h``: a DC current on the
+alpha axis, a staircase of levels, a least-squares line u = R_s i + u_0)
+against the simulated plant, with its ADC (gain, offset, noise,
+quantisation), PWM, dead time and mechanics. The test sees the measured
+currents and the DC-link voltage, never the plant's motor.
+
+What the user gives is what a nameplate gives: the test current
+(``i_test``, default half the rated current) and the DC-link voltage of the
+scenario's inverter.
+"""
+
+from __future__ import annotations
+
+import ctypes as ct
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .engine import _ffi
+from .engine.run import Engine
+from .model import ParameterError
+from .model.derive import rated_current
+from .model.scenario import Scenario
+
+#: the test's outcomes (smd_ident_outcome)
+OUTCOMES = {0: "ok", 1: "running", 2: "no_current", 3: "overcurrent", 4: "not_settled",
+            5: "poor_fit", 6: "bad_input"}
+#: what each outcome means, for a user
+OUTCOME_TEXT = {
+    "ok": "the fit is good (R^2 >= 0.999)",
+    "running": "the test did not end within its time",
+    "no_current": "the current never reached i_test below the voltage limit: no motor, "
+                  "an open phase, or R_s too high for the test current",
+    "overcurrent": "a phase current went beyond 1.5 i_test: the test stopped",
+    "not_settled": "a level's current did not settle within t_level_max",
+    "poor_fit": "the levels are not on a line (R^2 < 0.999): the values are not to be trusted",
+    "bad_input": "a measured current or the DC-link voltage was not finite",
+}
+#: the test's defaults (assumed: windows of 20 ms, a level waits 2 s at most, 10 levels)
+T_WIN = 0.02
+T_LEVEL_MAX = 2.0
+LEVELS = 10
+#: the longest the whole test may run, s
+T_MAX = 30.0
+
+
+@dataclass(frozen=True)
+class RsResult:
+    """R_s and the inverter's drop as the test measured them."""
+    R_s: float          # ohm
+    u_0: float          # V, the line's intercept (dead time and switch drops)
+    r2: float           # the fit's R^2
+    resid: float        # V, the fit's residual RMS
+    outcome: str        # OUTCOMES
+    t: float            # s, the test's length
+    i_levels: tuple     # A, each level's mean current
+    u_levels: tuple     # V, each level's mean applied voltage command
+
+    @property
+    def ok(self) -> bool:
+        return self.outcome == "ok"
+
+
+def rs_config(s: Scenario, i_test: float | None = None) -> _ffi.IdentRsConfig:
+    """The test's settings for scenario `s`: i_test (default half the rated
+    current), the voltage limit u_dc / sqrt 3, the ramp, the windows."""
+    i_test = 0.5 * rated_current(s.motor) if i_test is None else float(i_test)
+    if not (math.isfinite(i_test) and 0.0 < i_test <= 1e5):
+        raise ParameterError(f"i_test = {i_test!r} A: must be in (0, 1e5] A")
+    u_max = s.inverter.u_dc / math.sqrt(3.0)
+    return _ffi.IdentRsConfig(T_sp=s.T_sp, i_test=i_test, u_max=u_max, t_win=T_WIN,
+                              t_level_max=T_LEVEL_MAX, levels=LEVELS)
+
+
+def identify_rs(s: Scenario, i_test: float | None = None) -> RsResult:
+    """Run the R_s test of the core against the plant of scenario `s` (from
+    standstill, the scenario's initial angle) and return what it measured."""
+    cfg = rs_config(s, i_test)
+    p, st = _ffi.IdentRsParams(), _ffi.IdentRsState()
+    rc = _ffi.lib.smd_ident_rs_init(ct.byref(p), ct.byref(cfg))
+    if rc != 0:
+        raise ParameterError(f"the R_s test refused its settings (smd_status {rc}): "
+                             f"i_test = {cfg.i_test:g} A, T_sp = {cfg.T_sp:g} s")
+    _ffi.lib.smd_ident_rs_reset(ct.byref(st))
+    eng = Engine(s.replace(w_M0=0.0) if s.w_M0 != 0.0 else s)
+    n_max = int(round(T_MAX / s.T_sp))
+    n = int(_ffi.lib.smd_engine_run_ident_rs(eng._buf, ct.byref(p), ct.byref(st), n_max, None, 1))
+    k = int(p.levels)
+    return RsResult(R_s=float(st.R_s), u_0=float(st.u_0), r2=float(st.r2),
+                    resid=float(st.resid), outcome=OUTCOMES.get(int(st.outcome), "?"),
+                    t=n * s.T_sp, i_levels=tuple(float(x) for x in np.array(st.i_lv)[:k]),
+                    u_levels=tuple(float(x) for x in np.array(st.u_lv)[:k]))

@@ -1,0 +1,117 @@
+"""Commissioning, step 1 (issue 23): the core's R_s test against the plant,
+which the test does not see (it gets the ADC's currents and the DC-link
+voltage).
+
+The criterion: R_s within 2 % (issue 23) over 10 ADC noise seeds on every
+motor below, and the inverter's drop u_0 within 3 % of what the plant's dead
+time gives, 4/3 t_d / T_sp u_dc (with the sign model the drop is t_d / T_sp
+u_dc per leg against the current's direction; along alpha phase a carries i
+and phases b and c -i/2: (2/3)(1 + 1/2 + 1/2) = 4/3). A test that fitted
+u = R i through the origin (no intercept) would put the drop into R_s: 14.4 V
+against 2.25 ohm x 4 A for Table I, several times R_s, which the 2 % rejects
+(checked below on the levels the test measured)."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from smodrive._util import tomllib
+from smodrive.cli import main
+from smodrive.commission import identify_rs
+from smodrive.scenario_io import load_scenario
+from smodrive.scenarios import yao2022
+
+ROOT = Path(__file__).resolve().parents[1]
+MOTORS = ROOT / "scenarios" / "motors"
+
+
+def _motor(s, **kw):
+    return s.replace(motor=dataclasses.replace(s.motor, **kw))
+
+
+def _inverter(s, **kw):
+    return s.replace(inverter=dataclasses.replace(s.inverter, **kw))
+
+
+def _cases():
+    yang = load_scenario(MOTORS / "yang2018_table1.toml")
+    ind = load_scenario(MOTORS / "industrial_600v_10kw.toml")
+    return {
+        "yang2018 Table I": yang,
+        "servo 48 V 200 W": load_scenario(MOTORS / "servo_48v_200w.toml"),
+        "industrial 600 V 10 kW": ind,
+        # invented: the ends of issue 23's range, 20 ohm and 20 mohm (the low one with
+        # zero-current clamping, as issue 23 asks: the sign model's current chatters about
+        # zero at 2 us on 600 V across 0.2 mH, 8 A a sample)
+        "20 ohm, 50 mH (invented)": _motor(yang, R_s=20.0, L_s=50e-3),
+        "20 mohm, 0.2 mH (invented)": _inverter(_motor(ind, R_s=0.02, L_s=0.2e-3),
+                                                dead_time_model="clamp"),
+    }
+
+
+CASES = _cases()
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_rs_within_2_percent_over_ten_seeds(name):
+    s0 = CASES[name]
+    u0 = 4.0 / 3.0 * s0.inverter.t_dead / s0.T_sp * s0.inverter.u_dc
+    errs, drops = [], []
+    for seed in range(1, 11):
+        s = s0.replace(adc=dataclasses.replace(s0.adc, seed=seed))
+        r = identify_rs(s)
+        assert r.ok, (seed, r.outcome)
+        errs.append(r.R_s / s.motor.R_s - 1.0)
+        drops.append(r.u_0 / u0 - 1.0)
+        assert len(r.i_levels) >= 8 and r.t <= 10.0
+        # the wrong fit, through the origin, on the same levels
+        i, u = np.array(r.i_levels), np.array(r.u_levels)
+        r_origin = float(i @ u / (i @ i))
+        assert abs(r_origin / s.motor.R_s - 1.0) > 0.02
+    assert max(abs(e) for e in errs) < 0.02, errs
+    assert max(abs(d) for d in drops) < 0.03, drops
+
+
+def test_yao2022_motor_the_current_sensors_gain_error_is_the_error():
+    """yao2022's motor (23 mohm, behind its LCL filter, no dead time) with the
+    scenario's ADC gains 1.01 / 0.99 / 1.00: the test measures along phase a,
+    whose 1 % gain error is R_s's error (-1 %: the current reads 1 % high),
+    within 2 %; with exact gains the error is below 0.3 %."""
+    s = yao2022.steady(30e3)
+    r = identify_rs(s)
+    assert r.ok and abs(r.R_s / s.motor.R_s - 1.0) < 0.02
+    assert r.R_s / s.motor.R_s - 1.0 == pytest.approx(1.0 / 1.01 - 1.0, abs=0.003)
+    exact = s.replace(adc=dataclasses.replace(s.adc, gain=(1.0, 1.0, 1.0)))
+    r = identify_rs(exact)
+    assert r.ok and abs(r.R_s / s.motor.R_s - 1.0) < 0.003
+
+
+def test_an_open_phase_is_named():
+    """No current at any voltage (a winding of 1 kohm on 48 V, i_test 3 A):
+    the test ends in no_current at the voltage limit, with no R_s."""
+    s = _motor(CASES["servo 48 V 200 W"], R_s=1000.0)
+    r = identify_rs(s, i_test=3.0)
+    assert r.outcome == "no_current" and not r.ok
+
+
+def test_cli_writes_the_measured_motor(tmp_path):
+    out = tmp_path / "m.toml"
+    res = CliRunner().invoke(main, ["identify", str(MOTORS / "servo_48v_200w.toml"),
+                                    "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    assert "R_s" in res.output and "true" in res.output
+    data = tomllib.loads(out.read_text())
+    assert data["motor"]["R_s"] == pytest.approx(0.25, rel=0.02)
+    assert data["identified"]["outcome"] == "ok" and len(data["identified"]["i_levels_A"]) >= 8
+    bad = tmp_path / "open.toml"
+    bad.write_text((MOTORS / "servo_48v_200w.toml").read_text().replace("R_s = 0.25",
+                                                                        "R_s = 1000.0"))
+    res = CliRunner().invoke(main, ["identify", str(bad), "--i-test", "3"])
+    assert res.exit_code == 1 and "no_current" in res.output
+    res = CliRunner().invoke(main, ["identify", str(bad), "--i-test", "-1"])
+    assert res.exit_code == 2 and "i_test" in res.output
