@@ -93,7 +93,8 @@ MIRRORED = {
     "smd_plant_config": "PlantConfig", "smd_pwl": "Pwl", "smd_profiles": "Profiles",
     "smd_engine_start": "EngineStart",
     "smd_ident_rs_config": "IdentRsConfig", "smd_ident_rs_params": "IdentRsParams",
-    "smd_ident_rs_state": "IdentRsState",
+    "smd_ident_rs_state": "IdentRsState", "smd_ident_ls_config": "IdentLsConfig",
+    "smd_ident_ls_params": "IdentLsParams", "smd_ident_ls_state": "IdentLsState",
     "smd_plant": "PlantHead",  # its public head only, checked as a prefix
 }
 # Hand-written methods of a mirror (a base class in src/smodrive/engine/_mirror_methods.py).

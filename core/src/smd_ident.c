@@ -302,3 +302,174 @@ smd_status smd_ident_rs_step(const smd_ident_rs_params *p, smd_ident_rs_state *s
     smd_svm_step(&p->svm, smd_c(s->u, SMD_R(0.0)), u_dc, d_abc, &s->u_applied);
     return SMD_OK;
 }
+
+/* ---- step 2: the inductance (smd_ident.h) ---- */
+
+smd_status smd_ident_ls_init(smd_ident_ls_params *p, const smd_ident_ls_config *c)
+{
+    smd_status st;
+    if (p == 0 || c == 0) {
+        return SMD_ERR_NULL;
+    }
+    if (!smd_in_pos_range(c->T_sp, SMD_R(1.0)) || !smd_in_range(c->R_s, SMD_R(0.0), SMD_R(1e3)) ||
+        !smd_in_range(c->u_0, SMD_R(0.0), SMD_R(1e4)) ||
+        !smd_in_pos_range(c->i_bias, SMD_R(1e5)) || !smd_in_pos_range(c->u_max, SMD_R(1e5)) ||
+        !smd_in_range(c->t_win, SMD_R(10.0) * c->T_sp, SMD_R(10.0)) ||
+        !(c->t_win <= SMD_R(1e7) * c->T_sp) || (c->axis != 0 && c->axis != 1) ||
+        c->n_half < 4 || c->n_half > 64 || c->periods < 10 || c->periods > 100000) {
+        return SMD_ERR_IDENT;
+    }
+    st = smd_svm_init(&p->svm, SMD_SVM_LIMIT_HEXAGON, SMD_R(0.0));
+    if (st != SMD_OK) {
+        return st;
+    }
+    p->T_sp = c->T_sp;
+    p->R_s = c->R_s;
+    p->u_0 = c->u_0;
+    p->i_bias = c->i_bias;
+    p->u_max = c->u_max;
+    p->n_win = (int)(c->t_win / c->T_sp + SMD_R(0.5));
+    p->axis = c->axis;
+    p->n_half = c->n_half;
+    p->periods = c->periods;
+    return SMD_OK;
+}
+
+static void ls_clear_slopes(smd_ident_ls_state *s)
+{
+    int h;
+    for (h = 0; h < 2; h++) {
+        s->sj_i[h] = s->s_i[h] = s->slope_sum[h] = SMD_R(0.0);
+        s->halves[h] = 0;
+    }
+    s->period = 0;
+}
+
+void smd_ident_ls_reset(smd_ident_ls_state *s)
+{
+    s->phase = SMD_IDENT_LS_BIAS;
+    s->outcome = SMD_IDENT_RUNNING;
+    s->du = SMD_R(0.0);
+    s->k = 0;
+    s->n = 0;
+    s->acc_i = s->acc_i2 = s->prev_i = SMD_R(0.0);
+    s->have_prev = 0;
+    ls_clear_slopes(s);
+    s->i_bias_meas = SMD_R(0.0);
+    s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+    s->samples = 0;
+    s->L = s->swing = SMD_R(0.0);
+}
+
+static smd_status ls_stop(smd_ident_ls_state *s, int outcome, smd_real d_abc[3])
+{
+    s->phase = SMD_IDENT_LS_FAILED;
+    s->outcome = outcome;
+    d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
+    s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+    return SMD_ERR_FAULT;
+}
+
+/* The sample's current on the tested axis into its half period's sums (the
+ * current at sample k follows the commands up to k - 2: the half period
+ * commanded at k0 .. k0 + n - 1 shapes the samples k0 + 1 .. k0 + n); a
+ * complete half period's least-squares slope (A a sample) into the sums of
+ * its sign, except in the first period of a phase. */
+static void ls_accumulate(const smd_ident_ls_params *p, smd_ident_ls_state *s, smd_real i)
+{
+    const int n = p->n_half;
+    const int km = (s->k + 2 * n - 1) % (2 * n);
+    const int h = km < n ? 0 : 1, j = km - h * n;
+    s->sj_i[h] += (smd_real)j * i;
+    s->s_i[h] += i;
+    if (j == n - 1) {
+        const smd_real nn = (smd_real)n, jm = SMD_R(0.5) * (nn - SMD_R(1.0));
+        const smd_real sxx = nn * (nn * nn - SMD_R(1.0)) / SMD_R(12.0);
+        if (s->period > 0) {
+            s->slope_sum[h] += (s->sj_i[h] - jm * s->s_i[h]) / sxx;
+            s->halves[h]++;
+        }
+        s->sj_i[h] = s->s_i[h] = SMD_R(0.0);
+    }
+}
+
+smd_status smd_ident_ls_step(const smd_ident_ls_params *p, smd_ident_ls_state *s, smd_real i_a,
+                             smd_real i_b, smd_real u_dc, smd_real d_abc[3])
+{
+    const smd_real i_c = -i_a - i_b;
+    const smd_real trip = SMD_R(3.0) * p->i_bias;
+    const smd_real u_bias = p->R_s * p->i_bias + p->u_0;
+    smd_real i_ax, u_sq = SMD_R(0.0);
+    if (s->phase == SMD_IDENT_LS_DONE || s->phase == SMD_IDENT_LS_FAILED) {
+        d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
+        s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+        return s->phase == SMD_IDENT_LS_DONE ? SMD_OK : SMD_ERR_FAULT;
+    }
+    if (!(isfinite(i_a) && isfinite(i_b) && isfinite(u_dc) && u_dc > SMD_R(0.0))) {
+        return ls_stop(s, SMD_IDENT_BAD_INPUT, d_abc);
+    }
+    if (SMD_FABS(i_a) > trip || SMD_FABS(i_b) > trip || SMD_FABS(i_c) > trip) {
+        return ls_stop(s, SMD_IDENT_OVERCURRENT, d_abc);
+    }
+    s->samples++;
+    i_ax = p->axis == 0 ? i_a : (i_a + SMD_R(2.0) * i_b) * SMD_INV_SQRT3;
+    if (s->phase == SMD_IDENT_LS_BIAS) {
+        s->acc_i += i_a;
+        s->acc_i2 += i_a * i_a;
+        if (++s->n >= p->n_win) {
+            const smd_real nw = (smd_real)s->n, m = s->acc_i / nw;
+            smd_real var = s->acc_i2 / nw - m * m;
+            var = var > SMD_R(0.0) ? var : SMD_R(0.0);
+            if (s->have_prev && SMD_FABS(m - s->prev_i) <= SMD_R(0.002) * p->i_bias +
+                                    SMD_R(3.0) * SMD_SQRT(SMD_R(2.0) * var / nw)) {
+                s->i_bias_meas = m;
+                s->phase = SMD_IDENT_LS_AMPLITUDE;
+                s->du = SMD_R(0.0005) * p->u_max;
+                s->k = 0;
+                ls_clear_slopes(s);
+            } else {
+                s->prev_i = m;
+                s->have_prev = 1;
+            }
+            s->n = 0;
+            s->acc_i = s->acc_i2 = SMD_R(0.0);
+            if (s->samples > 1000 * p->n_win) {
+                return ls_stop(s, SMD_IDENT_NOT_SETTLED, d_abc);
+            }
+        }
+    } else {
+        ls_accumulate(p, s, i_ax);
+        if (s->k == 2 * p->n_half - 1) {
+            s->period++;
+            if (s->phase == SMD_IDENT_LS_AMPLITUDE && s->period == 5) {
+                const smd_real m = (s->slope_sum[0] / (smd_real)s->halves[0] -
+                                    s->slope_sum[1] / (smd_real)s->halves[1]);
+                s->swing = SMD_R(0.5) * m * (smd_real)p->n_half;
+                if (s->swing < SMD_R(0.05) * p->i_bias && s->du < SMD_R(0.1) * p->u_max) {
+                    s->du *= SMD_R(2.0);
+                } else {
+                    s->phase = SMD_IDENT_LS_MEASURE;
+                }
+                ls_clear_slopes(s);
+            } else if (s->phase == SMD_IDENT_LS_MEASURE && s->period > p->periods) {
+                const smd_real m = (s->slope_sum[0] / (smd_real)s->halves[0] -
+                                    s->slope_sum[1] / (smd_real)s->halves[1]);
+                s->swing = SMD_R(0.5) * m * (smd_real)p->n_half;
+                s->L = SMD_R(2.0) * s->du * p->T_sp / m;
+                s->outcome = (isfinite(s->L) && s->L > SMD_R(0.0)) ? SMD_IDENT_OK
+                                                                    : SMD_IDENT_POOR_FIT;
+                s->phase = SMD_IDENT_LS_DONE;
+                d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
+                s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+                return SMD_OK;
+            }
+        }
+        u_sq = s->k < p->n_half ? s->du : -s->du;
+        s->k = s->k + 1 >= 2 * p->n_half ? 0 : s->k + 1;
+    }
+    smd_svm_step(&p->svm,
+                 smd_c(u_bias + (p->axis == 0 ? u_sq : SMD_R(0.0)),
+                       p->axis == 1 ? u_sq : SMD_R(0.0)),
+                 u_dc, d_abc, &s->u_applied);
+    return SMD_OK;
+}

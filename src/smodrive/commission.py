@@ -76,9 +76,17 @@ def rs_config(s: Scenario, i_test: float | None = None) -> _ffi.IdentRsConfig:
                               t_level_max=T_LEVEL_MAX, levels=LEVELS)
 
 
-def identify_rs(s: Scenario, i_test: float | None = None) -> RsResult:
+def _engine(s: Scenario) -> Engine:
+    """The plant of `s` from standstill (the scenario's drive is configured,
+    never stepped)."""
+    return Engine(s.replace(w_M0=0.0) if s.w_M0 != 0.0 else s)
+
+
+def identify_rs(s: Scenario, i_test: float | None = None, engine: Engine | None = None
+                ) -> RsResult:
     """Run the R_s test of the core against the plant of scenario `s` (from
-    standstill, the scenario's initial angle) and return what it measured."""
+    standstill, the scenario's initial angle, or where `engine` is) and
+    return what it measured."""
     cfg = rs_config(s, i_test)
     p, st = _ffi.IdentRsParams(), _ffi.IdentRsState()
     rc = _ffi.lib.smd_ident_rs_init(ct.byref(p), ct.byref(cfg))
@@ -86,7 +94,7 @@ def identify_rs(s: Scenario, i_test: float | None = None) -> RsResult:
         raise ParameterError(f"the R_s test refused its settings (smd_status {rc}): "
                              f"i_test = {cfg.i_test:g} A, T_sp = {cfg.T_sp:g} s")
     _ffi.lib.smd_ident_rs_reset(ct.byref(st))
-    eng = Engine(s.replace(w_M0=0.0) if s.w_M0 != 0.0 else s)
+    eng = engine or _engine(s)
     n_max = int(round(T_MAX / s.T_sp))
     n = int(_ffi.lib.smd_engine_run_ident_rs(eng._buf, ct.byref(p), ct.byref(st), n_max, None, 1))
     k = int(p.levels)
@@ -94,3 +102,81 @@ def identify_rs(s: Scenario, i_test: float | None = None) -> RsResult:
                     resid=float(st.resid), outcome=OUTCOMES.get(int(st.outcome), "?"),
                     t=n * s.T_sp, i_levels=tuple(float(x) for x in np.array(st.i_lv)[:k]),
                     u_levels=tuple(float(x) for x in np.array(st.u_lv)[:k]))
+
+
+#: step 2's defaults (assumed): a square wave of 8 samples each way, 400 periods averaged,
+#: the bias at half the R_s test's current
+N_HALF = 8
+PERIODS = 400
+
+
+@dataclass(frozen=True)
+class LsResult:
+    """The inductance along one axis, as step 2 measured it."""
+    axis: str           # "d" or "q"
+    L: float            # H
+    du: float           # V, the square wave's amplitude
+    swing: float        # A, the triangle's swing
+    outcome: str
+    t: float            # s
+    moved: float        # rad, how far the rotor turned during the test (electrical, true)
+
+    @property
+    def ok(self) -> bool:
+        return self.outcome == "ok"
+
+
+def identify_ls(s: Scenario, rs: RsResult, axis: str, i_bias: float, engine: Engine
+                ) -> LsResult:
+    """Step 2 on `axis` ("d" or "q") with the bias i_bias along alpha, on the
+    R_s and drop that step 1 measured, where `engine` is."""
+    cfg = _ffi.IdentLsConfig(T_sp=s.T_sp, R_s=max(rs.R_s, 0.0), u_0=max(rs.u_0, 0.0),
+                             i_bias=i_bias, u_max=s.inverter.u_dc / math.sqrt(3.0), t_win=T_WIN,
+                             axis={"d": 0, "q": 1}[axis], n_half=N_HALF, periods=PERIODS)
+    p, st = _ffi.IdentLsParams(), _ffi.IdentLsState()
+    rc = _ffi.lib.smd_ident_ls_init(ct.byref(p), ct.byref(cfg))
+    if rc != 0:
+        raise ParameterError(f"the inductance test refused its settings (smd_status {rc})")
+    _ffi.lib.smd_ident_ls_reset(ct.byref(st))
+    th0 = _ffi.lib.smd_engine_rotor_angle(eng_buf := engine._buf)
+    n = int(_ffi.lib.smd_engine_run_ident_ls(eng_buf, ct.byref(p), ct.byref(st),
+                                             int(round(T_MAX / s.T_sp))))
+    th1 = _ffi.lib.smd_engine_rotor_angle(eng_buf)
+    moved = abs((th1 - th0 + math.pi) % (2 * math.pi) - math.pi)
+    return LsResult(axis=axis, L=float(st.L), du=float(st.du), swing=float(st.swing),
+                    outcome=OUTCOMES.get(int(st.outcome), "?"), t=n * s.T_sp, moved=moved)
+
+
+@dataclass(frozen=True)
+class Commissioning:
+    """Steps 1 and 2 on one plant: R_s and the drop, L_d and L_q."""
+    rs: RsResult
+    ld: LsResult | None
+    lq: LsResult | None
+
+    @property
+    def L_s(self) -> float:
+        """The SPMSM's one inductance: the mean of L_d and L_q."""
+        return 0.5 * (self.ld.L + self.lq.L)
+
+    @property
+    def ok(self) -> bool:
+        return self.rs.ok and self.ld is not None and self.ld.ok and self.lq is not None \
+            and self.lq.ok
+
+    @property
+    def t(self) -> float:
+        return self.rs.t + sum(x.t for x in (self.ld, self.lq) if x is not None)
+
+
+def commission(s: Scenario, i_test: float | None = None) -> Commissioning:
+    """R_s and the drop (step 1), then L_d and L_q (step 2) at half the test
+    current, on one plant from standstill."""
+    eng = _engine(s)
+    rs = identify_rs(s, i_test, eng)
+    if not rs.ok:
+        return Commissioning(rs, None, None)
+    i_bias = 0.5 * max(rs.i_levels)
+    ld = identify_ls(s, rs, "d", i_bias, eng)
+    lq = identify_ls(s, rs, "q", i_bias, eng) if ld.ok else None
+    return Commissioning(rs, ld, lq)

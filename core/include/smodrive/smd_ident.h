@@ -115,6 +115,75 @@ void smd_ident_rs_reset(smd_ident_rs_state *s);
 smd_status smd_ident_rs_step(const smd_ident_rs_params *p, smd_ident_rs_state *s, smd_real i_a,
                              smd_real i_b, smd_real u_dc, smd_real d_abc[3]);
 
+/*
+ * Commissioning, step 2: the stator inductance along the d axis (alpha, where
+ * the R_s test aligned the rotor) or the q axis (beta), at standstill. A DC
+ * bias current i_bias along alpha (the voltage R_s i_bias + u_0 from step 1,
+ * held until the current settles) keeps every phase current away from zero
+ * (the inverter's drop stays the constant u_0: no dead-time nonlinearity)
+ * and holds the rotor; a square wave of +-du on the tested axis, n_half
+ * samples each way, adds a triangle of current. Its slopes in the two half
+ * periods differ by 2 du / L (the resistive and EMF terms are the same in
+ * both and cancel), each slope a least-squares line through the samples of
+ * its half period after the one-sample computational delay (samples 2 to
+ * n_half). The amplitude du starts at u_max / 2000 and doubles (to u_max /
+ * 10) until the triangle's swing is at least 5 % of i_bias, then `periods`
+ * periods are averaged: L = 2 du / (mean rising slope - mean falling slope).
+ * On the q axis the bias stays on alpha: the injected current alternates
+ * the torque at 1 / (2 n_half T_sp) around zero, and the rotor barely moves.
+ */
+typedef struct smd_ident_ls_config {
+    smd_real T_sp;        /* sampling period, s, (0, 1] */
+    smd_real R_s;         /* from step 1, ohm, [0, 1e3] */
+    smd_real u_0;         /* the inverter's drop from step 1, V, [0, 1e4] */
+    smd_real i_bias;      /* the DC bias along alpha, A, (0, 1e5] */
+    smd_real u_max;       /* the largest voltage, V, (0, 1e5] */
+    smd_real t_win;       /* settling windows of the bias, s, [10 T_sp, 10] */
+    int axis;             /* 0: d (alpha), 1: q (beta) */
+    int n_half;           /* samples a half period, [4, 64] */
+    int periods;          /* periods averaged, [10, 100000] */
+} smd_ident_ls_config;
+
+typedef struct smd_ident_ls_params {
+    smd_real T_sp, R_s, u_0, i_bias, u_max;
+    int n_win, axis, n_half, periods;
+    smd_svm_params svm;
+} smd_ident_ls_params;
+
+typedef enum smd_ident_ls_phase {
+    SMD_IDENT_LS_BIAS = 0,    /* the bias current settling */
+    SMD_IDENT_LS_AMPLITUDE = 1, /* finding du */
+    SMD_IDENT_LS_MEASURE = 2, /* averaging */
+    SMD_IDENT_LS_DONE = 3,
+    SMD_IDENT_LS_FAILED = 4
+} smd_ident_ls_phase;
+
+typedef struct smd_ident_ls_state {
+    int phase;            /* smd_ident_ls_phase */
+    int outcome;          /* smd_ident_outcome */
+    smd_real du;          /* the square wave's amplitude, V */
+    int k;                /* sample within the period, [0, 2 n_half) */
+    int period;           /* periods done in this phase */
+    int n;                /* bias: samples in the window */
+    smd_real acc_i, acc_i2, prev_i;
+    int have_prev;
+    smd_real sj_i[2];     /* this half period's sums: j i */
+    smd_real s_i[2];      /* and i, for the + and - halves */
+    smd_real slope_sum[2]; /* the sums of the halves' slopes, A/sample */
+    int halves[2];
+    smd_real i_bias_meas; /* the settled bias, A */
+    smd_cplx u_applied;
+    int samples;
+    smd_real L;           /* result (DONE): H */
+    smd_real swing;       /* the triangle's swing, A */
+} smd_ident_ls_state;
+
+smd_status smd_ident_ls_init(smd_ident_ls_params *p, const smd_ident_ls_config *c);
+void smd_ident_ls_reset(smd_ident_ls_state *s);
+/* One sample, as smd_ident_rs_step. */
+smd_status smd_ident_ls_step(const smd_ident_ls_params *p, smd_ident_ls_state *s, smd_real i_a,
+                             smd_real i_b, smd_real u_dc, smd_real d_abc[3]);
+
 #ifdef __cplusplus
 }
 #endif

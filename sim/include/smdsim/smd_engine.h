@@ -154,6 +154,11 @@ long smd_engine_run(smd_engine *e, long n, double *log, long stride);
  * voltage command (3 doubles a row). */
 long smd_engine_run_ident_rs(smd_engine *e, const smd_ident_rs_params *p, smd_ident_rs_state *s,
                              long n, double *log, long stride);
+/* The same for step 2, the inductance (no log). */
+long smd_engine_run_ident_ls(smd_engine *e, const smd_ident_ls_params *p, smd_ident_ls_state *s,
+                             long n);
+/* The plant's true electrical rotor angle, rad (how far a test moved it). */
+double smd_engine_rotor_angle(const smd_engine *e);
 
 /* One sample split in two, for a controller outside the engine (processor
  * in the loop: src/smodrive/target.py). ext_inputs forms the controller's

@@ -21,8 +21,8 @@ from ._codes import LOG_CHANNELS as _LOG_CHANNELS
 from ._codes import N_LOG
 from ._structs import (  # noqa: F401 (the mirrors, re-exported)
     MIRRORS, SMD_LCL_SMO_DELAY, SMD_PWL_MAX, Bandpass, Cplx, DbpcParams, DriveConfig, DriveIn,
-    DriveOut, DriveView, EmfPosParams, EmfPosState, EngineStart, IdentRsConfig, IdentRsParams,
-    IdentRsState, LclModel, LinConfig, LinModel,
+    DriveOut, DriveView, EmfPosParams, EmfPosState, EngineStart, IdentLsConfig, IdentLsParams,
+    IdentLsState, IdentRsConfig, IdentRsParams, IdentRsState, LclModel, LinConfig, LinModel,
     LinParams, LinState, PiParams, PiState, PlantConfig, PlantHead, PllParams, PllState, Profiles,
     Pwl, SmdoParams, SmdoState, SmoConfig, SmoParams, SmoState, SvmParams, real,
 )
@@ -99,6 +99,11 @@ _sig("smd_engine_run_ident_rs", ct.c_long, ct.c_void_p, P(IdentRsParams), P(Iden
      ct.c_long, P(ct.c_double), ct.c_long)
 _sig("smd_ident_rs_init", ct.c_int, P(IdentRsParams), P(IdentRsConfig))
 _sig("smd_ident_rs_reset", None, P(IdentRsState))
+_sig("smd_engine_run_ident_ls", ct.c_long, ct.c_void_p, P(IdentLsParams), P(IdentLsState),
+     ct.c_long)
+_sig("smd_engine_rotor_angle", ct.c_double, ct.c_void_p)
+_sig("smd_ident_ls_init", ct.c_int, P(IdentLsParams), P(IdentLsConfig))
+_sig("smd_ident_ls_reset", None, P(IdentLsState))
 _sig("smd_plant_init", ct.c_int, ct.c_void_p, P(PlantConfig))
 _sig("smd_plant_step", None, ct.c_void_p, P(ct.c_double), ct.c_double, ct.c_double)
 _sig("smd_plant_sample", None, ct.c_void_p, P(ct.c_double), P(ct.c_double))

@@ -361,6 +361,40 @@ class IdentRsState(ct.Structure):
     ]
 
 
+class IdentLsConfig(ct.Structure):
+    """smd_ident_ls_config (core/include/smodrive/smd_ident.h)"""
+
+    _c_name_ = "smd_ident_ls_config"
+    _fields_ = [
+        ("T_sp", real), ("R_s", real), ("u_0", real), ("i_bias", real), ("u_max", real),
+        ("t_win", real), ("axis", ct.c_int), ("n_half", ct.c_int), ("periods", ct.c_int),
+    ]
+
+
+class IdentLsParams(ct.Structure):
+    """smd_ident_ls_params (core/include/smodrive/smd_ident.h)"""
+
+    _c_name_ = "smd_ident_ls_params"
+    _fields_ = [
+        ("T_sp", real), ("R_s", real), ("u_0", real), ("i_bias", real), ("u_max", real),
+        ("n_win", ct.c_int), ("axis", ct.c_int), ("n_half", ct.c_int), ("periods", ct.c_int),
+        ("svm", SvmParams),
+    ]
+
+
+class IdentLsState(ct.Structure):
+    """smd_ident_ls_state (core/include/smodrive/smd_ident.h)"""
+
+    _c_name_ = "smd_ident_ls_state"
+    _fields_ = [
+        ("phase", ct.c_int), ("outcome", ct.c_int), ("du", real), ("k", ct.c_int),
+        ("period", ct.c_int), ("n", ct.c_int), ("acc_i", real), ("acc_i2", real), ("prev_i", real),
+        ("have_prev", ct.c_int), ("sj_i", real * 2), ("s_i", real * 2), ("slope_sum", real * 2),
+        ("halves", ct.c_int * 2), ("i_bias_meas", real), ("u_applied", Cplx), ("samples", ct.c_int),
+        ("L", real), ("swing", real),
+    ]
+
+
 class PlantHead(ct.Structure):
     """smd_plant (sim/include/smdsim/smd_plant.h): its public head,
     the fields before "--- private ---" (checked as a prefix)"""
@@ -388,7 +422,9 @@ MIRRORS: dict[str, type[ct.Structure]] = {
     "smd_drive_in": DriveIn, "smd_drive_out": DriveOut, "smd_plant_config": PlantConfig,
     "smd_pwl": Pwl, "smd_profiles": Profiles, "smd_engine_start": EngineStart,
     "smd_ident_rs_config": IdentRsConfig, "smd_ident_rs_params": IdentRsParams,
-    "smd_ident_rs_state": IdentRsState, "smd_plant": PlantHead,
+    "smd_ident_rs_state": IdentRsState, "smd_ident_ls_config": IdentLsConfig,
+    "smd_ident_ls_params": IdentLsParams, "smd_ident_ls_state": IdentLsState,
+    "smd_plant": PlantHead,
 }
 #: each table model's fields in C order: (C field, design field, its block
 #: ((row0, row1), (col0, col1)) or None for all of it), row-major
