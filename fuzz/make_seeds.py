@@ -476,6 +476,12 @@ def block_seeds() -> None:
         w.u8(1).f32(i_a).f32(-0.5 * i_a).f32(540.0).u8(40)
     w.u8(0).special(NAN).f32(0.0).f32(540.0)
     write("fuzz_blocks", "ident-yang2018", w.bytes())
+    # the inductance test (0xF8 or more) on the d axis of the same stator, its bias, a wave
+    w = W().u8(0xF8).f32(1e-4).f32(2.25).f32(14.4).f32(2.0).f32(311.0).f32(2e-3)
+    w.int(0, -1, 2).int(8, 0, 80).int(20, 0, 200)
+    for i_a in (0.0, 1.0, 2.0, 2.0, 2.1, 1.9, 2.0):
+        w.u8(1).f32(i_a).f32(-0.5 * i_a).f32(540.0).u8(60)
+    write("fuzz_blocks", "ident-ls-yang2018", w.bytes())
 
 
 def math_seeds() -> None:

@@ -316,7 +316,7 @@ smd_status smd_ident_ls_init(smd_ident_ls_params *p, const smd_ident_ls_config *
         !smd_in_pos_range(c->i_bias, SMD_R(1e5)) || !smd_in_pos_range(c->u_max, SMD_R(1e5)) ||
         !smd_in_range(c->t_win, SMD_R(10.0) * c->T_sp, SMD_R(10.0)) ||
         !(c->t_win <= SMD_R(1e7) * c->T_sp) || (c->axis != 0 && c->axis != 1) ||
-        c->n_half < 4 || c->n_half > 64 || c->periods < 10 || c->periods > 100000) {
+        c->n_half < 4 || c->n_half > SMD_IDENT_MAX_HALF || c->periods < 10 || c->periods > 100000) {
         return SMD_ERR_IDENT;
     }
     st = smd_svm_init(&p->svm, SMD_SVM_LIMIT_HEXAGON, SMD_R(0.0));
@@ -342,7 +342,70 @@ static void ls_clear_slopes(smd_ident_ls_state *s)
         s->sj_i[h] = s->s_i[h] = s->slope_sum[h] = SMD_R(0.0);
         s->halves[h] = 0;
     }
+    for (h = 0; h < SMD_IDENT_MAX_PERIOD; h++) {
+        s->acc_w[h] = SMD_R(0.0);
+    }
     s->period = 0;
+}
+
+/* ln(1/a) for a in (0, 1): 2 atanh((1 - a) / (1 + a)) by its series (the
+ * core has no log hook; once, at the end of the test) */
+static smd_real ln_inv(smd_real a)
+{
+    const smd_real z = (SMD_R(1.0) - a) / (SMD_R(1.0) + a), z2 = z * z;
+    smd_real term = z, sum = SMD_R(0.0);
+    int k;
+    for (k = 1; k < 400 && term > SMD_R(1e-9) * sum; k += 2) {
+        sum += term / (smd_real)k;
+        term *= z2;
+    }
+    return SMD_R(2.0) * sum;
+}
+
+/* The fit of w(k+1) = a w(k) + b v(k-1) + c over the averaged period (the
+ * waveform about its mean, for float precision), then L and R (smd_ident.h);
+ * 0 when the fit is singular or a is not in (0, 1). */
+static int ls_fit(const smd_ident_ls_params *p, smd_ident_ls_state *s)
+{
+    const int n2 = 2 * p->n_half;
+    const smd_real per = (smd_real)s->period;
+    smd_real mean = SMD_R(0.0), A[3][3] = {{0}}, y[3] = {0}, det, a, b;
+    int k, r, c;
+    for (k = 0; k < n2; k++) {
+        mean += s->acc_w[k] / per;
+    }
+    mean /= (smd_real)n2;
+    for (k = 0; k < n2; k++) {
+        const smd_real w0 = s->acc_w[k] / per - mean;
+        const smd_real w1 = s->acc_w[(k + 1) % n2] / per - mean;
+        const int kv = (k + n2 - 1) % n2;
+        const smd_real x[3] = {w0, kv < p->n_half ? s->du : -s->du, SMD_R(1.0)};
+        for (r = 0; r < 3; r++) {
+            for (c = 0; c < 3; c++) {
+                A[r][c] += x[r] * x[c];
+            }
+            y[r] += x[r] * w1;
+        }
+    }
+    det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
+          A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+          A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+    if (!(SMD_FABS(det) > SMD_R(0.0))) {
+        return 0;
+    }
+    /* Cramer's rule for a and b */
+    a = (y[0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
+         A[0][1] * (y[1] * A[2][2] - A[1][2] * y[2]) +
+         A[0][2] * (y[1] * A[2][1] - A[1][1] * y[2])) / det;
+    b = (A[0][0] * (y[1] * A[2][2] - A[1][2] * y[2]) -
+         y[0] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+         A[0][2] * (A[1][0] * y[2] - y[1] * A[2][0])) / det;
+    if (!(a > SMD_R(0.0) && a < SMD_R(1.0) && b > SMD_R(0.0))) {
+        return 0;
+    }
+    s->L = p->T_sp * (SMD_R(1.0) - a) / (b * ln_inv(a));
+    s->R_ac = (SMD_R(1.0) - a) / b;
+    return isfinite(s->L) && s->L > SMD_R(0.0);
 }
 
 void smd_ident_ls_reset(smd_ident_ls_state *s)
@@ -380,6 +443,9 @@ static void ls_accumulate(const smd_ident_ls_params *p, smd_ident_ls_state *s, s
     const int n = p->n_half;
     const int km = (s->k + 2 * n - 1) % (2 * n);
     const int h = km < n ? 0 : 1, j = km - h * n;
+    if (s->period > 0) {
+        s->acc_w[s->k] += i; /* the waveform by command index */
+    }
     s->sj_i[h] += (smd_real)j * i;
     s->s_i[h] += i;
     if (j == n - 1) {
@@ -445,7 +511,7 @@ smd_status smd_ident_ls_step(const smd_ident_ls_params *p, smd_ident_ls_state *s
                 const smd_real m = (s->slope_sum[0] / (smd_real)s->halves[0] -
                                     s->slope_sum[1] / (smd_real)s->halves[1]);
                 s->swing = SMD_R(0.5) * m * (smd_real)p->n_half;
-                if (s->swing < SMD_R(0.05) * p->i_bias && s->du < SMD_R(0.1) * p->u_max) {
+                if (s->swing < SMD_R(0.1) * p->i_bias && s->du < SMD_R(0.1) * p->u_max) {
                     s->du *= SMD_R(2.0);
                 } else {
                     s->phase = SMD_IDENT_LS_MEASURE;
@@ -455,9 +521,8 @@ smd_status smd_ident_ls_step(const smd_ident_ls_params *p, smd_ident_ls_state *s
                 const smd_real m = (s->slope_sum[0] / (smd_real)s->halves[0] -
                                     s->slope_sum[1] / (smd_real)s->halves[1]);
                 s->swing = SMD_R(0.5) * m * (smd_real)p->n_half;
-                s->L = SMD_R(2.0) * s->du * p->T_sp / m;
-                s->outcome = (isfinite(s->L) && s->L > SMD_R(0.0)) ? SMD_IDENT_OK
-                                                                    : SMD_IDENT_POOR_FIT;
+                s->period--; /* the first period was not summed */
+                s->outcome = ls_fit(p, s) ? SMD_IDENT_OK : SMD_IDENT_POOR_FIT;
                 s->phase = SMD_IDENT_LS_DONE;
                 d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
                 s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));

@@ -482,7 +482,7 @@ static void blk_ident(smd_writer *w, rng *g, int n)
     smd_ident_rs_state s;
     const smd_real Rs = SMD_R(2.25), U0 = SMD_R(14.4), udc = SMD_R(540.0);
     const smd_real e = SMD_EXP(-Rs / SMD_R(23.45e-3) * SMD_R(1e-4));
-    smd_real i = SMD_R(0.0), u_now = SMD_R(0.0), u_next = SMD_R(0.0);
+    smd_real i = SMD_R(0.0), u_now = SMD_R(0.0);
     int k;
     c.T_sp = SMD_R(1e-4);
     c.i_test = SMD_R(4.0);
@@ -503,15 +503,14 @@ static void blk_ident(smd_writer *w, rng *g, int n)
         wr_i32(w, s.phase);
         wr_i32(w, s.outcome);
         wr_reals(w, d, 3);
-        /* the plant over the period, with the voltage computed last time */
+        /* the plant over [t_k, t_k+1), with the voltage computed at k - 1 */
         sg = i > SMD_R(0.0) ? SMD_R(1.0) : (i < SMD_R(0.0) ? SMD_R(-1.0)
                                                           : (u_now > SMD_R(0.0) ? SMD_R(1.0)
                                                                                 : SMD_R(-1.0)));
         u = u_now - U0 * sg;
         i = e * (i - u / Rs) + u / Rs;
         i = i * sg < SMD_R(0.0) ? SMD_R(0.0) : i;
-        u_now = u_next;
-        u_next = SMD_R(2.0) / SMD_R(3.0) * udc * (d[0] - SMD_R(0.5) * (d[1] + d[2]));
+        u_now = SMD_R(2.0) / SMD_R(3.0) * udc * (d[0] - SMD_R(0.5) * (d[1] + d[2]));
     }
     wr_real(w, s.R_s);
     wr_real(w, s.u_0);

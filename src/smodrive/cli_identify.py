@@ -1,9 +1,10 @@
 """`smodrive identify`: commissioning against the simulated plant (issue 23).
 
-Step 1 so far: the core's R_s test (:mod:`smodrive.commission`). The command
-prints what the test measured beside the scenario's true values and writes
-the measured values as a TOML file (``[motor]`` with ``R_s``; the inverter's
-drop and the test's record under ``[identified]``).
+Steps 1 and 2 so far: the core's R_s and inductance tests
+(:mod:`smodrive.commission`). The command prints what the tests measured
+beside the scenario's true values and writes the measured values as a TOML
+file (``[motor]`` with ``R_s`` and ``L_s``; the inverter's drop, L_d, L_q and
+the tests' record under ``[identified]``).
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ from pathlib import Path
 import click
 import tomli_w
 
-from .commission import OUTCOME_TEXT, identify_rs
+from .commission import OUTCOME_TEXT, commission
 from .engine import export
 from .scenario_io import resolve_scenario
 
@@ -23,18 +24,24 @@ def _g(x: float) -> float:
     return float(f"{x:.6g}")
 
 
-def identified_toml(name: str, r) -> str:
-    """The TOML that `identify` writes for result `r` of scenario `name`."""
+def identified_toml(name: str, c) -> str:
+    """The TOML that `identify` writes for commissioning `c` of scenario `name`."""
     head = (f"# Measured by `smodrive identify` on {name} (commissioning, issue 23).\n"
-            "# Step 1 only: R_s and the inverter's drop; the other [motor] values are not\n"
-            "# measured yet and must come from the data sheet.\n")
+            "# Steps 1 and 2: R_s, the inverter's drop, L_d and L_q (L_s their mean); psi_r,\n"
+            "# J and B are not measured yet and must come from the data sheet.\n")
+    r = c.rs
+    motor = {"R_s": _g(r.R_s)}
+    if c.ok:
+        motor["L_s"] = _g(c.L_s)
     data = {
-        "motor": {"R_s": _g(r.R_s)},
+        "motor": motor,
         "identified": {
             "outcome": r.outcome, "u_0": _g(r.u_0), "r2": _g(r.r2),
             "resid_V": _g(r.resid), "test_s": _g(r.t),
             "i_levels_A": [_g(x) for x in r.i_levels],
             "u_levels_V": [_g(x) for x in r.u_levels],
+            **({"L_d": _g(c.ld.L), "L_q": _g(c.lq.L), "L_test_s": _g(c.ld.t + c.lq.t)}
+               if c.ok else {}),
         },
     }
     return head + tomli_w.dumps(data)
@@ -49,23 +56,31 @@ def identified_toml(name: str, r) -> str:
 def identify(scenario: str, out: Path | None, i_test: float | None) -> None:
     """Measure the motor of SCENARIO as a drive would, before it runs: the
     stator resistance and the inverter's voltage drop (a DC staircase on the
-    alpha axis, a least-squares line). The test sees only the measured
+    alpha axis, a least-squares line), then the inductance on the d and q
+    axes (a square wave on a DC bias). The tests see only the measured
     currents and the DC-link voltage; the true values are printed beside."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         s = resolve_scenario(scenario)
     for w in caught:
         click.secho(f"warning: {w.message}", fg="yellow", err=True)
-    r = identify_rs(s, i_test)
+    c = commission(s, i_test)
+    r = c.rs
     err = 100.0 * (r.R_s / s.motor.R_s - 1.0)
-    click.echo(f"{scenario}: R_s test, {len(r.i_levels)} levels from {min(r.i_levels):.3g} to "
-               f"{max(r.i_levels):.3g} A, {r.t:.2f} s")
-    click.echo(f"  R_s  {r.R_s:.5g} ohm measured, {s.motor.R_s:.5g} ohm true ({err:+.2f} %)")
+    click.echo(f"{scenario}: commissioning, {c.t:.2f} s")
+    click.echo(f"  R_s  {r.R_s:.5g} ohm measured, {s.motor.R_s:.5g} ohm true ({err:+.2f} %); "
+               f"{len(r.i_levels)} levels from {min(r.i_levels):.3g} to {max(r.i_levels):.3g} A")
     click.echo(f"  u_0  {r.u_0:.4g} V (the inverter's drop: dead time and switches)")
     click.echo(f"  fit  R^2 {r.r2:.6f}, residual {r.resid:.3g} V RMS: {r.outcome} "
                f"({OUTCOME_TEXT.get(r.outcome, '')})")
+    for x in (c.ld, c.lq):
+        if x is not None:
+            click.echo(f"  L_{x.axis}  {x.L:.5g} H measured, {s.motor.L_s:.5g} H true "
+                       f"({100.0 * (x.L / s.motor.L_s - 1.0):+.2f} %); +-{x.du:.3g} V, swing "
+                       f"{x.swing:.3g} A, the rotor moved {x.moved * 180 / 3.141592653589793:.2g} "
+                       f"deg: {x.outcome}")
     if out is not None:
-        export.write_text(out, identified_toml(scenario, r))
+        export.write_text(out, identified_toml(scenario, c))
         click.echo(f"wrote {out}")
-    if not r.ok:
+    if not c.ok:
         raise click.exceptions.Exit(1)

@@ -41,6 +41,8 @@ extern "C" {
 #endif
 
 #define SMD_IDENT_MAX_LEVELS 32
+#define SMD_IDENT_MAX_HALF 64
+#define SMD_IDENT_MAX_PERIOD 128 /* 2 SMD_IDENT_MAX_HALF */
 
 typedef enum smd_ident_phase {
     SMD_IDENT_RAMP = 0,  /* the voltage ramp toward i_test */
@@ -122,13 +124,18 @@ smd_status smd_ident_rs_step(const smd_ident_rs_params *p, smd_ident_rs_state *s
  * held until the current settles) keeps every phase current away from zero
  * (the inverter's drop stays the constant u_0: no dead-time nonlinearity)
  * and holds the rotor; a square wave of +-du on the tested axis, n_half
- * samples each way, adds a triangle of current. Its slopes in the two half
- * periods differ by 2 du / L (the resistive and EMF terms are the same in
- * both and cancel), each slope a least-squares line through the samples of
- * its half period after the one-sample computational delay (samples 2 to
- * n_half). The amplitude du starts at u_max / 2000 and doubles (to u_max /
- * 10) until the triangle's swing is at least 5 % of i_bias, then `periods`
- * periods are averaged: L = 2 du / (mean rising slope - mean falling slope).
+ * samples each way, adds a periodic current. Its waveform, averaged sample by
+ * sample over `periods` periods (the ADC's noise down by their square root),
+ * obeys the exact discrete model of the stator over a sample,
+ * w(k+1) = a w(k) + b v(k-1) + c (the command of k-1 is the voltage over
+ * [t_k, t_k+1); c carries the bias, the EMF-free standstill and the drop),
+ * which a least-squares fit over the 2 n_half samples of the period gives:
+ * a = e^{-R T/L}, b = (1 - a) / R, so L = T (1 - a) / (b ln(1/a)) whatever
+ * L/R is against T_sp (a triangle when L/R >> T_sp, where L -> T / b; a
+ * square wave when L/R is a sample or less), and R = (1 - a) / b. The
+ * amplitude du starts at u_max / 2000 and doubles (to u_max / 10) until the
+ * wave's swing (the slopes of the two halves, measured as in a triangle) is
+ * at least 10 % of i_bias.
  * On the q axis the bias stays on alpha: the injected current alternates
  * the torque at 1 / (2 n_half T_sp) around zero, and the rotor barely moves.
  */
@@ -140,7 +147,7 @@ typedef struct smd_ident_ls_config {
     smd_real u_max;       /* the largest voltage, V, (0, 1e5] */
     smd_real t_win;       /* settling windows of the bias, s, [10 T_sp, 10] */
     int axis;             /* 0: d (alpha), 1: q (beta) */
-    int n_half;           /* samples a half period, [4, 64] */
+    int n_half;           /* samples a half period, [4, SMD_IDENT_MAX_HALF] */
     int periods;          /* periods averaged, [10, 100000] */
 } smd_ident_ls_config;
 
@@ -171,11 +178,13 @@ typedef struct smd_ident_ls_state {
     smd_real s_i[2];      /* and i, for the + and - halves */
     smd_real slope_sum[2]; /* the sums of the halves' slopes, A/sample */
     int halves[2];
+    smd_real acc_w[SMD_IDENT_MAX_PERIOD]; /* the waveform's sums by command index, A */
     smd_real i_bias_meas; /* the settled bias, A */
     smd_cplx u_applied;
     int samples;
-    smd_real L;           /* result (DONE): H */
-    smd_real swing;       /* the triangle's swing, A */
+    smd_real L;           /* results (DONE): H */
+    smd_real R_ac;        /* the resistance the same fit gives, ohm (a check) */
+    smd_real swing;       /* the wave's swing, A */
 } smd_ident_ls_state;
 
 smd_status smd_ident_ls_init(smd_ident_ls_params *p, const smd_ident_ls_config *c);

@@ -15,6 +15,7 @@ from ._mirror_methods import CplxMethods
 real = ct.c_float  # smd_real of the default (float) build
 
 SMD_IDENT_MAX_LEVELS = 32
+SMD_IDENT_MAX_PERIOD = 128
 SMD_LCL_SMO_DELAY = 256
 SMD_PWL_MAX = 64
 
@@ -390,8 +391,8 @@ class IdentLsState(ct.Structure):
         ("phase", ct.c_int), ("outcome", ct.c_int), ("du", real), ("k", ct.c_int),
         ("period", ct.c_int), ("n", ct.c_int), ("acc_i", real), ("acc_i2", real), ("prev_i", real),
         ("have_prev", ct.c_int), ("sj_i", real * 2), ("s_i", real * 2), ("slope_sum", real * 2),
-        ("halves", ct.c_int * 2), ("i_bias_meas", real), ("u_applied", Cplx), ("samples", ct.c_int),
-        ("L", real), ("swing", real),
+        ("halves", ct.c_int * 2), ("acc_w", real * SMD_IDENT_MAX_PERIOD), ("i_bias_meas", real),
+        ("u_applied", Cplx), ("samples", ct.c_int), ("L", real), ("R_ac", real), ("swing", real),
     ]
 
 
