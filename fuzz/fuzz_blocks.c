@@ -11,10 +11,11 @@
  *   block 5  smd_pll_init, smd_pll_reset, smd_pll_step
  *   block 6  smd_bandpass_set, smd_bandpass_reset, smd_bandpass_step
  *   ident    smd_ident_rs_init, smd_ident_rs_reset, smd_ident_rs_step (a first
- *            byte of 0xF0-0xF7; issue 23's R_s test: its duties in [0, 1],
- *            0.5 once ended; a result's values finite), and the inductance
- *            test's smd_ident_ls_* (0xF8-0xFF: duties in [0, 1], a result
- *            finite and positive)
+ *            byte of 0xF0-0xF5; issue 23's R_s test: its duties in [0, 1],
+ *            0.5 once ended; a result's values finite), the inductance
+ *            test's smd_ident_ls_* (0xF6-0xFA: duties in [0, 1], a result
+ *            finite and positive) and the flux test's smd_ident_psi_*
+ *            (0xFB-0xFF: duties in [0, 1], the forced frame finite)
  * Input: the block (u8 % 7), its parameters, then steps until the input
  * ends (op byte: even a step on new values, odd a run of 1 + u8 steps on a
  * rotating vector or, for the PI and the PLL, a constant error).
@@ -413,11 +414,59 @@ static void fuzz_ident_ls(fz *f)
     }
 }
 
+static void fuzz_ident_psi(fz *f)
+{
+    smd_ident_psi_config c;
+    smd_ident_psi_params p;
+    smd_ident_psi_state s;
+    int steps = 0;
+    c.T_sp = fz_r(f, 0.0, 1e-3);
+    c.R_s = fz_r(f, -1.0, 100.0);
+    c.L_s = fz_r(f, -1e-3, 0.1);
+    c.u_0 = fz_r(f, -1.0, 50.0);
+    c.i_spin = fz_r(f, -1.0, 100.0);
+    c.w1 = fz_r(f, -10.0, 3000.0);
+    c.w2 = fz_r(f, -10.0, 6000.0);
+    c.a_spin = fz_r(f, -1.0, 1e5);
+    c.t_hold = fz_r(f, 0.0, 0.2);
+    c.t_coast = fz_r(f, 0.0, 0.2);
+    c.w_cc = fz_r(f, -1.0, 1e4);
+    if (smd_ident_psi_init(&p, &c) != SMD_OK) {
+        return;
+    }
+    FZ_CHECK(smd_ident_psi_init(0, &c) == SMD_ERR_NULL);
+    smd_ident_psi_reset(&s);
+    while (fz_more(f) && steps < FZ_MAX_STEPS) {
+        uint8_t op = fz_u8(f);
+        smd_real ia = fz_r(f, -300.0, 300.0), ib = fz_r(f, -300.0, 300.0);
+        smd_real u_dc = fz_r(f, -10.0, 1000.0);
+        int n = (op & 1) ? 1 + fz_u8(f) : 1, k;
+        if (op & 2) {
+            smd_ident_psi_reset(&s);
+        }
+        for (k = 0; k < n && steps < FZ_MAX_STEPS; k++, steps++) {
+            smd_real d[3];
+            smd_status st = smd_ident_psi_step(&p, &s, ia, ib, u_dc, d);
+            int j;
+            FZ_CHECK(st == SMD_OK || st == SMD_ERR_FAULT);
+            for (j = 0; j < 3; j++) {
+                FZ_CHECK(d[j] >= SMD_R(0.0) && d[j] <= SMD_R(1.0));
+            }
+            FZ_CHECK(isfinite(s.theta_f) && isfinite(s.w_f));
+            fz_use((double)s.psi + (double)s.x_i.re);
+        }
+    }
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     fz f = {data, size};
     const uint8_t b = fz_u8(&f);
-    if (b >= 0xF8) {
+    if (b >= 0xFB) {
+        fuzz_ident_psi(&f);
+        return 0;
+    }
+    if (b >= 0xF6) {
         fuzz_ident_ls(&f);
         return 0;
     }

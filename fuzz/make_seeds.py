@@ -482,6 +482,12 @@ def block_seeds() -> None:
     for i_a in (0.0, 1.0, 2.0, 2.0, 2.1, 1.9, 2.0):
         w.u8(1).f32(i_a).f32(-0.5 * i_a).f32(540.0).u8(60)
     write("fuzz_blocks", "ident-ls-yang2018", w.bytes())
+    # the flux test (0xFB or more) on the same stator: a spin's first samples
+    w = W().u8(0xFB).f32(1e-4).f32(2.25).f32(23.45e-3).f32(14.4).f32(4.0).f32(157.0)
+    w.f32(314.0).f32(157.0).f32(0.05).f32(0.02).f32(1570.0)
+    for i_a in (0.0, 1.0, 2.0, -2.0, 3.0, 0.5):
+        w.u8(1).f32(i_a).f32(-0.5 * i_a).f32(540.0).u8(200)
+    write("fuzz_blocks", "ident-psi-yang2018", w.bytes())
 
 
 def math_seeds() -> None:

@@ -140,3 +140,42 @@ def test_inductance_within_5_percent_over_ten_seeds(name):
             assert x.moved < np.radians(1.0)
         assert abs(c.L_s / s.motor.L_s - 1.0) < 0.05
         assert c.t <= 10.0
+
+
+PSI_CASES = [n for n in CASES if not n.startswith("20 ohm")]
+
+
+@pytest.mark.parametrize("name", PSI_CASES)
+def test_flux_within_2_percent_over_ten_seeds(name):
+    """Step 3 after steps 1 and 2, on the same plant: psi_r from the I/f spin
+    at half of rated speed within 2 % (issue 23) over 10 ADC seeds, the
+    coasting back EMF and the lower speed within the 5 % the test checks, the
+    three steps within 10 s."""
+    s0 = CASES[name]
+    for seed in range(1, 11):
+        s = s0.replace(adc=dataclasses.replace(s0.adc, seed=seed))
+        c = commission(s)
+        assert c.psi is not None and c.psi.ok, (seed, c.psi)
+        assert abs(c.psi.psi / s.motor.psi_r - 1.0) < 0.02, (seed, c.psi)
+        assert c.t <= 10.0
+
+
+def test_flux_a_result_it_gives_is_right_or_named():
+    """The invented 20 ohm, 50 mH stator on yang2018's heavy rotor (J = 0.012
+    kg m^2): in some seeds its I/f spin swings at the lower speed (psi from it
+    3.7 % high) and the coasting estimate disagrees by 5-6 %; the test names
+    those (poor_fit) instead of giving a value. Every result it accepts is
+    within 2 %, and none is accepted with the coast off by more than 5 %."""
+    s0 = CASES["20 ohm, 50 mH (invented)"]
+    accepted = 0
+    for seed in range(1, 11):
+        s = s0.replace(adc=dataclasses.replace(s0.adc, seed=seed))
+        p = commission(s).psi
+        assert p is not None and p.outcome in ("ok", "poor_fit")
+        if p.ok:
+            accepted += 1
+            assert abs(p.psi / s.motor.psi_r - 1.0) < 0.02, (seed, p)
+            assert abs(p.psi_coast / p.psi - 1.0) <= 0.05
+        else:
+            assert abs(p.psi_coast / p.psi - 1.0) > 0.05 or abs(p.psi1 / p.psi - 1.0) > 0.05
+    assert accepted >= 5

@@ -95,6 +95,8 @@ MIRRORED = {
     "smd_ident_rs_config": "IdentRsConfig", "smd_ident_rs_params": "IdentRsParams",
     "smd_ident_rs_state": "IdentRsState", "smd_ident_ls_config": "IdentLsConfig",
     "smd_ident_ls_params": "IdentLsParams", "smd_ident_ls_state": "IdentLsState",
+    "smd_ident_psi_config": "IdentPsiConfig", "smd_ident_psi_params": "IdentPsiParams",
+    "smd_ident_psi_state": "IdentPsiState",
     "smd_plant": "PlantHead",  # its public head only, checked as a prefix
 }
 # Hand-written methods of a mirror (a base class in src/smodrive/engine/_mirror_methods.py).

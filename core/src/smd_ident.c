@@ -538,3 +538,166 @@ smd_status smd_ident_ls_step(const smd_ident_ls_params *p, smd_ident_ls_state *s
                  u_dc, d_abc, &s->u_applied);
     return SMD_OK;
 }
+
+/* ---- step 3: the PM flux (smd_ident.h) ---- */
+
+smd_status smd_ident_psi_init(smd_ident_psi_params *p, const smd_ident_psi_config *c)
+{
+    smd_status st;
+    if (p == 0 || c == 0) {
+        return SMD_ERR_NULL;
+    }
+    if (!smd_in_pos_range(c->T_sp, SMD_R(1.0)) || !smd_in_range(c->R_s, SMD_R(0.0), SMD_R(1e3)) ||
+        !smd_in_pos_range(c->L_s, SMD_R(10.0)) || !smd_in_range(c->u_0, SMD_R(0.0), SMD_R(1e4)) ||
+        !smd_in_pos_range(c->i_spin, SMD_R(1e5)) || !smd_in_pos_range(c->w1, SMD_R(1e7)) ||
+        !(c->w2 > c->w1 && c->w2 < SMD_PI / (SMD_R(4.0) * c->T_sp)) ||
+        !smd_in_pos_range(c->a_spin, SMD_R(1e7)) ||
+        !smd_in_range(c->t_hold, SMD_R(0.01), SMD_R(100.0)) ||
+        !smd_in_range(c->t_coast, SMD_R(0.01), SMD_R(100.0)) ||
+        !(c->t_hold <= SMD_R(1e8) * c->T_sp && c->t_coast <= SMD_R(1e8) * c->T_sp) ||
+        !(c->w_cc > SMD_R(0.0) && c->w_cc <= SMD_PI / (SMD_R(10.0) * c->T_sp))) {
+        return SMD_ERR_IDENT;
+    }
+    st = smd_svm_init(&p->svm, SMD_SVM_LIMIT_HEXAGON, SMD_R(0.0));
+    if (st != SMD_OK) {
+        return st;
+    }
+    p->T_sp = c->T_sp;
+    p->R_s = c->R_s;
+    p->L_s = c->L_s;
+    p->u_drop = SMD_R(3.0) / SMD_PI * c->u_0;
+    p->i_spin = c->i_spin;
+    p->w1 = c->w1;
+    p->w2 = c->w2;
+    p->a_spin = c->a_spin;
+    p->k_p = c->L_s * c->w_cc;
+    p->k_i = c->R_s * c->w_cc;
+    p->n_hold = (int)(c->t_hold / c->T_sp + SMD_R(0.5));
+    p->n_coast = (int)(c->t_coast / c->T_sp + SMD_R(0.5));
+    return SMD_OK;
+}
+
+void smd_ident_psi_reset(smd_ident_psi_state *s)
+{
+    const smd_cplx z = smd_c(SMD_R(0.0), SMD_R(0.0));
+    s->phase = SMD_IDENT_PSI_RAMP1;
+    s->outcome = SMD_IDENT_RUNNING;
+    s->theta_f = SMD_R(0.0);
+    s->w_f = SMD_R(0.0);
+    s->x_i = s->u_ab = s->u_prev = s->u_applied = z;
+    s->n = 0;
+    s->acc_e = s->acc_n = s->acc_w = SMD_R(0.0);
+    s->e1 = s->e2 = SMD_R(0.0);
+    s->psi = s->psi1 = s->psi2 = s->psi_coast = s->psi_slope = SMD_R(0.0);
+    s->samples = 0;
+}
+
+static smd_status psi_stop(smd_ident_psi_state *s, int outcome, smd_real d_abc[3])
+{
+    s->phase = SMD_IDENT_PSI_FAILED;
+    s->outcome = outcome;
+    d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
+    s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+    return SMD_ERR_FAULT;
+}
+
+static void psi_next_phase(smd_ident_psi_state *s, int phase)
+{
+    s->phase = phase;
+    s->n = 0;
+    s->acc_e = s->acc_n = s->acc_w = SMD_R(0.0);
+}
+
+smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state *s,
+                              smd_real i_a, smd_real i_b, smd_real u_dc, smd_real d_abc[3])
+{
+    const smd_real T = p->T_sp;
+    const smd_real trip = SMD_R(3.0) * p->i_spin;
+    const smd_cplx i_ab = smd_ab2_to_ab(i_a, i_b);
+    smd_cplx i_ref, i_dq, err, u_dq, r;
+    if (s->phase == SMD_IDENT_PSI_DONE || s->phase == SMD_IDENT_PSI_FAILED) {
+        d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
+        s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+        return s->phase == SMD_IDENT_PSI_DONE ? SMD_OK : SMD_ERR_FAULT;
+    }
+    if (!(isfinite(i_a) && isfinite(i_b) && isfinite(u_dc) && u_dc > SMD_R(0.0))) {
+        return psi_stop(s, SMD_IDENT_BAD_INPUT, d_abc);
+    }
+    if (SMD_FABS(i_a) > trip || SMD_FABS(i_b) > trip || SMD_FABS(i_a + i_b) > trip) {
+        return psi_stop(s, SMD_IDENT_OVERCURRENT, d_abc);
+    }
+    s->samples++;
+    s->n++;
+    /* the forced frame's speed */
+    if (s->phase == SMD_IDENT_PSI_RAMP1 || s->phase == SMD_IDENT_PSI_RAMP2) {
+        const smd_real w_to = s->phase == SMD_IDENT_PSI_RAMP1 ? p->w1 : p->w2;
+        s->w_f += p->a_spin * T;
+        if (s->w_f >= w_to) {
+            s->w_f = w_to;
+            psi_next_phase(s, s->phase + 1);
+        }
+    }
+    i_ref = s->phase == SMD_IDENT_PSI_COAST ? smd_c(SMD_R(0.0), SMD_R(0.0))
+                                            : smd_c(SMD_R(0.0), p->i_spin);
+    r = smd_cexpj(s->theta_f);
+    i_dq = smd_cmul(i_ab, smd_cconj(r));
+    err = smd_csub(i_ref, i_dq);
+    u_dq = smd_cadd(smd_cadd(smd_cscale(err, p->k_p), s->x_i),
+                    smd_cj(smd_cscale(i_ref, s->w_f * p->L_s)));
+    s->x_i = smd_cadd(s->x_i, smd_cscale(err, p->k_i * T));
+    if (s->phase == SMD_IDENT_PSI_HOLD1 || s->phase == SMD_IDENT_PSI_HOLD2) {
+        if (2 * s->n > p->n_hold) {
+            /* e = u - (R + j w L) i - the inverter's drop along the current */
+            const smd_real ia = smd_cabs(i_dq);
+            smd_cplx e = smd_csub(u_dq, smd_cmul(smd_c(p->R_s, s->w_f * p->L_s), i_dq));
+            if (ia > SMD_R(0.0)) {
+                e = smd_csub(e, smd_cscale(i_dq, p->u_drop / ia));
+            }
+            s->acc_e += smd_cabs(e);
+            s->acc_n += SMD_R(1.0);
+        }
+        if (s->n >= p->n_hold) {
+            const smd_real em = s->acc_e / s->acc_n;
+            if (s->phase == SMD_IDENT_PSI_HOLD1) {
+                s->e1 = em;
+                psi_next_phase(s, SMD_IDENT_PSI_RAMP2);
+            } else {
+                s->e2 = em;
+                psi_next_phase(s, SMD_IDENT_PSI_COAST);
+            }
+        }
+    } else if (s->phase == SMD_IDENT_PSI_COAST) {
+        /* the PI holds i = 0: the voltage it applies is the back EMF; its
+         * turn from the last sample's is the rotor's electrical speed */
+        if (10 * s->n > p->n_coast) {
+            const smd_cplx rot = smd_cmul(s->u_ab, smd_cconj(s->u_prev));
+            s->acc_e += smd_cabs(s->u_ab);
+            /* (signed: a mean of absolute turns would grow with the
+             * noise the current loop puts on the voltage) */
+            s->acc_w += SMD_ATAN2(rot.im, rot.re);
+            s->acc_n += SMD_R(1.0);
+        }
+        if (s->n >= p->n_coast) {
+            const smd_real w = SMD_FABS(s->acc_w) / (s->acc_n * T);
+            s->psi_coast = (s->acc_e / s->acc_n) / w;
+            s->psi1 = s->e1 / p->w1;
+            s->psi2 = s->e2 / p->w2;
+            s->psi_slope = (s->e2 - s->e1) / (p->w2 - p->w1);
+            s->psi = s->psi2;
+            s->outcome = (isfinite(s->psi) && s->psi > SMD_R(0.0) && isfinite(s->psi_coast) &&
+                          SMD_FABS(s->psi_coast / s->psi - SMD_R(1.0)) <= SMD_R(0.05) &&
+                          SMD_FABS(s->psi1 / s->psi - SMD_R(1.0)) <= SMD_R(0.05))
+                             ? SMD_IDENT_OK
+                             : SMD_IDENT_POOR_FIT;
+            s->phase = SMD_IDENT_PSI_DONE;
+            d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
+            s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+            return SMD_OK;
+        }
+    }
+    s->u_prev = s->u_ab;
+    s->u_ab = smd_cmul(u_dq, smd_cexpj(s->theta_f + SMD_R(1.5) * s->w_f * T));
+    s->theta_f = smd_wrap_pi(s->theta_f + s->w_f * T);
+    smd_svm_step(&p->svm, s->u_ab, u_dc, d_abc, &s->u_applied);
+    return SMD_OK;
+}

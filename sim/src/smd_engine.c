@@ -279,6 +279,29 @@ long smd_engine_run_ident_ls(smd_engine *e, const smd_ident_ls_params *p, smd_id
     return n;
 }
 
+long smd_engine_run_ident_psi(smd_engine *e, const smd_ident_psi_params *p,
+                              smd_ident_psi_state *s, long n)
+{
+    long j;
+    for (j = 0; j < n; j++) {
+        engine_sample x;
+        smd_drive_in in;
+        smd_drive_out out;
+        smd_status st;
+        engine_inputs(e, &x, &in);
+        st = smd_ident_psi_step(p, s, in.i_a, in.i_b, in.u_dc, out.d_abc);
+        out.fault = 0u;
+        out.pwm_off = 0;
+        engine_apply(e, &x, &out, st, 0, 0);
+        if (s->phase == SMD_IDENT_PSI_DONE || s->phase == SMD_IDENT_PSI_FAILED) {
+            return j + 1;
+        }
+    }
+    return n;
+}
+
+double smd_engine_rotor_speed(const smd_engine *e) { return e->plant.w_M; }
+
 double smd_engine_rotor_angle(const smd_engine *e) { return e->plant.theta_r; }
 
 void smd_engine_ext_inputs(smd_engine *e, smd_drive_in *in)

@@ -27,12 +27,14 @@ def _g(x: float) -> float:
 def identified_toml(name: str, c) -> str:
     """The TOML that `identify` writes for commissioning `c` of scenario `name`."""
     head = (f"# Measured by `smodrive identify` on {name} (commissioning, issue 23).\n"
-            "# Steps 1 and 2: R_s, the inverter's drop, L_d and L_q (L_s their mean); psi_r,\n"
+            "# Steps 1-3: R_s, the inverter's drop, L_d and L_q (L_s their mean), psi_r;\n"
             "# J and B are not measured yet and must come from the data sheet.\n")
     r = c.rs
     motor = {"R_s": _g(r.R_s)}
     if c.ok:
         motor["L_s"] = _g(c.L_s)
+    if c.psi is not None and c.psi.ok:
+        motor["psi_r"] = _g(c.psi.psi)
     data = {
         "motor": motor,
         "identified": {
@@ -42,6 +44,9 @@ def identified_toml(name: str, c) -> str:
             "u_levels_V": [_g(x) for x in r.u_levels],
             **({"L_d": _g(c.ld.L), "L_q": _g(c.lq.L), "L_test_s": _g(c.ld.t + c.lq.t)}
                if c.ok else {}),
+            **({"psi_r": _g(c.psi.psi), "psi_r_quarter_speed": _g(c.psi.psi1),
+                "psi_r_coasting": _g(c.psi.psi_coast), "psi_outcome": c.psi.outcome,
+                "psi_test_s": _g(c.psi.t)} if c.psi is not None else {}),
         },
     }
     return head + tomli_w.dumps(data)
@@ -79,8 +84,13 @@ def identify(scenario: str, out: Path | None, i_test: float | None) -> None:
                        f"({100.0 * (x.L / s.motor.L_s - 1.0):+.2f} %); +-{x.du:.3g} V, swing "
                        f"{x.swing:.3g} A, the rotor moved {x.moved * 180 / 3.141592653589793:.2g} "
                        f"deg: {x.outcome}")
+    if c.psi is not None:
+        p = c.psi
+        click.echo(f"  psi_r {p.psi:.5g} Wb measured, {s.motor.psi_r:.5g} Wb true "
+                   f"({100.0 * (p.psi / s.motor.psi_r - 1.0):+.2f} %); at half speed, "
+                   f"{p.psi1:.5g} at a quarter, {p.psi_coast:.5g} coasting: {p.outcome}")
     if out is not None:
         export.write_text(out, identified_toml(scenario, c))
         click.echo(f"wrote {out}")
-    if not c.ok:
+    if not (c.ok and c.psi is not None and c.psi.ok):
         raise click.exceptions.Exit(1)

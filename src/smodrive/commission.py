@@ -1,9 +1,12 @@
 """Commissioning (issue 23): the drive measures its own motor before it runs.
 
-Step 1, here: the stator resistance R_s and the inverter's voltage drop u_0,
-by the core's test (``core/include/smodrive/smd_ident.h``: a DC current on the
-alpha axis, a staircase of levels, a least-squares line u = R_s i + u_0)
-against the simulated plant, with its ADC (gain, offset, noise,
+Steps 1-3, here, by the core's tests (``core/include/smodrive/smd_ident.h``):
+the stator resistance R_s and the inverter's voltage drop u_0 (a DC current
+on the alpha axis, a staircase of levels, a least-squares line u = R_s i +
+u_0), the inductance on the d and q axes (a square wave on a DC bias, the
+exact discrete stator model fitted to the averaged wave), the PM flux (an
+I/f spin at a quarter and half of rated speed, checked by a coast), against
+the simulated plant, with its ADC (gain, offset, noise,
 quantisation), PWM, dead time and mechanics. The test sees the measured
 currents and the DC-link voltage, never the plant's motor.
 
@@ -153,6 +156,7 @@ class Commissioning:
     rs: RsResult
     ld: LsResult | None
     lq: LsResult | None
+    psi: "PsiResult | None" = None
 
     @property
     def L_s(self) -> float:
@@ -166,7 +170,7 @@ class Commissioning:
 
     @property
     def t(self) -> float:
-        return self.rs.t + sum(x.t for x in (self.ld, self.lq) if x is not None)
+        return self.rs.t + sum(x.t for x in (self.ld, self.lq, self.psi) if x is not None)
 
 
 def commission(s: Scenario, i_test: float | None = None) -> Commissioning:
@@ -179,4 +183,51 @@ def commission(s: Scenario, i_test: float | None = None) -> Commissioning:
     i_bias = 0.5 * max(rs.i_levels)
     ld = identify_ls(s, rs, "d", i_bias, eng)
     lq = identify_ls(s, rs, "q", i_bias, eng) if ld.ok else None
-    return Commissioning(rs, ld, lq)
+    psi = None
+    if lq is not None and lq.ok:
+        psi = identify_psi(s, rs, 0.5 * (ld.L + lq.L), max(rs.i_levels), eng)
+    return Commissioning(rs, ld, lq, psi)
+
+
+#: step 3's defaults (assumed): the spin at half the test current, 25 % and 50 % of rated
+#: speed, reached in 2 s, held 0.5 s each; a coast of 0.1 s; the current loop at a
+#: twentieth of the sampling rate (pi / (20 T_sp))
+T_SPIN = 2.0
+T_HOLD = 0.5
+T_COAST = 0.1
+
+
+@dataclass(frozen=True)
+class PsiResult:
+    """The PM flux as step 3 measured it."""
+    psi: float          # Wb, at the higher speed (the result)
+    psi1: float         # Wb, at the lower speed
+    psi2: float         # Wb, at the higher (= psi)
+    psi_slope: float    # Wb, the slope between the two
+    psi_coast: float    # Wb, coasting
+    outcome: str
+    t: float            # s
+
+    @property
+    def ok(self) -> bool:
+        return self.outcome == "ok"
+
+
+def identify_psi(s: Scenario, rs: RsResult, L_s: float, i_spin: float, engine: Engine
+                 ) -> PsiResult:
+    """Step 3 on the R_s, drop and L_s measured before, where `engine` is."""
+    w_n = s.motor.n_p * s.motor.w_M_N  # the nameplate's rated speed, electrical
+    cfg = _ffi.IdentPsiConfig(T_sp=s.T_sp, R_s=max(rs.R_s, 0.0), L_s=L_s, u_0=max(rs.u_0, 0.0),
+                              i_spin=i_spin, w1=0.25 * w_n, w2=0.5 * w_n,
+                              a_spin=0.5 * w_n / T_SPIN, t_hold=T_HOLD, t_coast=T_COAST,
+                              w_cc=math.pi / (20.0 * s.T_sp))
+    p, st = _ffi.IdentPsiParams(), _ffi.IdentPsiState()
+    rc = _ffi.lib.smd_ident_psi_init(ct.byref(p), ct.byref(cfg))
+    if rc != 0:
+        raise ParameterError(f"the flux test refused its settings (smd_status {rc})")
+    _ffi.lib.smd_ident_psi_reset(ct.byref(st))
+    n = int(_ffi.lib.smd_engine_run_ident_psi(engine._buf, ct.byref(p), ct.byref(st),
+                                              int(round(T_MAX / s.T_sp))))
+    return PsiResult(psi=float(st.psi), psi1=float(st.psi1), psi2=float(st.psi2),
+                     psi_slope=float(st.psi_slope), psi_coast=float(st.psi_coast), outcome=OUTCOMES.get(int(st.outcome), "?"),
+                     t=n * s.T_sp)

@@ -193,6 +193,69 @@ void smd_ident_ls_reset(smd_ident_ls_state *s);
 smd_status smd_ident_ls_step(const smd_ident_ls_params *p, smd_ident_ls_state *s, smd_real i_a,
                              smd_real i_b, smd_real u_dc, smd_real d_abc[3]);
 
+/*
+ * Commissioning, step 3: the PM flux psi_r from an I/f spin, on the R_s, the
+ * drop and the L_s of steps 1 and 2. A current of i_spin on the q axis of a
+ * forced frame (a complex PI in that frame, its bandwidth w_cc: k_p = L_s
+ * w_cc, k_i = R_s w_cc) turns at a speed that ramps at a_spin to w1, holds
+ * t_hold, ramps to w2, holds t_hold; over the second half of each hold the
+ * back EMF in the forced frame, e = u - (R_s + j w L_s) i - (3/pi) u_0 i/|i|
+ * (the applied voltage less the stator's drop and the inverter's, whose
+ * fundamental is 3/pi of the DC drop u_0 for a current that turns), is
+ * averaged: |e| = w psi_r whatever angle the rotor lags by. psi_r is
+ * |e2| / w2, at the higher speed, where the drops weigh least against the EMF
+ * (the slope (|e2| - |e1|) / (w2 - w1) is kept too: the drops are not
+ * collinear with the EMF, so it does not cancel them, and it doubles the
+ * noise); |e1| / w1 must agree within 5 %. Then the current is set to zero
+ * (coasting: the PI holds i = 0, so the voltage it applies is the back EMF)
+ * and psi_coast = mean |u| / |mean d arg u / dt| over t_coast after 0.1
+ * t_coast; it must agree with psi_r within 5 % (outcome POOR_FIT otherwise,
+ * all given).
+ */
+typedef struct smd_ident_psi_config {
+    smd_real T_sp;        /* s, (0, 1] */
+    smd_real R_s, L_s, u_0; /* from steps 1 and 2: ohm [0, 1e3], H (0, 10], V [0, 1e4] */
+    smd_real i_spin;      /* the spin's current, A, (0, 1e5] */
+    smd_real w1, w2;      /* the two speeds, electrical rad/s, 0 < w1 < w2 < pi / (4 T_sp) */
+    smd_real a_spin;      /* the ramp, rad/s^2, (0, 1e7] */
+    smd_real t_hold;      /* each hold, s, [0.01, 100] */
+    smd_real t_coast;     /* the coast, s, [0.01, 100] */
+    smd_real w_cc;        /* the current loop's bandwidth, rad/s, (0, pi / (10 T_sp)] */
+} smd_ident_psi_config;
+
+typedef struct smd_ident_psi_params {
+    smd_real T_sp, R_s, L_s, u_drop, i_spin, w1, w2, a_spin, k_p, k_i;
+    int n_hold, n_coast;
+    smd_svm_params svm;
+} smd_ident_psi_params;
+
+typedef enum smd_ident_psi_phase {
+    SMD_IDENT_PSI_RAMP1 = 0, SMD_IDENT_PSI_HOLD1 = 1, SMD_IDENT_PSI_RAMP2 = 2,
+    SMD_IDENT_PSI_HOLD2 = 3, SMD_IDENT_PSI_COAST = 4, SMD_IDENT_PSI_DONE = 5,
+    SMD_IDENT_PSI_FAILED = 6
+} smd_ident_psi_phase;
+
+typedef struct smd_ident_psi_state {
+    int phase;
+    int outcome;
+    smd_real theta_f, w_f; /* the forced frame, rad, rad/s */
+    smd_cplx x_i;         /* the PI's integral, forced frame, V */
+    smd_cplx u_ab;        /* the voltage commanded last sample, alpha-beta, V */
+    smd_cplx u_prev;      /* the voltage applied over the last period (the sample before's) */
+    int n;                /* samples in this phase */
+    smd_real acc_e, acc_n; /* sums of |e| (or |u| coasting) and of their samples */
+    smd_real acc_w;       /* coasting: sum of d arg u a sample */
+    smd_real e1, e2;      /* mean |e| at w1, w2, V */
+    smd_real psi, psi1, psi2, psi_coast, psi_slope; /* results, Wb */
+    smd_cplx u_applied;
+    int samples;
+} smd_ident_psi_state;
+
+smd_status smd_ident_psi_init(smd_ident_psi_params *p, const smd_ident_psi_config *c);
+void smd_ident_psi_reset(smd_ident_psi_state *s);
+smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state *s,
+                              smd_real i_a, smd_real i_b, smd_real u_dc, smd_real d_abc[3]);
+
 #ifdef __cplusplus
 }
 #endif

@@ -157,6 +157,11 @@ long smd_engine_run_ident_rs(smd_engine *e, const smd_ident_rs_params *p, smd_id
 /* The same for step 2, the inductance (no log). */
 long smd_engine_run_ident_ls(smd_engine *e, const smd_ident_ls_params *p, smd_ident_ls_state *s,
                              long n);
+/* Step 3, the PM flux (no log). */
+long smd_engine_run_ident_psi(smd_engine *e, const smd_ident_psi_params *p,
+                              smd_ident_psi_state *s, long n);
+/* The plant's true mechanical speed, rad/s. */
+double smd_engine_rotor_speed(const smd_engine *e);
 /* The plant's true electrical rotor angle, rad (how far a test moved it). */
 double smd_engine_rotor_angle(const smd_engine *e);
 

@@ -22,7 +22,7 @@ from ._codes import N_LOG
 from ._structs import (  # noqa: F401 (the mirrors, re-exported)
     MIRRORS, SMD_LCL_SMO_DELAY, SMD_PWL_MAX, Bandpass, Cplx, DbpcParams, DriveConfig, DriveIn,
     DriveOut, DriveView, EmfPosParams, EmfPosState, EngineStart, IdentLsConfig, IdentLsParams,
-    IdentLsState, IdentRsConfig, IdentRsParams, IdentRsState, LclModel, LinConfig, LinModel,
+    IdentLsState, IdentPsiConfig, IdentPsiParams, IdentPsiState, IdentRsConfig, IdentRsParams, IdentRsState, LclModel, LinConfig, LinModel,
     LinParams, LinState, PiParams, PiState, PlantConfig, PlantHead, PllParams, PllState, Profiles,
     Pwl, SmdoParams, SmdoState, SmoConfig, SmoParams, SmoState, SvmParams, real,
 )
@@ -104,6 +104,11 @@ _sig("smd_engine_run_ident_ls", ct.c_long, ct.c_void_p, P(IdentLsParams), P(Iden
 _sig("smd_engine_rotor_angle", ct.c_double, ct.c_void_p)
 _sig("smd_ident_ls_init", ct.c_int, P(IdentLsParams), P(IdentLsConfig))
 _sig("smd_ident_ls_reset", None, P(IdentLsState))
+_sig("smd_engine_run_ident_psi", ct.c_long, ct.c_void_p, P(IdentPsiParams), P(IdentPsiState),
+     ct.c_long)
+_sig("smd_engine_rotor_speed", ct.c_double, ct.c_void_p)
+_sig("smd_ident_psi_init", ct.c_int, P(IdentPsiParams), P(IdentPsiConfig))
+_sig("smd_ident_psi_reset", None, P(IdentPsiState))
 _sig("smd_plant_init", ct.c_int, ct.c_void_p, P(PlantConfig))
 _sig("smd_plant_step", None, ct.c_void_p, P(ct.c_double), ct.c_double, ct.c_double)
 _sig("smd_plant_sample", None, ct.c_void_p, P(ct.c_double), P(ct.c_double))

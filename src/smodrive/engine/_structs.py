@@ -396,6 +396,39 @@ class IdentLsState(ct.Structure):
     ]
 
 
+class IdentPsiConfig(ct.Structure):
+    """smd_ident_psi_config (core/include/smodrive/smd_ident.h)"""
+
+    _c_name_ = "smd_ident_psi_config"
+    _fields_ = [
+        ("T_sp", real), ("R_s", real), ("L_s", real), ("u_0", real), ("i_spin", real), ("w1", real),
+        ("w2", real), ("a_spin", real), ("t_hold", real), ("t_coast", real), ("w_cc", real),
+    ]
+
+
+class IdentPsiParams(ct.Structure):
+    """smd_ident_psi_params (core/include/smodrive/smd_ident.h)"""
+
+    _c_name_ = "smd_ident_psi_params"
+    _fields_ = [
+        ("T_sp", real), ("R_s", real), ("L_s", real), ("u_drop", real), ("i_spin", real),
+        ("w1", real), ("w2", real), ("a_spin", real), ("k_p", real), ("k_i", real),
+        ("n_hold", ct.c_int), ("n_coast", ct.c_int), ("svm", SvmParams),
+    ]
+
+
+class IdentPsiState(ct.Structure):
+    """smd_ident_psi_state (core/include/smodrive/smd_ident.h)"""
+
+    _c_name_ = "smd_ident_psi_state"
+    _fields_ = [
+        ("phase", ct.c_int), ("outcome", ct.c_int), ("theta_f", real), ("w_f", real), ("x_i", Cplx),
+        ("u_ab", Cplx), ("u_prev", Cplx), ("n", ct.c_int), ("acc_e", real), ("acc_n", real),
+        ("acc_w", real), ("e1", real), ("e2", real), ("psi", real), ("psi1", real), ("psi2", real),
+        ("psi_coast", real), ("psi_slope", real), ("u_applied", Cplx), ("samples", ct.c_int),
+    ]
+
+
 class PlantHead(ct.Structure):
     """smd_plant (sim/include/smdsim/smd_plant.h): its public head,
     the fields before "--- private ---" (checked as a prefix)"""
@@ -425,7 +458,8 @@ MIRRORS: dict[str, type[ct.Structure]] = {
     "smd_ident_rs_config": IdentRsConfig, "smd_ident_rs_params": IdentRsParams,
     "smd_ident_rs_state": IdentRsState, "smd_ident_ls_config": IdentLsConfig,
     "smd_ident_ls_params": IdentLsParams, "smd_ident_ls_state": IdentLsState,
-    "smd_plant": PlantHead,
+    "smd_ident_psi_config": IdentPsiConfig, "smd_ident_psi_params": IdentPsiParams,
+    "smd_ident_psi_state": IdentPsiState, "smd_plant": PlantHead,
 }
 #: each table model's fields in C order: (C field, design field, its block
 #: ((row0, row1), (col0, col1)) or None for all of it), row-major
