@@ -18,6 +18,7 @@ scenario's inverter.
 from __future__ import annotations
 
 import ctypes as ct
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -25,7 +26,7 @@ import numpy as np
 
 from .engine import _ffi
 from .engine.run import Engine
-from .model import ParameterError
+from .model import ParameterError, Profile
 from .model.derive import rated_current
 from .model.scenario import Scenario
 
@@ -79,10 +80,18 @@ def rs_config(s: Scenario, i_test: float | None = None) -> _ffi.IdentRsConfig:
                               t_level_max=T_LEVEL_MAX, levels=LEVELS)
 
 
+def bench(s: Scenario) -> Scenario:
+    """The motor of `s` on the bench for commissioning: from standstill, with
+    no load torque or brake (the scenario's profiles belong to its run; a fan
+    load and the inertia stay, as they are part of the machine)."""
+    return s.replace(w_M0=0.0, load=dataclasses.replace(s.load, T_brake=Profile.const(0.0),
+                                                        T_ext=Profile.const(0.0)))
+
+
 def _engine(s: Scenario) -> Engine:
-    """The plant of `s` from standstill (the scenario's drive is configured,
+    """The plant of `s` on the bench (the scenario's drive is configured,
     never stepped)."""
-    return Engine(s.replace(w_M0=0.0) if s.w_M0 != 0.0 else s)
+    return Engine(bench(s))
 
 
 def identify_rs(s: Scenario, i_test: float | None = None, engine: Engine | None = None
