@@ -157,3 +157,11 @@ def test_the_documentation_builds_without_warnings(tmp_path):
     assert res.returncode == 0, res.stderr[-5000:]
     assert "WARNING" not in res.stderr, res.stderr[-5000:]
     assert (tmp_path / "html" / "sweeps.html").is_file()  # every note is in the site
+
+
+def test_commission_example_prints_what_the_readme_says():
+    """README, "Commission your motor": the example prints R_s, L_s and psi_r
+    as its comment says, to the digits shown there."""
+    out = run_script("plot_commission.py").split()
+    r_s, l_s, psi = (float(x) for x in out[:3])
+    assert round(r_s, 4) == 0.2502 and round(l_s, 5) == 0.00049 and round(psi, 5) == 0.01753
