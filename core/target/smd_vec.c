@@ -517,6 +517,106 @@ static void blk_ident(smd_writer *w, rng *g, int n)
     wr_real(w, s.r2);
 }
 
+/* Commissioning's steps 2 and 3 (smd_ident.h) on a stimulus, for the
+ * host-against-target comparison and the cycle table (their accuracy is
+ * tested against the simulator's plant, tests/test_commission.py): the
+ * inductance test on the d axis of a float stator (Table I, 2.25 ohm,
+ * 23.45 mH, 14.4 V of drop against the current), solved by forward Euler
+ * over ten sub-steps a sample; the flux test on a stator whose rotor turns
+ * with the forced frame, 20 deg behind it (EMF j w psi e^{j theta_r}, psi 0.4
+ * Wb), the same way. Noise of +-0.05 A on the currents. */
+static void stator_euler(smd_cplx *i, smd_cplx u, smd_cplx e, smd_real U0)
+{
+    int j;
+    for (j = 0; j < 10; j++) {
+        const smd_real m = smd_cabs(*i);
+        smd_cplx drop = m > SMD_R(1e-6) ? smd_cscale(*i, U0 / m) : smd_c(SMD_R(0.0), SMD_R(0.0));
+        smd_cplx v = smd_csub(smd_csub(smd_csub(u, smd_cscale(*i, SMD_R(2.25))), e), drop);
+        *i = smd_cadd(*i, smd_cscale(v, SMD_R(1e-5) / SMD_R(23.45e-3)));
+    }
+}
+
+static void blk_ident_ls(smd_writer *w, rng *g, int n)
+{
+    smd_ident_ls_config c;
+    smd_ident_ls_params p;
+    smd_ident_ls_state s;
+    smd_cplx i = smd_c(SMD_R(0.0), SMD_R(0.0)), u_now = i;
+    const smd_real udc = SMD_R(540.0);
+    int k;
+    c.T_sp = SMD_R(1e-4);
+    c.R_s = SMD_R(2.25);
+    c.u_0 = SMD_R(14.4);
+    c.i_bias = SMD_R(2.0);
+    c.u_max = SMD_R(311.0);
+    c.t_win = SMD_R(2e-3);
+    c.axis = (int)(g->x % 2u);
+    c.n_half = 8;
+    c.periods = 20;
+    wr_i32(w, (int)smd_ident_ls_init(&p, &c));
+    smd_ident_ls_reset(&s);
+    for (k = 0; k < n; k++) {
+        smd_real d[3], ia, ib;
+        smd_status st;
+        smd_real abc[3];
+        smd_ab_to_abc(i, abc);
+        ia = edge(g, k, n, abc[0] + urand(g, SMD_R(-0.05), SMD_R(0.05)));
+        ib = abc[1] + urand(g, SMD_R(-0.05), SMD_R(0.05));
+        smd_mark_begin(SMD_BLK_IDENT_LS);
+        st = smd_ident_ls_step(&p, &s, ia, ib, udc, d);
+        smd_mark_end();
+        wr_i32(w, (int)st);
+        wr_i32(w, s.phase);
+        wr_reals(w, d, 3);
+        stator_euler(&i, u_now, smd_c(SMD_R(0.0), SMD_R(0.0)), SMD_R(14.4));
+        u_now = s.u_applied;
+    }
+    wr_real(w, s.L);
+    wr_real(w, s.R_ac);
+}
+
+static void blk_ident_psi(smd_writer *w, rng *g, int n)
+{
+    smd_ident_psi_config c;
+    smd_ident_psi_params p;
+    smd_ident_psi_state s;
+    smd_cplx i = smd_c(SMD_R(0.0), SMD_R(0.0)), u_now = i;
+    const smd_real udc = SMD_R(540.0);
+    int k;
+    c.T_sp = SMD_R(1e-4);
+    c.R_s = SMD_R(2.25);
+    c.L_s = SMD_R(23.45e-3);
+    c.u_0 = SMD_R(14.4);
+    c.i_spin = SMD_R(4.0);
+    c.w1 = SMD_R(100.0);
+    c.w2 = SMD_R(200.0);
+    c.a_spin = SMD_R(2000.0);
+    c.t_hold = SMD_R(0.05);
+    c.t_coast = SMD_R(0.02);
+    c.w_cc = SMD_R(1500.0);
+    wr_i32(w, (int)smd_ident_psi_init(&p, &c));
+    smd_ident_psi_reset(&s);
+    for (k = 0; k < n; k++) {
+        smd_real d[3], ia, ib, abc[3];
+        smd_status st;
+        const smd_real th_r = s.theta_f - SMD_R(0.349);
+        const smd_cplx e = smd_cscale(smd_cj(smd_cexpj(th_r)), s.w_f * SMD_R(0.4));
+        smd_ab_to_abc(i, abc);
+        ia = edge(g, k, n, abc[0] + urand(g, SMD_R(-0.05), SMD_R(0.05)));
+        ib = abc[1] + urand(g, SMD_R(-0.05), SMD_R(0.05));
+        smd_mark_begin(SMD_BLK_IDENT_PSI);
+        st = smd_ident_psi_step(&p, &s, ia, ib, udc, d);
+        smd_mark_end();
+        wr_i32(w, (int)st);
+        wr_i32(w, s.phase);
+        wr_reals(w, d, 3);
+        stator_euler(&i, u_now, e, SMD_R(14.4));
+        u_now = s.u_applied;
+    }
+    wr_real(w, s.psi);
+    wr_real(w, s.psi_coast);
+}
+
 static void blk_bandpass(smd_writer *w, rng *g, int n)
 {
     smd_bandpass f;
@@ -790,6 +890,8 @@ static int run_block(smd_reader *r, smd_writer *w)
     case SMD_BLK_PLL: blk_pll(w, &g, n); break;
     case SMD_BLK_BANDPASS: blk_bandpass(w, &g, n); break;
     case SMD_BLK_IDENT: blk_ident(w, &g, n); break;
+    case SMD_BLK_IDENT_LS: blk_ident_ls(w, &g, n); break;
+    case SMD_BLK_IDENT_PSI: blk_ident_psi(w, &g, n); break;
     case SMD_BLK_MATH: blk_math(w, &g, n); break;
     case SMD_BLK_TABLE6:
         if (g_n_models < 2) return 0;

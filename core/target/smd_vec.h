@@ -48,6 +48,8 @@ enum {
     SMD_BLK_TABLE6 = 12,
     SMD_BLK_TABLE6_DEC = 13,
     SMD_BLK_IDENT = 14,
+    SMD_BLK_IDENT_LS = 15,
+    SMD_BLK_IDENT_PSI = 16,
     SMD_BLK_N
 };
 

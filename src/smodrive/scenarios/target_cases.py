@@ -70,7 +70,10 @@ def standard_cases(samples: int = 600, paper_samples: int = 3000) -> list:
               BlockCase("block.linobs", "linobs", 3000, 3003),
               BlockCase("block.table6", "table6", 1000, 3004),
               BlockCase("block.table6_dec", "table6_dec", 1000, 3005),
-              BlockCase("block.ident", "ident", 6000, 3006)]
+              BlockCase("block.ident", "ident", 6000, 3006),
+              BlockCase("block.ident_ls.a", "ident_ls", 4000, 3008),  # seed % 2: the axis
+              BlockCase("block.ident_ls.b", "ident_ls", 4000, 3007),
+              BlockCase("block.ident_psi", "ident_psi", 3000, 3009)]
     cat = catalogue()
     for name in PAPER_CASES:
         cases.append(drive_case("paper." + name, cat[name](), paper_samples))
@@ -96,7 +99,8 @@ def cycle_cases(samples: int = 150):
     parts, and the drive step of each composition in its steady phase."""
     blocks = [("transforms", "yang2018"), ("svm", "yang2018"), ("pi", "yang2018"),
               ("dbpc", "yang2018"), ("smdo", "yang2018"), ("emf_pos", "yang2018"),
-              ("pll", "yao2022"), ("bandpass", "yao2022"), ("ident", "yang2018")]
+              ("pll", "yao2022"), ("bandpass", "yao2022"), ("ident", "yang2018"),
+              ("ident_ls", "yang2018"), ("ident_psi", "yang2018")]
     cases: list = [BlockCase(f"block.{b}", b, 120, 11 + i) for i, (b, _) in enumerate(blocks)]
     paper = {f"block.{b}": p for b, p in blocks}
     modes = []
