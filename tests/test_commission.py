@@ -114,7 +114,15 @@ def test_cli_writes_the_measured_motor(tmp_path):
     data = tomllib.loads(out.read_text())
     assert data["motor"]["R_s"] == pytest.approx(0.25, rel=0.02)
     assert data["motor"]["L_s"] == pytest.approx(0.5e-3, rel=0.05)
-    assert data["identified"]["outcome"] == "ok" and len(data["identified"]["i_levels_A"]) >= 8
+    assert data["motor"]["psi_r"] == pytest.approx(0.0175, rel=0.02)
+    assert data["motor"]["J"] == pytest.approx(4e-5, rel=0.10)
+    assert data["motor"]["B"] == pytest.approx(2e-5, rel=0.20)
+    assert '#   outcome = "ok"' in out.read_text()
+    # the file is a scenario: `smodrive design` and `smodrive run` take it from there
+    m = load_scenario(out).motor
+    assert m.R_s == data["motor"]["R_s"] and m.n_p == 4
+    res = CliRunner().invoke(main, ["design", str(out)])
+    assert res.exit_code == 0 and "0.250" in res.output
     bad = tmp_path / "open.toml"
     bad.write_text((MOTORS / "servo_48v_200w.toml").read_text().replace("R_s = 0.25",
                                                                         "R_s = 1000.0"))
@@ -249,3 +257,48 @@ def test_a_load_on_the_bench_is_named_not_measured():
     ld, lq = C.identify_ls(s, rs, "d", i_b, eng), C.identify_ls(s, rs, "q", i_b, eng)
     p = C.identify_psi(s, rs, 0.5 * (ld.L + lq.L), max(rs.i_levels), eng)
     assert p.outcome == "poor_fit" and p.psi < 0.1 * s.motor.psi_r
+
+
+MECH_CASES = [n for n in CASES if not n.startswith("micro")]
+
+
+@pytest.mark.parametrize("name", MECH_CASES)
+def test_inertia_within_10_and_friction_within_20_percent(name):
+    """Step 4: the sensorless drive designed from steps 1-3 (and a guessed
+    inertia) runs a speed ramp on the bench; J from the torque it makes
+    (k_t i_q, k_t from the measured flux) against its estimated speed's
+    acceleration, B from the friction at two speeds (least squares over the
+    log): J within 10 % and B within 20 % (issue 23), and the whole sequence
+    within 10 s of motor time."""
+    s = CASES[name]
+    c = commission(s)
+    assert c.mech is not None and c.mech.ok, c.mech
+    assert abs(c.mech.J / s.motor.J - 1.0) < 0.10, c.mech
+    assert abs(c.mech.B / s.motor.B - 1.0) < 0.20, c.mech
+    assert c.t <= 10.0
+
+
+def test_inertia_with_a_load_of_ten_times_the_rotor():
+    """Issue 23: valid with a load inertia up to 10 x the rotor's. Table I's
+    motor with 10 x its inertia (a guessed inertia 12 x too small for the
+    speed loop): J within 10 %, B within 20 %. (With 5 x, B's fit comes out
+    negative and the step names it poor_fit: a named failure, measured.)"""
+    s0 = CASES["yang2018 Table I"]
+    s = s0.replace(motor=dataclasses.replace(s0.motor, J=10.0 * s0.motor.J))
+    c = commission(s)
+    assert c.mech.ok and abs(c.mech.J / s.motor.J - 1.0) < 0.10
+    assert abs(c.mech.B / s.motor.B - 1.0) < 0.20
+    s5 = s0.replace(motor=dataclasses.replace(s0.motor, J=5.0 * s0.motor.J))
+    c5 = commission(s5)
+    assert c5.mech.ok or c5.mech.outcome == "poor_fit"
+    if c5.mech.ok:
+        assert abs(c5.mech.J / s5.motor.J - 1.0) < 0.10
+
+
+def test_the_micro_motors_drive_that_does_not_start_is_named():
+    """The micro motor (12 V, 40 kHz): the sensorless drive of step 4 does
+    not start on it (its I/f start ends in start_failed: the drive's own
+    supervision), and step 4 says so instead of giving J and B."""
+    c = commission(CASES["micro 1 ohm, 50 uH (invented)"])
+    assert c.psi.ok and c.mech is not None and not c.mech.ok
+    assert c.mech.outcome.startswith("fault: ")

@@ -9,6 +9,7 @@ the tests' record under ``[identified]``).
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 from pathlib import Path
 
@@ -17,39 +18,43 @@ import tomli_w
 
 from .commission import OUTCOME_TEXT, commission
 from .engine import export
-from .scenario_io import resolve_scenario
+from .scenario_io import resolve_scenario, scenario_to_toml
 
 
 def _g(x: float) -> float:
     return float(f"{x:.6g}")
 
 
-def identified_toml(name: str, c) -> str:
-    """The TOML that `identify` writes for commissioning `c` of scenario `name`."""
-    head = (f"# Measured by `smodrive identify` on {name} (commissioning, issue 23).\n"
-            "# Steps 1-3: R_s, the inverter's drop, L_d and L_q (L_s their mean), psi_r;\n"
-            "# J and B are not measured yet and must come from the data sheet.\n")
+def identified_toml(name: str, s, c) -> str:
+    """The TOML that `identify` writes for commissioning `c` of scenario `s`
+    (from `name`): the scenario with the measured motor values, loadable by
+    `smodrive design` and `smodrive run`, the tests' record as comments."""
     r = c.rs
     motor = {"R_s": _g(r.R_s)}
+    record = {"outcome": r.outcome, "u_0": _g(r.u_0), "r2": _g(r.r2), "resid_V": _g(r.resid),
+              "test_s": _g(r.t), "i_levels_A": [_g(x) for x in r.i_levels],
+              "u_levels_V": [_g(x) for x in r.u_levels]}
     if c.ok:
         motor["L_s"] = _g(c.L_s)
-    if c.psi is not None and c.psi.ok:
-        motor["psi_r"] = _g(c.psi.psi)
-    data = {
-        "motor": motor,
-        "identified": {
-            "outcome": r.outcome, "u_0": _g(r.u_0), "r2": _g(r.r2),
-            "resid_V": _g(r.resid), "test_s": _g(r.t),
-            "i_levels_A": [_g(x) for x in r.i_levels],
-            "u_levels_V": [_g(x) for x in r.u_levels],
-            **({"L_d": _g(c.ld.L), "L_q": _g(c.lq.L), "L_test_s": _g(c.ld.t + c.lq.t)}
-               if c.ok else {}),
-            **({"psi_r": _g(c.psi.psi), "psi_r_quarter_speed": _g(c.psi.psi1),
-                "psi_r_coasting": _g(c.psi.psi_coast), "psi_outcome": c.psi.outcome,
-                "psi_test_s": _g(c.psi.t)} if c.psi is not None else {}),
-        },
-    }
-    return head + tomli_w.dumps(data)
+        record.update({"L_d": _g(c.ld.L), "L_q": _g(c.lq.L), "L_test_s": _g(c.ld.t + c.lq.t)})
+    if c.psi is not None:
+        record.update({"psi_r": _g(c.psi.psi), "psi_r_quarter_speed": _g(c.psi.psi1),
+                       "psi_r_coasting": _g(c.psi.psi_coast), "psi_outcome": c.psi.outcome,
+                       "psi_test_s": _g(c.psi.t)})
+        if c.psi.ok:
+            motor["psi_r"] = _g(c.psi.psi)
+    if c.mech is not None:
+        record["mech_outcome"] = c.mech.outcome
+        if c.mech.ok:
+            motor.update({"J": _g(c.mech.J), "B": _g(c.mech.B)})
+            record.update({"J": _g(c.mech.J), "B": _g(c.mech.B), "mech_test_s": _g(c.mech.t)})
+    measured = s.replace(motor=dataclasses.replace(s.motor, **motor))
+    head = (f"# Measured by `smodrive identify` on {name} (commissioning, issue 23):\n"
+            f"# [motor] {', '.join(motor)} as measured; the other values are the scenario's\n"
+            "# (the nameplate's: pole pairs, rated power and speed; the inverter and ADC).\n"
+            "# The tests' record:\n")
+    rec = "".join(f"#   {line}\n" for line in tomli_w.dumps(record).splitlines())
+    return head + rec + "\n" + scenario_to_toml(measured)
 
 
 @click.command()
@@ -89,8 +94,16 @@ def identify(scenario: str, out: Path | None, i_test: float | None) -> None:
         click.echo(f"  psi_r {p.psi:.5g} Wb measured, {s.motor.psi_r:.5g} Wb true "
                    f"({100.0 * (p.psi / s.motor.psi_r - 1.0):+.2f} %); at half speed, "
                    f"{p.psi1:.5g} at a quarter, {p.psi_coast:.5g} coasting: {p.outcome}")
+    if c.mech is not None:
+        x = c.mech
+        if x.ok:
+            click.echo(f"  J    {x.J:.5g} kg m^2 measured, {s.motor.J:.5g} true "
+                       f"({100.0 * (x.J / s.motor.J - 1.0):+.1f} %); B {x.B:.4g} N m s measured, "
+                       f"{s.motor.B:.4g} true ({100.0 * (x.B / s.motor.B - 1.0):+.1f} %)")
+        else:
+            click.echo(f"  J, B not measured: {x.outcome}")
     if out is not None:
-        export.write_text(out, identified_toml(scenario, c))
+        export.write_text(out, identified_toml(scenario, s, c))
         click.echo(f"wrote {out}")
-    if not (c.ok and c.psi is not None and c.psi.ok):
+    if not (c.ok and c.psi is not None and c.psi.ok and c.mech is not None and c.mech.ok):
         raise click.exceptions.Exit(1)

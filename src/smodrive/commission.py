@@ -20,11 +20,12 @@ from __future__ import annotations
 import ctypes as ct
 import dataclasses
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
-from .engine import _ffi
+from .engine import _ffi, fault_names, simulate
 from .engine.run import Engine
 from .model import ParameterError, Profile
 from .model.derive import rated_current
@@ -166,6 +167,7 @@ class Commissioning:
     ld: LsResult | None
     lq: LsResult | None
     psi: "PsiResult | None" = None
+    mech: "MechResult | None" = None
 
     @property
     def L_s(self) -> float:
@@ -179,12 +181,15 @@ class Commissioning:
 
     @property
     def t(self) -> float:
-        return self.rs.t + sum(x.t for x in (self.ld, self.lq, self.psi) if x is not None)
+        return self.rs.t + sum(x.t for x in (self.ld, self.lq, self.psi, self.mech)
+                               if x is not None)
 
 
-def commission(s: Scenario, i_test: float | None = None) -> Commissioning:
-    """R_s and the drop (step 1), then L_d and L_q (step 2) at half the test
-    current, on one plant from standstill."""
+def commission(s: Scenario, i_test: float | None = None, mechanics: bool = True
+               ) -> Commissioning:
+    """R_s and the drop (step 1), L_d and L_q (step 2) at half the test
+    current, psi_r (step 3) on one plant from standstill; then, with
+    `mechanics`, J and B (step 4) by the drive designed from them."""
     eng = _engine(s)
     rs = identify_rs(s, i_test, eng)
     if not rs.ok:
@@ -192,10 +197,12 @@ def commission(s: Scenario, i_test: float | None = None) -> Commissioning:
     i_bias = 0.5 * max(rs.i_levels)
     ld = identify_ls(s, rs, "d", i_bias, eng)
     lq = identify_ls(s, rs, "q", i_bias, eng) if ld.ok else None
-    psi = None
+    psi = mech = None
     if lq is not None and lq.ok:
         psi = identify_psi(s, rs, 0.5 * (ld.L + lq.L), max(rs.i_levels), eng)
-    return Commissioning(rs, ld, lq, psi)
+        if psi.ok and mechanics:
+            mech = identify_mech(s, rs.R_s, 0.5 * (ld.L + lq.L), psi.psi)
+    return Commissioning(rs, ld, lq, psi, mech)
 
 
 #: step 3's defaults (assumed): the spin at half the test current, 25 % and 50 % of rated
@@ -240,3 +247,80 @@ def identify_psi(s: Scenario, rs: RsResult, L_s: float, i_spin: float, engine: E
     return PsiResult(psi=float(st.psi), psi1=float(st.psi1), psi2=float(st.psi2),
                      psi_slope=float(st.psi_slope), psi_coast=float(st.psi_coast), outcome=OUTCOMES.get(int(st.outcome), "?"),
                      t=n * s.T_sp)
+
+
+#: step 4's defaults (assumed): the drive's speed loop tuned for a guessed inertia, a rotor
+#: that would reach rated speed in 0.1 s at rated torque, at a bandwidth of 20 rad/s (stable
+#: for inertias 10 x either side of the guess); started by I/f to 40 % of rated speed, held
+#: until T_STEP, the reference then ramped to 80 % in T_RAMP and held T_HOLD_MECH
+J_GUESS_T = 0.1
+SPEED_BW_MECH = 20.0
+T_STEP = 1.5
+T_RAMP = 0.4
+T_HOLD_MECH = 0.6
+
+
+@dataclass(frozen=True)
+class MechResult:
+    """J and B as step 4 measured them."""
+    J: float            # kg m^2
+    B: float            # N m s/rad
+    outcome: str        # "ok", "poor_fit" or "fault: <names>"
+    t: float            # s
+
+    @property
+    def ok(self) -> bool:
+        return self.outcome == "ok"
+
+
+def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float) -> Scenario:
+    """Step 4's run: the sensorless drive (robust DBPC, SMDO, I/f start) on
+    the bench, designed from the measured R_s, L_s, psi_r and a guessed
+    inertia, on the reference of the test."""
+    m = s.motor
+    w_n = m.w_M_N
+    t2 = T_STEP + T_RAMP + T_HOLD_MECH
+    sd = bench(s).replace(duration=t2, warm_start=False, theta_r0=0.0,
+                          w_M_ref=Profile((0.0, 0.0, T_STEP, T_STEP + T_RAMP),
+                                          (0.0, 0.4 * w_n, 0.4 * w_n, 0.8 * w_n)))
+    return sd.with_controller(current="robust_dbpc", position="smdo_emf", start="if",
+                              R_s_hat=R_s, L_s_hat=L_s, psi_r_hat=psi_r,
+                              J_hat=J_GUESS_T * m.T_N / w_n, a_M_ref=0.4 * w_n / T_RAMP,
+                              speed_bw=SPEED_BW_MECH)
+
+
+def identify_mech(s: Scenario, R_s: float, L_s: float, psi_r: float) -> MechResult:
+    """Step 4: the drive itself (the firmware code) runs a speed ramp with the
+    torque it makes known from the measured flux, k_t i_q, and what it
+    estimates of the speed (the SMDO's); J and B are fitted from its log,
+    the hold at 40 % of rated speed, the ramp to 80 % and the hold there in
+    20 ms bins: T = J dw/dt + B w by least squares (the holds need
+    not be steady: a heavy rotor is still settling there). The drive's own
+    supervision stays on: a run that ends in a fault is named."""
+    sd = mech_scenario(s, R_s, L_s, psi_r)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the estimates differ from the plant's values
+        r = simulate(sd)
+    names = fault_names(r.faults.final)
+    if names:
+        return MechResult(math.nan, math.nan, "fault: " + ", ".join(names), sd.duration)
+    n_p = s.motor.n_p
+    k_t = 1.5 * n_p * psi_r
+    t, iq, wh = r.t, r["i_q_ref"], r["w_hat"] / n_p
+    # 20 ms bins from 0.5 s before the ramp: the torque, the speed, the
+    # acceleration (central differences of the bins' speeds); least squares
+    # of T = J a + B w (viscous friction: a Coulomb term of its own would
+    # take most of B's share with two speed levels)
+    dt = 0.02
+    edges = np.arange(T_STEP - 0.5, sd.duration + 1e-9, dt)
+    idx = np.digitize(t, edges) - 1
+    nb = len(edges) - 1
+    keep = (idx >= 0) & (idx < nb)
+    cnt = np.bincount(idx[keep], minlength=nb)
+    tb = np.bincount(idx[keep], k_t * iq[keep], nb) / np.maximum(cnt, 1)
+    wb = np.bincount(idx[keep], wh[keep], nb) / np.maximum(cnt, 1)
+    ab = (wb[2:] - wb[:-2]) / (2.0 * dt)
+    A = np.column_stack([ab, wb[1:-1]])
+    J, B = np.linalg.lstsq(A, tb[1:-1], rcond=None)[0]
+    ok = math.isfinite(J) and J > 0 and math.isfinite(B) and B >= 0
+    return MechResult(float(J), float(B), "ok" if ok else "poor_fit", sd.duration)
