@@ -2,6 +2,27 @@
 
 #include "smodrive/smd_transforms.h"
 
+/* The zero vector (duties 0.5), what every test applies once it ended. */
+static void zero_vector(smd_real d_abc[3], smd_cplx *u_applied)
+{
+    d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
+    *u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+}
+
+/* Why a sample ends a test before it starts (0: it does not): a non-finite
+ * current or DC link, or a phase current (c = -a - b) beyond `trip`. */
+static int input_fault(smd_real i_a, smd_real i_b, smd_real u_dc, smd_real trip)
+{
+    const smd_real i_c = -i_a - i_b;
+    if (!(isfinite(i_a) && isfinite(i_b) && isfinite(u_dc) && u_dc > SMD_R(0.0))) {
+        return SMD_IDENT_BAD_INPUT;
+    }
+    if (SMD_FABS(i_a) > trip || SMD_FABS(i_b) > trip || SMD_FABS(i_c) > trip) {
+        return SMD_IDENT_OVERCURRENT;
+    }
+    return 0;
+}
+
 smd_status smd_ident_rs_init(smd_ident_rs_params *p, const smd_ident_rs_config *c)
 {
     smd_status st;
@@ -102,8 +123,7 @@ static smd_status stop(smd_ident_rs_state *s, int outcome, smd_real d_abc[3])
     s->phase = SMD_IDENT_FAILED;
     s->outcome = outcome;
     s->u = SMD_R(0.0);
-    d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
-    s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+    zero_vector(d_abc, &s->u_applied);
     return SMD_ERR_FAULT;
 }
 
@@ -215,20 +235,16 @@ static void begin_levels(const smd_ident_rs_params *p, smd_ident_rs_state *s, sm
 smd_status smd_ident_rs_step(const smd_ident_rs_params *p, smd_ident_rs_state *s, smd_real i_a,
                              smd_real i_b, smd_real u_dc, smd_real d_abc[3])
 {
-    const smd_real i_c = -i_a - i_b;
     const smd_real i = i_a; /* alpha = a (amplitude-invariant Clarke) */
-    const smd_real trip = SMD_R(1.5) * p->i_test;
     smd_real u_lim;
+    int bad;
     if (s->phase == SMD_IDENT_DONE || s->phase == SMD_IDENT_FAILED) {
-        d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
-        s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+        zero_vector(d_abc, &s->u_applied);
         return s->phase == SMD_IDENT_DONE ? SMD_OK : SMD_ERR_FAULT;
     }
-    if (!(isfinite(i_a) && isfinite(i_b) && isfinite(u_dc) && u_dc > SMD_R(0.0))) {
-        return stop(s, SMD_IDENT_BAD_INPUT, d_abc);
-    }
-    if (SMD_FABS(i_a) > trip || SMD_FABS(i_b) > trip || SMD_FABS(i_c) > trip) {
-        return stop(s, SMD_IDENT_OVERCURRENT, d_abc);
+    bad = input_fault(i_a, i_b, u_dc, SMD_R(1.5) * p->i_test);
+    if (bad) {
+        return stop(s, bad, d_abc);
     }
     s->samples++;
     /* the alpha axis's reach: 2/3 u_dc along a phase, 0.95 of it */
@@ -290,8 +306,7 @@ smd_status smd_ident_rs_step(const smd_ident_rs_params *p, smd_ident_rs_state *s
             level_window(p, s);
             if (s->level >= p->levels) {
                 fit(p, s);
-                d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
-                s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+                zero_vector(d_abc, &s->u_applied);
                 return SMD_OK;
             }
         }
@@ -428,8 +443,7 @@ static smd_status ls_stop(smd_ident_ls_state *s, int outcome, smd_real d_abc[3])
 {
     s->phase = SMD_IDENT_LS_FAILED;
     s->outcome = outcome;
-    d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
-    s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+    zero_vector(d_abc, &s->u_applied);
     return SMD_ERR_FAULT;
 }
 
@@ -462,20 +476,16 @@ static void ls_accumulate(const smd_ident_ls_params *p, smd_ident_ls_state *s, s
 smd_status smd_ident_ls_step(const smd_ident_ls_params *p, smd_ident_ls_state *s, smd_real i_a,
                              smd_real i_b, smd_real u_dc, smd_real d_abc[3])
 {
-    const smd_real i_c = -i_a - i_b;
-    const smd_real trip = SMD_R(3.0) * p->i_bias;
     const smd_real u_bias = p->R_s * p->i_bias + p->u_0;
     smd_real i_ax, u_sq = SMD_R(0.0);
+    int bad;
     if (s->phase == SMD_IDENT_LS_DONE || s->phase == SMD_IDENT_LS_FAILED) {
-        d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
-        s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+        zero_vector(d_abc, &s->u_applied);
         return s->phase == SMD_IDENT_LS_DONE ? SMD_OK : SMD_ERR_FAULT;
     }
-    if (!(isfinite(i_a) && isfinite(i_b) && isfinite(u_dc) && u_dc > SMD_R(0.0))) {
-        return ls_stop(s, SMD_IDENT_BAD_INPUT, d_abc);
-    }
-    if (SMD_FABS(i_a) > trip || SMD_FABS(i_b) > trip || SMD_FABS(i_c) > trip) {
-        return ls_stop(s, SMD_IDENT_OVERCURRENT, d_abc);
+    bad = input_fault(i_a, i_b, u_dc, SMD_R(3.0) * p->i_bias);
+    if (bad) {
+        return ls_stop(s, bad, d_abc);
     }
     s->samples++;
     i_ax = p->axis == 0 ? i_a : (i_a + SMD_R(2.0) * i_b) * SMD_INV_SQRT3;
@@ -524,8 +534,7 @@ smd_status smd_ident_ls_step(const smd_ident_ls_params *p, smd_ident_ls_state *s
                 s->period--; /* the first period was not summed */
                 s->outcome = ls_fit(p, s) ? SMD_IDENT_OK : SMD_IDENT_POOR_FIT;
                 s->phase = SMD_IDENT_LS_DONE;
-                d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
-                s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+                zero_vector(d_abc, &s->u_applied);
                 return SMD_OK;
             }
         }
@@ -596,8 +605,7 @@ static smd_status psi_stop(smd_ident_psi_state *s, int outcome, smd_real d_abc[3
 {
     s->phase = SMD_IDENT_PSI_FAILED;
     s->outcome = outcome;
-    d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
-    s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+    zero_vector(d_abc, &s->u_applied);
     return SMD_ERR_FAULT;
 }
 
@@ -612,19 +620,16 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
                               smd_real i_a, smd_real i_b, smd_real u_dc, smd_real d_abc[3])
 {
     const smd_real T = p->T_sp;
-    const smd_real trip = SMD_R(3.0) * p->i_spin;
     const smd_cplx i_ab = smd_ab2_to_ab(i_a, i_b);
     smd_cplx i_ref, i_dq, err, u_dq, r;
+    int bad;
     if (s->phase == SMD_IDENT_PSI_DONE || s->phase == SMD_IDENT_PSI_FAILED) {
-        d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
-        s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+        zero_vector(d_abc, &s->u_applied);
         return s->phase == SMD_IDENT_PSI_DONE ? SMD_OK : SMD_ERR_FAULT;
     }
-    if (!(isfinite(i_a) && isfinite(i_b) && isfinite(u_dc) && u_dc > SMD_R(0.0))) {
-        return psi_stop(s, SMD_IDENT_BAD_INPUT, d_abc);
-    }
-    if (SMD_FABS(i_a) > trip || SMD_FABS(i_b) > trip || SMD_FABS(i_a + i_b) > trip) {
-        return psi_stop(s, SMD_IDENT_OVERCURRENT, d_abc);
+    bad = input_fault(i_a, i_b, u_dc, SMD_R(3.0) * p->i_spin);
+    if (bad) {
+        return psi_stop(s, bad, d_abc);
     }
     s->samples++;
     s->n++;
@@ -690,8 +695,7 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
                              ? SMD_IDENT_OK
                              : SMD_IDENT_POOR_FIT;
             s->phase = SMD_IDENT_PSI_DONE;
-            d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
-            s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+            zero_vector(d_abc, &s->u_applied);
             return SMD_OK;
         }
     }

@@ -229,8 +229,14 @@ long smd_engine_run(smd_engine *e, long n, double *log, long stride)
     return rows;
 }
 
-long smd_engine_run_ident_rs(smd_engine *e, const smd_ident_rs_params *p, smd_ident_rs_state *s,
-                             long n, double *log, long stride)
+/* Commissioning's tests in place of the drive (smd_ident.h): one loop, each
+ * test a step through its context (its params and state); the step returns
+ * 1 once the test ended. With log != 0 every stride-th sample writes t, the
+ * true alpha current and the test's applied alpha voltage. */
+typedef int (*ident_step)(void *ctx, const smd_drive_in *in, smd_real d_abc[3], smd_status *st);
+
+static long run_ident(smd_engine *e, ident_step step, void *ctx, const smd_cplx *u_applied,
+                      long n, double *log, long stride)
 {
     long j, rows = 0;
     if (stride < 1) stride = 1;
@@ -239,65 +245,76 @@ long smd_engine_run_ident_rs(smd_engine *e, const smd_ident_rs_params *p, smd_id
         smd_drive_in in;
         smd_drive_out out;
         smd_status st;
+        int ended;
         engine_inputs(e, &x, &in);
-        st = smd_ident_rs_step(p, s, in.i_a, in.i_b, in.u_dc, out.d_abc);
+        ended = step(ctx, &in, out.d_abc, &st);
         out.fault = 0u;
         out.pwm_off = 0;
         if (log != 0 && (j % stride) == 0) {
             double *r = log + 3 * rows;
             r[0] = x.t;
             r[1] = e->plant.i_re;
-            r[2] = (double)s->u_applied.re;
+            r[2] = (double)u_applied->re;
             rows++;
         }
         engine_apply(e, &x, &out, st, 0, 0);
-        if (s->phase == SMD_IDENT_DONE || s->phase == SMD_IDENT_FAILED) {
+        if (ended) {
             return j + 1;
         }
     }
     return n;
+}
+
+typedef struct rs_ctx { const smd_ident_rs_params *p; smd_ident_rs_state *s; } rs_ctx;
+typedef struct ls_ctx { const smd_ident_ls_params *p; smd_ident_ls_state *s; } ls_ctx;
+typedef struct psi_ctx { const smd_ident_psi_params *p; smd_ident_psi_state *s; } psi_ctx;
+
+static int rs_step(void *ctx, const smd_drive_in *in, smd_real d[3], smd_status *st)
+{
+    rs_ctx *c = (rs_ctx *)ctx;
+    *st = smd_ident_rs_step(c->p, c->s, in->i_a, in->i_b, in->u_dc, d);
+    return c->s->phase == SMD_IDENT_DONE || c->s->phase == SMD_IDENT_FAILED;
+}
+
+static int ls_step(void *ctx, const smd_drive_in *in, smd_real d[3], smd_status *st)
+{
+    ls_ctx *c = (ls_ctx *)ctx;
+    *st = smd_ident_ls_step(c->p, c->s, in->i_a, in->i_b, in->u_dc, d);
+    return c->s->phase == SMD_IDENT_LS_DONE || c->s->phase == SMD_IDENT_LS_FAILED;
+}
+
+static int psi_step(void *ctx, const smd_drive_in *in, smd_real d[3], smd_status *st)
+{
+    psi_ctx *c = (psi_ctx *)ctx;
+    *st = smd_ident_psi_step(c->p, c->s, in->i_a, in->i_b, in->u_dc, d);
+    return c->s->phase == SMD_IDENT_PSI_DONE || c->s->phase == SMD_IDENT_PSI_FAILED;
+}
+
+long smd_engine_run_ident_rs(smd_engine *e, const smd_ident_rs_params *p, smd_ident_rs_state *s,
+                             long n, double *log, long stride)
+{
+    rs_ctx c;
+    c.p = p;
+    c.s = s;
+    return run_ident(e, rs_step, &c, &s->u_applied, n, log, stride);
 }
 
 long smd_engine_run_ident_ls(smd_engine *e, const smd_ident_ls_params *p, smd_ident_ls_state *s,
                              long n)
 {
-    long j;
-    for (j = 0; j < n; j++) {
-        engine_sample x;
-        smd_drive_in in;
-        smd_drive_out out;
-        smd_status st;
-        engine_inputs(e, &x, &in);
-        st = smd_ident_ls_step(p, s, in.i_a, in.i_b, in.u_dc, out.d_abc);
-        out.fault = 0u;
-        out.pwm_off = 0;
-        engine_apply(e, &x, &out, st, 0, 0);
-        if (s->phase == SMD_IDENT_LS_DONE || s->phase == SMD_IDENT_LS_FAILED) {
-            return j + 1;
-        }
-    }
-    return n;
+    ls_ctx c;
+    c.p = p;
+    c.s = s;
+    return run_ident(e, ls_step, &c, &s->u_applied, n, 0, 1);
 }
 
 long smd_engine_run_ident_psi(smd_engine *e, const smd_ident_psi_params *p,
                               smd_ident_psi_state *s, long n)
 {
-    long j;
-    for (j = 0; j < n; j++) {
-        engine_sample x;
-        smd_drive_in in;
-        smd_drive_out out;
-        smd_status st;
-        engine_inputs(e, &x, &in);
-        st = smd_ident_psi_step(p, s, in.i_a, in.i_b, in.u_dc, out.d_abc);
-        out.fault = 0u;
-        out.pwm_off = 0;
-        engine_apply(e, &x, &out, st, 0, 0);
-        if (s->phase == SMD_IDENT_PSI_DONE || s->phase == SMD_IDENT_PSI_FAILED) {
-            return j + 1;
-        }
-    }
-    return n;
+    psi_ctx c;
+    c.p = p;
+    c.s = s;
+    return run_ident(e, psi_step, &c, &s->u_applied, n, 0, 1);
 }
 
 double smd_engine_rotor_speed(const smd_engine *e) { return e->plant.w_M; }
