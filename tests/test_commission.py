@@ -123,6 +123,9 @@ def test_cli_writes_the_measured_motor(tmp_path):
     assert m.R_s == data["motor"]["R_s"] and m.n_p == 4
     res = CliRunner().invoke(main, ["design", str(out)])
     assert res.exit_code == 0 and "0.250" in res.output
+    res = CliRunner().invoke(main, ["run", str(out), "--out", str(tmp_path / "run")])
+    assert res.exit_code == 0, res.output
+    assert (tmp_path / "run" / "summary.json").is_file()
     bad = tmp_path / "open.toml"
     bad.write_text((MOTORS / "servo_48v_200w.toml").read_text().replace("R_s = 0.25",
                                                                         "R_s = 1000.0"))
