@@ -280,15 +280,19 @@ static smd_cplx source_emf_dq(const smd_drive_params *p, const smd_drive_state *
 }
 
 /* The source's EMF estimate magnitude, V (0 for the encoder). */
-static smd_real source_emf(const smd_drive_params *p, const smd_drive_state *s)
+static smd_cplx source_emf_vector(const smd_drive_params *p, const smd_drive_state *s)
 {
     switch (p->position) {
-    case SMD_POS_SMDO_EMF: return smd_cabs(s->smdo.u_d_hat);
-    case SMD_POS_LCL_SMO_PLL:
-        return smd_cabs(smd_c(s->pos.u.smo.e_hat[0], s->pos.u.smo.e_hat[1]));
-    case SMD_POS_LCL_LINEAR: return smd_cabs(smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3]));
-    default: return SMD_R(0.0);
+    case SMD_POS_SMDO_EMF: return s->smdo.u_d_hat;
+    case SMD_POS_LCL_SMO_PLL: return smd_c(s->pos.u.smo.e_hat[0], s->pos.u.smo.e_hat[1]);
+    case SMD_POS_LCL_LINEAR: return smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3]);
+    default: return smd_c(SMD_R(0.0), SMD_R(0.0));
     }
+}
+
+static smd_real source_emf(const smd_drive_params *p, const smd_drive_state *s)
+{
+    return smd_cabs(source_emf_vector(p, s));
 }
 
 /* Whether the angle the source gives can jump (SMD_FAULT_ANGLE_JUMP): the
@@ -325,10 +329,11 @@ static int source_finite(const smd_drive_params *p, const smd_drive_state *s)
         break;
     }
     case SMD_POS_LCL_SMO_PLL:
-        for (k = 0; k < 6; k++) nf += smd_nf(s->pos.u.smo.x_hat[k]);
+        /* (x_hat, e_hat and x_c: smd_lcl_smo_step_r checked them this sample
+         * and reset the observer otherwise; the reframe after it turns them
+         * by the PLL's correction, whose values the PLL check below covers) */
         for (k = 0; k < 2; k++) {
-            nf += smd_nf(s->pos.u.smo.e_hat[k]) + smd_nf(s->pos.u.smo.x_c[k]) +
-                  smd_nf(s->pos.u.smo.d_hat[k]) + smd_nf(s->pos.u.smo.v_prev[k]);
+            nf += smd_nf(s->pos.u.smo.d_hat[k]) + smd_nf(s->pos.u.smo.v_prev[k]);
         }
         break;
     case SMD_POS_LCL_LINEAR:
@@ -1221,11 +1226,19 @@ static void check_lock(const smd_drive_params *p, smd_drive_state *s)
         s->lock_count = 0;
         return;
     }
-    e = source_emf(p, s);
     e_exp = w * p->psi_r_hat;
     bad = w >= SMD_R(0.999) * p->w_src_max;
     if (w >= p->w_lock_min && e_exp > SMD_R(0.0)) {
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+        /* (the fast build compares squares: no square root) */
+        const smd_cplx ev = source_emf_vector(p, s);
+        const smd_real e2 = ev.re * ev.re + ev.im * ev.im, hi = p->lock_ratio * e_exp;
+        e = e_exp * e_exp;
+        bad = bad || e2 > hi * hi || e2 * p->lock_ratio * p->lock_ratio < e;
+#else
+        e = source_emf(p, s);
         bad = bad || e > p->lock_ratio * e_exp || e * p->lock_ratio < e_exp;
+#endif
     }
     /* a leaky count in quarter samples: an implausible sample adds 4, a
      * plausible one takes 1 away, so lock_samples implausible samples in a
