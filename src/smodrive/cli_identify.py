@@ -79,7 +79,8 @@ def identify(scenario: str, out: Path | None, i_test: float | None) -> None:
     err = 100.0 * (r.R_s / s.motor.R_s - 1.0)
     click.echo(f"{scenario}: commissioning, {c.t:.2f} s")
     click.echo(f"  R_s  {r.R_s:.5g} ohm measured, {s.motor.R_s:.5g} ohm true ({err:+.2f} %); "
-               f"{len(r.i_levels)} levels from {min(r.i_levels):.3g} to {max(r.i_levels):.3g} A")
+               f"{len(r.i_levels)} levels from {min(r.i_levels):.3g} to {max(r.i_levels):.3g} A, "
+               f"{r.t:.2f} s")
     click.echo(f"  u_0  {r.u_0:.4g} V (the inverter's drop: dead time and switches)")
     click.echo(f"  fit  R^2 {r.r2:.6f}, residual {r.resid:.3g} V RMS: {r.outcome} "
                f"({OUTCOME_TEXT.get(r.outcome, '')})")
@@ -88,18 +89,19 @@ def identify(scenario: str, out: Path | None, i_test: float | None) -> None:
             click.echo(f"  L_{x.axis}  {x.L:.5g} H measured, {s.motor.L_s:.5g} H true "
                        f"({100.0 * (x.L / s.motor.L_s - 1.0):+.2f} %); +-{x.du:.3g} V, swing "
                        f"{x.swing:.3g} A, the rotor moved {x.moved * 180 / 3.141592653589793:.2g} "
-                       f"deg: {x.outcome}")
+                       f"deg, {x.t:.2f} s: {x.outcome}")
     if c.psi is not None:
         p = c.psi
         click.echo(f"  psi_r {p.psi:.5g} Wb measured, {s.motor.psi_r:.5g} Wb true "
                    f"({100.0 * (p.psi / s.motor.psi_r - 1.0):+.2f} %); at half speed, "
-                   f"{p.psi1:.5g} at a quarter, {p.psi_coast:.5g} coasting: {p.outcome}")
+                   f"{p.psi1:.5g} at a quarter, {p.psi_coast:.5g} coasting, {p.t:.2f} s: "
+                   f"{p.outcome}")
     if c.mech is not None:
         x = c.mech
         if x.ok:
             click.echo(f"  J    {x.J:.5g} kg m^2 measured, {s.motor.J:.5g} true "
                        f"({100.0 * (x.J / s.motor.J - 1.0):+.1f} %); B {x.B:.4g} N m s measured, "
-                       f"{s.motor.B:.4g} true ({100.0 * (x.B / s.motor.B - 1.0):+.1f} %)")
+                       f"{s.motor.B:.4g} true ({100.0 * (x.B / s.motor.B - 1.0):+.1f} %), {x.t:.2f} s")
         else:
             click.echo(f"  J, B not measured: {x.outcome}")
     if out is not None:
