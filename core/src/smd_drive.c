@@ -812,6 +812,15 @@ static void hand_over(const smd_drive_params *p, smd_drive_state *s, sample *x)
 static void forced_next(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
                         sample *x)
 {
+    if (p->start == SMD_START_IF && s->dir_f == 0 && s->start_dir != 0 &&
+        in->w_ref * (smd_real)s->start_dir < SMD_R(0.0)) {
+        /* a start whose reference turned the other way before the handover:
+         * the forced frame follows it through zero as a return to I/f does,
+         * placed so that the torque does not step (the start ramp only ran
+         * up to |w_ref| in the start's direction: a reference of +100 then
+         * -100 r/min below the handover ended at +133 r/min, no fault) */
+        return_to_forced(p, s, in->w_ref, x);
+    }
     ramp_forced(p, s, in->w_ref, x->w_ref, x->T);
     s->theta_f = smd_wrap_pi(s->theta_f + s->w_f * x->T);
     x->theta_next = s->theta_f;

@@ -85,6 +85,9 @@ EMF_MARGIN_ENTER = 2.0
 HANDOVER_RATIO = 2.0
 #: the handover is at least this many times the rotor's speed swing on I/f (if_swing)
 SWING_MARGIN = 3.0
+#: the handover speed at most this share of rated speed: i_start is limited to keep the
+#: swing rule below it (assumed: half the speed range sensorless at least)
+HANDOVER_MAX = 0.5
 #: least return-to-I/f speed, fraction of rated speed (docs/design_from_motor.md)
 IF_ENTER_MIN = 0.05
 #: the plant quantities the design reads when the Scenario gives none (Table I's drive)
@@ -264,8 +267,21 @@ def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any =
         if name == "i_max" and v > I_MAX_ADC * adc_full_scale:
             return I_MAX_ADC * adc_full_scale, (f"scaled by I_N = T_N / k_t, limited to "
                                                 f"{I_MAX_ADC:g} adc.full_scale")
-        if name == "i_start" and v > get("i_max"):
-            return get("i_max"), "scaled by I_N, limited to i_max"
+        if name == "i_start":
+            why = "scaled by I_N = T_N / k_t (rated current)"
+            if v > get("i_max"):
+                v, why = get("i_max"), "scaled by I_N, limited to i_max"
+            # the rotor's swing on I/f grows as sqrt(i_start) (if_swing), and the handover
+            # must clear it (SWING_MARGIN): a current whose swing puts the handover beyond
+            # HANDOVER_MAX w_M_N would keep the drive on I/f at every speed the profile asks
+            # (a 10 pole-pair hub motor: 33 A, a handover at 313 r/min, rated 300; issue 23)
+            s1 = if_swing(m, 1.0)
+            cap = ((HANDOVER_MAX * m.w_M_N / (SWING_MARGIN * s1)) ** 2 if s1 > 0.0
+                   else math.inf)
+            if v > cap:
+                return cap, (f"{why}, limited so that {SWING_MARGIN:g} x the rotor's speed "
+                             f"swing on I/f is {HANDOVER_MAX:g} w_M_N (the handover's bound)")
+            return v, why
         return v, "scaled by I_N = T_N / k_t (rated current)"
     if name == "a_M_start":
         k = _ratio(m.T_N / m.J, ref.T_N / ref.J)
