@@ -324,57 +324,119 @@ static void fuzz_bandpass(fz *f)
     }
 }
 
-static void fuzz_ident(fz *f)
+/* One of commissioning's tests (smd_ident.h) on the decoded input sequence
+ * (op byte: bit 1 a reset first, odd a run of 1 + u8 steps on the same
+ * currents and DC link), its status and duties checked after every step,
+ * then its own checks (check, with the duties). */
+typedef struct ident_fz {
+    smd_status (*step)(void *t, smd_real ia, smd_real ib, smd_real u_dc, smd_real d[3]);
+    void (*reset)(void *t);
+    void (*check)(const void *t, const smd_real d[3]);
+    void *t;
+} ident_fz;
+
+static void ident_run(fz *f, const ident_fz *x)
 {
-    smd_ident_rs_config c;
-    smd_ident_rs_params p;
-    smd_ident_rs_state s;
     int steps = 0;
-    c.T_sp = fz_r(f, 0.0, 1e-3);
-    c.i_test = fz_r(f, -1.0, 200.0);
-    c.u_max = fz_r(f, -1.0, 1000.0);
-    c.t_win = fz_r(f, 0.0, 0.05);
-    c.t_level_max = fz_r(f, 0.0, 0.5);
-    c.levels = fz_int(f, 0, 40);
-    if (smd_ident_rs_init(&p, &c) != SMD_OK) {
-        return;
-    }
-    FZ_CHECK(smd_ident_rs_init(0, &c) == SMD_ERR_NULL);
-    smd_ident_rs_reset(&s);
+    x->reset(x->t);
     while (fz_more(f) && steps < FZ_MAX_STEPS) {
         uint8_t op = fz_u8(f);
         smd_real ia = fz_r(f, -300.0, 300.0), ib = fz_r(f, -300.0, 300.0);
         smd_real u_dc = fz_r(f, -10.0, 1000.0);
         int n = (op & 1) ? 1 + fz_u8(f) : 1, k;
         if (op & 2) {
-            smd_ident_rs_reset(&s);
+            x->reset(x->t);
         }
         for (k = 0; k < n && steps < FZ_MAX_STEPS; k++, steps++) {
             smd_real d[3];
-            smd_status st = smd_ident_rs_step(&p, &s, ia, ib, u_dc, d);
+            smd_status st = x->step(x->t, ia, ib, u_dc, d);
             int j;
             FZ_CHECK(st == SMD_OK || st == SMD_ERR_FAULT);
             for (j = 0; j < 3; j++) {
                 FZ_CHECK(d[j] >= SMD_R(0.0) && d[j] <= SMD_R(1.0));
-                if (s.phase == SMD_IDENT_DONE || s.phase == SMD_IDENT_FAILED) {
-                    FZ_CHECK(d[j] == SMD_R(0.5));
-                }
             }
-            FZ_CHECK(s.level >= 0 && s.level <= p.levels);
-            if (s.phase == SMD_IDENT_DONE && s.outcome == SMD_IDENT_OK) {
-                FZ_CHECK(isfinite(s.R_s) && isfinite(s.u_0));
-            }
-            fz_use((double)s.u + (double)s.R_s);
+            x->check(x->t, d);
         }
     }
 }
 
+typedef struct rs_t { smd_ident_rs_params p; smd_ident_rs_state s; } rs_t;
+typedef struct ls_t { smd_ident_ls_params p; smd_ident_ls_state s; } ls_t;
+typedef struct psi_t { smd_ident_psi_params p; smd_ident_psi_state s; } psi_t;
+
+static smd_status rs_step(void *t, smd_real ia, smd_real ib, smd_real u_dc, smd_real d[3])
+{
+    rs_t *x = (rs_t *)t;
+    return smd_ident_rs_step(&x->p, &x->s, ia, ib, u_dc, d);
+}
+static void rs_reset(void *t) { smd_ident_rs_reset(&((rs_t *)t)->s); }
+static void rs_check(const void *t, const smd_real d[3])
+{
+    const rs_t *x = (const rs_t *)t;
+    if (x->s.phase == SMD_IDENT_DONE || x->s.phase == SMD_IDENT_FAILED) {
+        FZ_CHECK(d[0] == SMD_R(0.5) && d[1] == SMD_R(0.5) && d[2] == SMD_R(0.5));
+    }
+    FZ_CHECK(x->s.level >= 0 && x->s.level <= x->p.levels);
+    if (x->s.phase == SMD_IDENT_DONE && x->s.outcome == SMD_IDENT_OK) {
+        FZ_CHECK(isfinite(x->s.R_s) && isfinite(x->s.u_0));
+    }
+    fz_use((double)x->s.u + (double)x->s.R_s);
+}
+
+static smd_status ls_step(void *t, smd_real ia, smd_real ib, smd_real u_dc, smd_real d[3])
+{
+    ls_t *x = (ls_t *)t;
+    return smd_ident_ls_step(&x->p, &x->s, ia, ib, u_dc, d);
+}
+static void ls_reset(void *t) { smd_ident_ls_reset(&((ls_t *)t)->s); }
+static void ls_check(const void *t, const smd_real d[3])
+{
+    const ls_t *x = (const ls_t *)t;
+    (void)d;
+    FZ_CHECK(x->s.k >= 0 && x->s.k < 2 * x->p.n_half);
+    if (x->s.phase == SMD_IDENT_LS_DONE && x->s.outcome == SMD_IDENT_OK) {
+        FZ_CHECK(isfinite(x->s.L) && x->s.L > SMD_R(0.0));
+    }
+    fz_use((double)x->s.du + (double)x->s.L);
+}
+
+static smd_status psi_step(void *t, smd_real ia, smd_real ib, smd_real u_dc, smd_real d[3])
+{
+    psi_t *x = (psi_t *)t;
+    return smd_ident_psi_step(&x->p, &x->s, ia, ib, u_dc, d);
+}
+static void psi_reset(void *t) { smd_ident_psi_reset(&((psi_t *)t)->s); }
+static void psi_check(const void *t, const smd_real d[3])
+{
+    const psi_t *x = (const psi_t *)t;
+    (void)d;
+    FZ_CHECK(isfinite(x->s.theta_f) && isfinite(x->s.w_f));
+    fz_use((double)x->s.psi + (double)x->s.x_i.re);
+}
+
+static void fuzz_ident(fz *f)
+{
+    rs_t x;
+    smd_ident_rs_config c;
+    ident_fz run = {rs_step, rs_reset, rs_check, &x};
+    c.T_sp = fz_r(f, 0.0, 1e-3);
+    c.i_test = fz_r(f, -1.0, 200.0);
+    c.u_max = fz_r(f, -1.0, 1000.0);
+    c.t_win = fz_r(f, 0.0, 0.05);
+    c.t_level_max = fz_r(f, 0.0, 0.5);
+    c.levels = fz_int(f, 0, 40);
+    if (smd_ident_rs_init(&x.p, &c) != SMD_OK) {
+        return;
+    }
+    FZ_CHECK(smd_ident_rs_init(0, &c) == SMD_ERR_NULL);
+    ident_run(f, &run);
+}
+
 static void fuzz_ident_ls(fz *f)
 {
+    ls_t x;
     smd_ident_ls_config c;
-    smd_ident_ls_params p;
-    smd_ident_ls_state s;
-    int steps = 0;
+    ident_fz run = {ls_step, ls_reset, ls_check, &x};
     c.T_sp = fz_r(f, 0.0, 1e-3);
     c.R_s = fz_r(f, -1.0, 100.0);
     c.u_0 = fz_r(f, -1.0, 50.0);
@@ -384,42 +446,18 @@ static void fuzz_ident_ls(fz *f)
     c.axis = fz_int(f, -1, 2);
     c.n_half = fz_int(f, 0, 80);
     c.periods = fz_int(f, 0, 200);
-    if (smd_ident_ls_init(&p, &c) != SMD_OK) {
+    if (smd_ident_ls_init(&x.p, &c) != SMD_OK) {
         return;
     }
     FZ_CHECK(smd_ident_ls_init(0, &c) == SMD_ERR_NULL);
-    smd_ident_ls_reset(&s);
-    while (fz_more(f) && steps < FZ_MAX_STEPS) {
-        uint8_t op = fz_u8(f);
-        smd_real ia = fz_r(f, -300.0, 300.0), ib = fz_r(f, -300.0, 300.0);
-        smd_real u_dc = fz_r(f, -10.0, 1000.0);
-        int n = (op & 1) ? 1 + fz_u8(f) : 1, k;
-        if (op & 2) {
-            smd_ident_ls_reset(&s);
-        }
-        for (k = 0; k < n && steps < FZ_MAX_STEPS; k++, steps++) {
-            smd_real d[3];
-            smd_status st = smd_ident_ls_step(&p, &s, ia, ib, u_dc, d);
-            int j;
-            FZ_CHECK(st == SMD_OK || st == SMD_ERR_FAULT);
-            for (j = 0; j < 3; j++) {
-                FZ_CHECK(d[j] >= SMD_R(0.0) && d[j] <= SMD_R(1.0));
-            }
-            FZ_CHECK(s.k >= 0 && s.k < 2 * p.n_half);
-            if (s.phase == SMD_IDENT_LS_DONE && s.outcome == SMD_IDENT_OK) {
-                FZ_CHECK(isfinite(s.L) && s.L > SMD_R(0.0));
-            }
-            fz_use((double)s.du + (double)s.L);
-        }
-    }
+    ident_run(f, &run);
 }
 
 static void fuzz_ident_psi(fz *f)
 {
+    psi_t x;
     smd_ident_psi_config c;
-    smd_ident_psi_params p;
-    smd_ident_psi_state s;
-    int steps = 0;
+    ident_fz run = {psi_step, psi_reset, psi_check, &x};
     c.T_sp = fz_r(f, 0.0, 1e-3);
     c.R_s = fz_r(f, -1.0, 100.0);
     c.L_s = fz_r(f, -1e-3, 0.1);
@@ -431,31 +469,11 @@ static void fuzz_ident_psi(fz *f)
     c.t_hold = fz_r(f, 0.0, 0.2);
     c.t_coast = fz_r(f, 0.0, 0.2);
     c.w_cc = fz_r(f, -1.0, 1e4);
-    if (smd_ident_psi_init(&p, &c) != SMD_OK) {
+    if (smd_ident_psi_init(&x.p, &c) != SMD_OK) {
         return;
     }
     FZ_CHECK(smd_ident_psi_init(0, &c) == SMD_ERR_NULL);
-    smd_ident_psi_reset(&s);
-    while (fz_more(f) && steps < FZ_MAX_STEPS) {
-        uint8_t op = fz_u8(f);
-        smd_real ia = fz_r(f, -300.0, 300.0), ib = fz_r(f, -300.0, 300.0);
-        smd_real u_dc = fz_r(f, -10.0, 1000.0);
-        int n = (op & 1) ? 1 + fz_u8(f) : 1, k;
-        if (op & 2) {
-            smd_ident_psi_reset(&s);
-        }
-        for (k = 0; k < n && steps < FZ_MAX_STEPS; k++, steps++) {
-            smd_real d[3];
-            smd_status st = smd_ident_psi_step(&p, &s, ia, ib, u_dc, d);
-            int j;
-            FZ_CHECK(st == SMD_OK || st == SMD_ERR_FAULT);
-            for (j = 0; j < 3; j++) {
-                FZ_CHECK(d[j] >= SMD_R(0.0) && d[j] <= SMD_R(1.0));
-            }
-            FZ_CHECK(isfinite(s.theta_f) && isfinite(s.w_f));
-            fz_use((double)s.psi + (double)s.x_i.re);
-        }
-    }
+    ident_run(f, &run);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
