@@ -511,6 +511,21 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
     if (st != SMD_OK) {
         return st;
     }
+    /* the R_s / psi_r tracker: off at rls_i_inj = 0; its model has no filter */
+    p->use_rls = 0;
+    if (!smd_in_range(c->rls_i_inj, SMD_R(0.0), SMD_R(1e5)) ||
+        (c->rls_i_inj > SMD_R(0.0) && c->lcl)) {
+        return SMD_ERR_RLS;
+    }
+    if (c->rls_i_inj > SMD_R(0.0)) {
+        st = smd_rls_init(&p->rls, c->T_sp, c->current == SMD_CC_PI ? c->L_dec : c->L_s_hat,
+                          c->rls_i_inj, c->rls_tau, c->rls_half, c->rls_w_min, c->R_s_hat,
+                          c->psi_r_hat);
+        if (st != SMD_OK) {
+            return st;
+        }
+        p->use_rls = 1;
+    }
     p->i_trip = c->i_trip;
     p->u_dc_min = c->u_dc_min;
     p->u_dc_max = c->u_dc_max;
@@ -605,6 +620,10 @@ void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real the
     s->warn = 0u;
     s->restarts = SMD_R(0.0);
     s->jumped = 0;
+    s->u_whole = s->u_whole_next = 0;
+    if (p->use_rls) {
+        smd_rls_reset(&p->rls, &s->rls);
+    }
 }
 
 void smd_drive_start_duties(const smd_drive_params *p, smd_drive_state *s, smd_real u_dc,
@@ -693,6 +712,7 @@ static void take_sample(const smd_drive_params *p, smd_drive_state *s, const smd
     x->settled = s->phase_samples >= p->dwell;
     s->i_s_ab = *i_s_ab;
     s->u_ab = s->u_ab_next; /* the voltage computed last time is the one applied now */
+    s->u_whole = s->u_whole_next;
     x->w_ref = slew_reference(p, s, in->w_ref, x->T);
     if (!s->primed) {
         /* The SMDO's current starts at the first sample, so that a start
@@ -886,6 +906,10 @@ static void current_reference(const smd_drive_params *p, smd_drive_state *s,
         }
     } else {
         s->i_dq_ref.re = in->i_dq_ref.re;
+        if (p->use_rls) {
+            /* the tracker's excitation (smd_rls.h) */
+            s->i_dq_ref.re += smd_rls_injection(&p->rls, &s->rls);
+        }
         if (p->speed_loop) {
             if (s->count == 0) {
                 s->i_dq_ref.im = smd_pi_step(&p->speed_pi, &s->speed_pi, x->w_ref - x->w_k);
@@ -1019,6 +1043,15 @@ static smd_status modulate(const smd_drive_params *p, smd_drive_state *s, const 
         smd_ab_to_abc(i_mid, i_abc);
         smd_svm_deadtime_comp(out->d_abc, i_abc, p->dtc_ratio, p->i_dtc);
     }
+    if (p->use_rls) {
+        /* the tracker's model needs the voltage the inverter applies: not
+         * limited by the modulator, no duty clipped at 0 or 1 */
+        int k, whole = s->u_ab_next.re == u_ref.re && s->u_ab_next.im == u_ref.im;
+        for (k = 0; k < 3; k++) {
+            whole = whole && out->d_abc[k] > SMD_R(0.0) && out->d_abc[k] < SMD_R(1.0);
+        }
+        s->u_whole_next = whole;
+    }
     return st;
 }
 
@@ -1072,6 +1105,12 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
     /* 6. current control, and the duties */
     rotations(p, &x);
     st = modulate(p, s, in, out, &x, current_control(p, s, &i_s_ab, &i1_ab, &x), st);
+    if (p->use_rls) {
+        /* the tracker: i(k), the voltage of [k, k+1), the frame of k, which is
+         * the rotor's except in the forced phase */
+        smd_rls_step(&p->rls, &s->rls, i_s_ab, s->u_ab, s->u_whole, x.theta_k, x.w_k,
+                     s->phase != SMD_PHASE_FORCED);
+    }
     end_sample(p, s, &x);
     return st;
 }
@@ -1201,7 +1240,14 @@ static void recover(const smd_drive_params *p, smd_drive_state *s, smd_real thet
     smd_real theta_f = s->theta_f, w_f = s->w_f;
     smd_real w_ref_r = s->w_ref_r, chatter = s->chatter, hunt = s->hunt;
     int phase_samples = s->phase_samples, forced_count = s->forced_count;
+    const smd_rls_state rls = s->rls;
     smd_drive_reset(p, s, theta0, w0, i_q0);
+    if (p->use_rls) {
+        /* the tracker's estimates stay (they guard themselves against a
+         * non-finite sample); its next sample starts a new interval */
+        s->rls = rls;
+        s->rls.have_prev = 0;
+    }
     if (isfinite(w_ref_r) && isfinite(chatter)) {
         s->w_ref_r = w_ref_r;
         s->chatter = chatter;
@@ -1528,6 +1574,8 @@ smd_drive_view smd_drive_get_view(const smd_drive_params *p, const smd_drive_sta
     v.v = zero;
     v.e_lin = zero;
     source_view(p, s, &v);
+    v.R_s_rls = p->use_rls ? s->rls.R_hat : SMD_R(0.0);
+    v.psi_rls = p->use_rls ? s->rls.psi_hat : SMD_R(0.0);
     v.phase = s->phase;
     v.fault = s->fault;
     return v;

@@ -47,6 +47,10 @@ const char *smd_status_str(smd_status s)
         return "identification: T_sp in (0, 1] s, i_test in (0, 1e5] A, u_max in (0, 1e5] V, "
                "t_win in [10 T_sp, 10] s, t_level_max in [2 t_win, 100] s and at most 1e8 T_sp, "
                "levels in [8, 32]";
+    case SMD_ERR_RLS:
+        return "R_s / psi_r tracker: i_inj in (0, 1e5] A, tau in [10 T_sp, 1e3] s, n_half in "
+               "[2, 1e6] samples, w_min in [0, 1e7] rad/s, L_s_hat in (0, 10] H, R_s_hat in "
+               "[0, 1e3] ohm, psi_r_hat in [0, 100] Wb";
     default: return "unknown status";
     }
 }

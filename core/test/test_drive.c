@@ -15,13 +15,13 @@
 static void test_status_strings(void)
 {
     int a, b;
-    for (a = 0; a <= SMD_ERR_IDENT; a++) {
+    for (a = 0; a <= SMD_ERR_RLS; a++) {
         CHECK(strcmp(smd_status_str((smd_status)a), "unknown status") != 0);
         for (b = 0; b < a; b++) {
             CHECK(strcmp(smd_status_str((smd_status)a), smd_status_str((smd_status)b)) != 0);
         }
     }
-    CHECK(strcmp(smd_status_str((smd_status)(SMD_ERR_IDENT + 1)), "unknown status") == 0);
+    CHECK(strcmp(smd_status_str((smd_status)(SMD_ERR_RLS + 1)), "unknown status") == 0);
 }
 
 static void test_init_rejects(void)

@@ -62,8 +62,13 @@ int smd_engine_init(smd_engine *e, const smd_plant_config *plant, const smd_driv
     st = smd_drive_init(&e->ctrl_p, ctrl);
     if (st != SMD_OK) return 2000 + (int)st;
     if (!pwl_ok(&prof->w_M_ref) || !pwl_ok(&prof->T_ext) || !pwl_ok(&prof->T_brake) ||
-        !pwl_ok(&prof->i_d_ref) || !pwl_ok(&prof->i_q_ref)) {
+        !pwl_ok(&prof->i_d_ref) || !pwl_ok(&prof->i_q_ref) || !pwl_ok(&prof->R_s_scale)) {
         return 3000;
+    }
+    for (rc = 0; rc < prof->R_s_scale.n; rc++) {
+        /* the plant's own range of R_s at every value of the profile */
+        const double R = plant->R_s * prof->R_s_scale.y[rc];
+        if (!(R >= 1e-6 && R <= 1e3)) return 3000;
     }
     if (!isfinite(prof->i_d_sin_amp) || !isfinite(prof->i_d_sin_freq) ||
         !isfinite(start->theta0) || !isfinite(start->w0) || !isfinite(start->i_q0)) {
@@ -83,7 +88,8 @@ int smd_engine_init(smd_engine *e, const smd_plant_config *plant, const smd_driv
         e->d_abc[2] = (double)d[2];
     }
     e->k = 0;
-    e->seg[0] = e->seg[1] = e->seg[2] = e->seg[3] = e->seg[4] = 0;
+    e->seg[0] = e->seg[1] = e->seg[2] = e->seg[3] = e->seg[4] = e->seg[5] = 0;
+    e->R_s0 = plant->R_s;
     e->T_sp = plant->T_sw;
     e->last_status = 0;
     e->first_fault_k = -1;
@@ -113,6 +119,11 @@ static inline void engine_inputs(smd_engine *e, engine_sample *x, smd_drive_in *
     x->T_ext = pwl_eval_seq(&e->prof.T_ext, t, &e->seg[1]);
     x->T_brake = pwl_eval_seq(&e->prof.T_brake, t, &e->seg[2]);
     i_d_ref = pwl_eval_seq(&e->prof.i_d_ref, t, &e->seg[3]);
+    if (e->prof.R_s_scale.n > 0) {
+        /* winding heating: R_s over [t_k, t_k+1) from the profile at t_k */
+        const double R = e->R_s0 * pwl_eval_seq(&e->prof.R_s_scale, t, &e->seg[5]);
+        if (R != e->plant.c.R_s) smd_plant_set_resistance(&e->plant, R);
+    }
     if (e->plant.c.lcl) {
         smd_plant_sample(&e->plant, x->i_meas, i1_meas);
         in->i1_a = (smd_real)i1_meas[0];
@@ -193,6 +204,8 @@ static inline void engine_apply(smd_engine *e, const engine_sample *x, const smd
         r[SMD_LOG_UC_BETA] = pl->uc_im;
         r[SMD_LOG_LIN_E_ALPHA] = (double)v->e_lin.re;
         r[SMD_LOG_LIN_E_BETA] = (double)v->e_lin.im;
+        r[SMD_LOG_R_S_RLS] = (double)v->R_s_rls;
+        r[SMD_LOG_PSI_RLS] = (double)v->psi_rls;
         r[SMD_LOG_PHASE] = (double)v->phase;
         r[SMD_LOG_STATUS] = (double)st;
         r[SMD_LOG_FAULT] = (double)out->fault;

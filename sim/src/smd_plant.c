@@ -102,6 +102,25 @@ int smd_plant_init(smd_plant *p, const smd_plant_config *c)
     return 0;
 }
 
+int smd_plant_set_resistance(smd_plant *p, double R_s)
+{
+    const double R_old = p->c.R_s;
+    if (!(R_s >= 1e-6 && R_s <= 1e3)) return SMD_PF_R_S;
+    p->c.R_s = R_s;
+    p->a = R_s / p->L2;
+    if (p->c.lcl) {
+        const smd_lcl_modes m = p->m;
+        const int rc = smd_lcl_setup(p);
+        if (rc != 0) {
+            p->c.R_s = R_old;
+            p->a = R_old / p->L2;
+            p->m = m;
+            return rc;
+        }
+    }
+    return 0;
+}
+
 void smd_plant_step(smd_plant *p, const double d_abc[3], double T_ext, double T_brake)
 {
     if (p->solver == 2) {

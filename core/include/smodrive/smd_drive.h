@@ -163,6 +163,7 @@
 #include "smd_lcl_smo.h"
 #include "smd_pi.h"
 #include "smd_pll.h"
+#include "smd_rls.h"
 #include "smd_smdo.h"
 #include "smd_svm.h"
 #include "smd_types.h"
@@ -292,6 +293,12 @@ typedef struct smd_drive_config {
                              @fuzz(0, 5) */
     int restart_window;   /* ... within (about) this many samples (0: no restart)
                              @fuzz(0, 20000) */
+    /* online R_s / psi_r tracker (smd_rls.h; not with the LCL filter) */
+    smd_real rls_i_inj;   /* injected d-axis current amplitude, A (0: no tracker)
+                             @fuzz(0, 10) */
+    smd_real rls_tau;     /* forgetting time constant, s @fuzz(0, 10) */
+    int rls_half;         /* samples per half period of the injection @fuzz(0, 2000) */
+    smd_real rls_w_min;   /* psi_r fitted only at |w| >= this, rad/s @fuzz(0, 1000) */
 } smd_drive_config;
 
 typedef enum smd_safe_state {
@@ -350,6 +357,8 @@ typedef struct smd_drive_params {
     smd_lcl_smo_params smo;
     smd_linobs_params lin;
     smd_svm_params svm;
+    int use_rls;          /* the R_s / psi_r tracker runs (rls_i_inj > 0) */
+    smd_rls_params rls;
 } smd_drive_params;
 
 typedef struct smd_drive_in {
@@ -425,6 +434,9 @@ typedef struct smd_drive_state {
     uint32_t warn;        /* warning bits of the last sample (SMD_FAULT_WARNINGS) */
     smd_real restarts;    /* leaky count of automatic restarts */
     int jumped;           /* 1: the source's angle jumped this sample */
+    smd_rls_state rls;    /* the R_s / psi_r tracker */
+    int u_whole;          /* tracker: u_ab is applied whole (not limited, no duty clipped) */
+    int u_whole_next;     /* ... and u_ab_next */
 } smd_drive_state;
 
 /* Read-only view of the controller's internals for logging. */
@@ -444,6 +456,8 @@ typedef struct smd_drive_view {
     smd_cplx d_hat;       /* its periodic-disturbance compensation, eq. (35) */
     smd_cplx v;           /* its disturbance part v(k-1) */
     smd_cplx e_lin;       /* linear observer: EMF, stationary frame */
+    smd_real R_s_rls;     /* the tracker's R_s estimate, ohm (0 without it) */
+    smd_real psi_rls;     /* its psi_r estimate, Wb (0 without it) */
     int phase;            /* smd_drive_phase */
     uint32_t fault;       /* latched fault bits */
 } smd_drive_view;

@@ -176,7 +176,12 @@ typedef enum smd_status {
                                   inverter.u_dc) */
     SMD_ERR_FAULT = 28,        /* a step: a fault is active, the outputs are the safe state
                                   (smd_drive_out.fault says which) */
-    SMD_ERR_IDENT = 29         /* commissioning (smd_ident.h): a test setting out of range */
+    SMD_ERR_IDENT = 29,        /* commissioning (smd_ident.h): a test setting out of range */
+    SMD_ERR_RLS = 30           /* the online R_s / psi_r tracker (smd_rls.h): a setting out of
+                                  range @scenario(controller.rls_i_inj, controller.rls_tau,
+                                  controller.rls_t_half, controller.rls_w_M_min,
+                                  controller.L_s_hat, controller.R_s_hat,
+                                  controller.psi_r_hat, T_sp) */
 } smd_status;
 
 /* Human-readable text for a status, e.g. for a debugger or a binding. */

@@ -38,6 +38,8 @@ typedef struct smd_profiles {
     smd_pwl i_q_ref;   /* q-axis current reference (speed loop off), A */
     double i_d_sin_amp;  /* sinusoid added to i_d_ref (frequency-response tests), A */
     double i_d_sin_freq; /* its frequency, Hz */
+    smd_pwl R_s_scale; /* the motor's R_s over time as a multiple of its configured
+                        * value (winding heating); n = 0: constant */
 } smd_profiles;
 
 /* What the controller knows at t = 0 (smd_drive_reset). */
@@ -107,6 +109,9 @@ enum smd_log_channel {
     SMD_LOG_LIN_E_ALPHA, /* @log(lin_e_alpha, V) linear observer's EMF estimate, eq. (65),
                           * alpha */
     SMD_LOG_LIN_E_BETA,  /* @log(lin_e_beta, V) linear observer's EMF estimate, beta */
+    SMD_LOG_R_S_RLS,     /* @log(R_s_rls, ohm) the drive's online R_s estimate (smd_rls.h;
+                          * 0 without the tracker) */
+    SMD_LOG_PSI_RLS,     /* @log(psi_r_rls, Wb) its psi_r estimate (0 without the tracker) */
     SMD_LOG_PHASE,       /* @log(phase) start-up phase: 0 forced (I/f), 1 encoder handover,
                           * 2 position source */
     SMD_LOG_STATUS,      /* @log(status) controller status code of the step (smd_status) */
@@ -128,7 +133,8 @@ typedef struct smd_engine {
     smd_profiles prof;
     double d_abc[3];     /* duties applied during the current period */
     long k;              /* samples done */
-    int seg[5];          /* last segment of each profile (time only grows) */
+    int seg[6];          /* last segment of each profile (time only grows) */
+    double R_s0;         /* the plant's configured R_s (R_s_scale multiplies it) */
     double T_sp;
     int last_status;
     smd_engine_sample ext; /* the sample of the split step (PIL) */

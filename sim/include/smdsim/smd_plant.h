@@ -164,6 +164,10 @@ typedef enum smd_plant_field_code {
 /* Returns 0 or a positive code naming the first bad field (smd_plant_field,
  * smd_plant_field_code). */
 int smd_plant_init(smd_plant *p, const smd_plant_config *c);
+/* The motor's resistance from now on (winding heating), its state kept:
+ * 0, or the code of the field smd_plant_init would refuse (SMD_PF_R_S out of
+ * [1e-6, 1e3] ohm, SMD_PF_MODES with the filter), the plant unchanged. */
+int smd_plant_set_resistance(smd_plant *p, double R_s);
 const char *smd_plant_field(int code);
 
 /* Advance one carrier period with duties d_abc, external load torque T_ext

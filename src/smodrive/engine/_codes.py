@@ -51,11 +51,13 @@ LOG_CHANNELS: tuple[tuple[str, str, str], ...] = (
     ('uc_beta', 'V', 'true filter-capacitor voltage, beta'),
     ('lin_e_alpha', 'V', "linear observer's EMF estimate, eq. (65), alpha"),
     ('lin_e_beta', 'V', "linear observer's EMF estimate, beta"),
+    ('R_s_rls', 'ohm', "the drive's online R_s estimate (smd_rls.h; 0 without the tracker)"),
+    ('psi_r_rls', 'Wb', 'its psi_r estimate (0 without the tracker)'),
     ('phase', '', 'start-up phase: 0 forced (I/f), 1 encoder handover, 2 position source'),
     ('status', '', 'controller status code of the step (smd_status)'),
     ('fault', '', 'controller fault word of the step (smd_drive_out.fault, FAULT_BITS)'),
 )
-N_LOG = 45  # SMD_LOG_N
+N_LOG = 47  # SMD_LOG_N
 
 # the plant's field codes (smd_plant_init, smd_plant_field)
 SMD_PF_OK = 0
@@ -176,6 +178,7 @@ SMD_ERR_START = 26
 SMD_ERR_PROTECTION = 27
 SMD_ERR_FAULT = 28
 SMD_ERR_IDENT = 29
+SMD_ERR_RLS = 30
 #: drive status -> the scenario fields behind it (an init's refusal)
 DRIVE_FIELDS: dict[int, tuple[str, ...]] = {
     2: ('T_sp',),  # SMD_ERR_TS
@@ -225,6 +228,11 @@ DRIVE_FIELDS: dict[int, tuple[str, ...]] = {
         'controller.i_trip', 'controller.u_dc_min_ratio', 'controller.u_dc_max_ratio',
         'controller.safe_state', 'controller.t_lock', 'controller.lock_ratio',
         'controller.w_M_lock_min', 'controller.w_M_if_enter', 'inverter.u_dc',
+    ),
+    30: (  # SMD_ERR_RLS
+        'controller.rls_i_inj', 'controller.rls_tau', 'controller.rls_t_half',
+        'controller.rls_w_M_min', 'controller.L_s_hat', 'controller.R_s_hat',
+        'controller.psi_r_hat', 'T_sp',
     ),
 }
 

@@ -245,7 +245,8 @@ class DriveConfig(ct.Structure):
         ("chatter_window", ct.c_int), ("hunt_max", ct.c_int), ("hunt_window", ct.c_int),
         ("track_samples", ct.c_int), ("w_track", real), ("forced_samples", ct.c_int),
         ("osc_i", real), ("osc_rel", real), ("osc_samples", ct.c_int), ("restart_max", ct.c_int),
-        ("restart_window", ct.c_int),
+        ("restart_window", ct.c_int), ("rls_i_inj", real), ("rls_tau", real),
+        ("rls_half", ct.c_int), ("rls_w_min", real),
     ]
 
 
@@ -257,7 +258,7 @@ class DriveView(ct.Structure):
         ("i_dq_ref", Cplx), ("i_dq", Cplx), ("u_ab", Cplx), ("u_ab_ref", Cplx), ("i_s_hat", Cplx),
         ("u_d_hat", Cplx), ("theta", real), ("w", real), ("lambda_", real), ("theta_err", real),
         ("e_hat", Cplx), ("s", Cplx), ("d_hat", Cplx), ("v", Cplx), ("e_lin", Cplx),
-        ("phase", ct.c_int), ("fault", ct.c_uint32),
+        ("R_s_rls", real), ("psi_rls", real), ("phase", ct.c_int), ("fault", ct.c_uint32),
     ]
 
 
@@ -314,7 +315,7 @@ class Profiles(ct.Structure):
     _c_name_ = "smd_profiles"
     _fields_ = [
         ("w_M_ref", Pwl), ("T_ext", Pwl), ("T_brake", Pwl), ("i_d_ref", Pwl), ("i_q_ref", Pwl),
-        ("i_d_sin_amp", ct.c_double), ("i_d_sin_freq", ct.c_double),
+        ("i_d_sin_amp", ct.c_double), ("i_d_sin_freq", ct.c_double), ("R_s_scale", Pwl),
     ]
 
 

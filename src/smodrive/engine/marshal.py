@@ -262,6 +262,9 @@ def drive_config(s: Scenario, tables=None) -> _ffi.DriveConfig:
         osc_samples=int(round(k.t_osc / T)) if k.osc_i > 0 else 0,
         restart_max=k.restart_max if (k.start == "if" and k.position == "smdo_emf") else 0,
         restart_window=max(1, int(round(k.t_restart / T))),
+        rls_i_inj=k.rls_i_inj, rls_tau=k.rls_tau,
+        rls_half=max(1, int(round(k.rls_t_half / T))),
+        rls_w_min=k.rls_w_M_min * n_p,
     ), "drive_config")
 
 
@@ -274,6 +277,8 @@ def profiles(s: Scenario) -> _ffi.Profiles:
     p.i_q_ref = _pwl(s.i_q_ref)
     p.i_d_sin_amp = s.i_d_sin_amp
     p.i_d_sin_freq = s.i_d_sin_freq
+    # the motor's R_s over time (winding heating): none when it stays 1
+    p.R_s_scale = _pwl(s.R_s_scale) if any(y != 1.0 for y in s.R_s_scale.y) else _ffi.Pwl()
     return p
 
 

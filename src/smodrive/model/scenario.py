@@ -36,6 +36,8 @@ class Scenario(_Validated):
     inverter, ADC, load), a composed controller and the references."""
 
     _section = "scenario"
+    _profile_ranges = {"R_s_scale": (0.01, 100.0, "", "the motor's R_s over time as a multiple "
+                                     "of motor.R_s (winding heating)")}
     name: str = "scenario"
     T_sp: float = num(100e-6, 1e-7, 1.0, "s", "sampling (= carrier) period")
     duration: float = num(1.0, 0.0, 1e4, "s", "simulated time", lo_open=True)
@@ -46,6 +48,7 @@ class Scenario(_Validated):
     i_q_ref: Profile = field(default_factory=lambda: Profile.const(0.0))
     i_d_sin_amp: float = num(0.0, 0.0, 1e4, "A", "sinusoid added to the i_d reference")
     i_d_sin_freq: float = num(0.0, 0.0, 1e7, "Hz", "its frequency")
+    R_s_scale: Profile = field(default_factory=lambda: Profile.const(1.0))  # winding heating
     log_stride: int = num(1, 1, 10**6, "", "log every N samples", integer=True)
     faults_expected: bool = flag(False, "a run that ends in a fault is what the scenario "
                                         "tests (the CLI exits 0)")
