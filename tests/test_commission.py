@@ -118,6 +118,9 @@ def test_cli_writes_the_measured_motor(tmp_path):
     assert data["motor"]["J"] == pytest.approx(4e-5, rel=0.10)
     assert data["motor"]["B"] == pytest.approx(2e-5, rel=0.20)
     assert '#   outcome = "ok"' in out.read_text()
+    # the measured drop sets the dead-time compensation: 3/4 u_0 T_sp / u_dc is the
+    # plant's 0.5 us within the drop's 3 % (test 1's criterion)
+    assert data["controller"]["t_dead_comp"] == pytest.approx(0.5e-6, rel=0.03)
     # the file is a scenario: `smodrive design` and `smodrive run` take it from there
     m = load_scenario(out).motor
     assert m.R_s == data["motor"]["R_s"] and m.n_p == 4

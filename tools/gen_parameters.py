@@ -47,6 +47,9 @@ EXTRA: dict[tuple[str, str], tuple[str, str, str]] = {
                               "mechanical speed reference (TOML: `w_M_ref`, or `w_M_ref_rpm` "
                               "in r/min)"),
     ("scenario", "i_d_ref"): ("A", "profile", "d-axis current reference"),
+    ("scenario", "R_s_scale"): ("", "profile",
+                                "the motor's R_s over time as a multiple of `motor.R_s` "
+                                "(winding heating), in [0.01, 100]; 1: constant"),
     ("scenario", "i_q_ref"): ("A", "profile",
                               "q-axis current reference (used when `speed_loop = false`)"),
     ("scenario", "motor"): ("", "section", "the true machine, `[motor]`"),

@@ -36,7 +36,8 @@ void smd_rls_reset(const smd_rls_params *p, smd_rls_state *s)
     s->k_half = 0;
     s->sgn = 1;
     s->W = SMD_R(0.0);
-    s->M_i = s->M_y = s->S_ii = s->S_iy = SMD_R(0.0);
+    s->M_i = s->M_y = s->S_ii = s->S_iy = s->S_yy = SMD_R(0.0);
+    s->R_se = SMD_R(-1.0);
     s->S_ww = s->S_wy = s->S_wi = SMD_R(0.0);
     s->R_hat = p->R0;
     s->psi_hat = p->psi0;
@@ -57,6 +58,7 @@ static void update(const smd_rls_params *p, smd_rls_state *s, smd_cplx y, smd_cp
     s->M_y += a * (y.re - s->M_y);
     s->S_ii += a * (i_m.re * i_m.re - s->S_ii);
     s->S_iy += a * (i_m.re * y.re - s->S_iy);
+    s->S_yy += a * (y.re * y.re - s->S_yy);
     if (SMD_FABS(w) >= p->w_min && w != SMD_R(0.0)) {
         s->S_ww += a * (w * w - s->S_ww);
         s->S_wy += a * (w * y.im - s->S_wy);
@@ -72,9 +74,17 @@ static void solve(const smd_rls_params *p, smd_rls_state *s)
     const smd_real den = s->W * s->S_ii - s->M_i * s->M_i;
     const smd_real need = SMD_R(0.25) * p->i_inj * p->i_inj * s->W * s->W;
     if (s->W >= SMD_R(0.5) && den >= need) {
-        const smd_real R = (s->W * s->S_iy - s->M_i * s->M_y) / den;
-        if (isfinite(R)) {
-            s->R_hat = R;
+        /* the line's slope, and its standard error: residual variance
+         * var(y) - R cov(i, y) over n = 2 / alpha samples and var(i) */
+        const smd_real cov = s->W * s->S_iy - s->M_i * s->M_y;
+        const smd_real R = cov / den;
+        const smd_real res = (s->W * s->S_yy - s->M_y * s->M_y) - R * cov;
+        const smd_real se2 = (res > SMD_R(0.0) ? res : SMD_R(0.0)) * SMD_R(0.5) * p->alpha / den;
+        if (isfinite(R) && isfinite(se2)) {
+            s->R_se = SMD_SQRT(se2);
+            if (se2 <= SMD_R(0.0025) * R * R) {
+                s->R_hat = R;
+            }
         }
     }
     if (s->S_ww > SMD_R(0.0)) {

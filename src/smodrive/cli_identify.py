@@ -49,6 +49,11 @@ def identified_toml(name: str, s, c) -> str:
             motor.update({"J": _g(c.mech.J), "B": _g(c.mech.B)})
             record.update({"J": _g(c.mech.J), "B": _g(c.mech.B), "mech_test_s": _g(c.mech.t)})
     measured = s.replace(motor=dataclasses.replace(s.motor, **motor))
+    if r.ok:
+        # the measured drop sets the dead-time compensation (issue 23)
+        t_dc = _g(r.t_dead(s.T_sp, s.inverter.u_dc))
+        measured = measured.with_controller(t_dead_comp=min(t_dc, 0.25 * s.T_sp))
+        record["t_dead_comp_s"] = t_dc
     head = (f"# Measured by `smodrive identify` on {name} (commissioning, issue 23):\n"
             f"# [motor] {', '.join(motor)} as measured; the other values are the scenario's\n"
             "# (the nameplate's: pole pairs, rated power and speed; the inverter and ADC).\n"

@@ -69,6 +69,14 @@ class RsResult:
     def ok(self) -> bool:
         return self.outcome == "ok"
 
+    def t_dead(self, T_sp: float, u_dc: float) -> float:
+        """The dead time whose compensation cancels the measured drop, s:
+        along alpha phase a carries i and phases b and c -i/2, each leg
+        loses t_d / T_sp u_dc against its current, (2/3)(1 + 1/2 + 1/2) =
+        4/3 of it along alpha, so t_d = 3/4 u_0 T_sp / u_dc (the switches'
+        own drops counted as dead time)."""
+        return max(0.0, 0.75 * self.u_0 * T_sp / u_dc)
+
 
 def rs_config(s: Scenario, i_test: float | None = None) -> _ffi.IdentRsConfig:
     """The test's settings for scenario `s`: i_test (default half the rated

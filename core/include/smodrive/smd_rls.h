@@ -32,6 +32,11 @@
  *     R_s = (W S_iy - M_i M_y) / (W S_ii - M_i^2)
  *     psi_r = (S_wy - R_s S_wi) / S_ww            (only |w| >= w_min)
  *
+ * R_s is taken when the fit can tell it: its standard error (the residual
+ * variance over 2 / alpha samples, the effective count of the forgetting,
+ * times the variance of i_d) within 1 % of it. A square wave lost in the
+ * noise leaves R_s where it was (R_se says how far the fit is).
+ *
  * A sample counts when the drive's angle is the rotor's (valid; the drive
  * passes 0 in the forced phase of an I/f start) and so did the one
  * before. C99, no allocation, single precision by default. */
@@ -61,9 +66,11 @@ typedef struct smd_rls_state {
     int k_half;         /* samples into this half period of the injection */
     int sgn;            /* sign of the injection, +1 or -1 */
     smd_real W;         /* weight sum of the d-axis means */
-    smd_real M_i, M_y, S_ii, S_iy; /* d axis: weighted sums of i_d, y_d, i_d^2, i_d y_d */
+    smd_real M_i, M_y, S_ii, S_iy, S_yy; /* d axis: weighted sums of i_d, y_d, i_d^2,
+                                           i_d y_d, y_d^2 */
     smd_real S_ww, S_wy, S_wi;     /* q axis: of w^2, w y_q, w i_q */
     smd_real R_hat;     /* R_s estimate, ohm */
+    smd_real R_se;      /* its standard error, ohm (the fit quality; -1: no fit yet) */
     smd_real psi_hat;   /* psi_r estimate, Wb */
 } smd_rls_state;
 

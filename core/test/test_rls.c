@@ -1,0 +1,159 @@
+/*
+ * The online R_s / psi_r tracker (smd_rls.h) on synthetic data: an SPMSM at
+ * constant speed w whose d-axis current follows the tracker's square wave
+ * (reaching it in two samples) at a constant i_q, with the voltage of each
+ * interval [k-1, k) from the model the tracker fits (yang2018 eq. (1) in the
+ * stationary frame, currents averaged over the interval, the EMF at its
+ * middle). The tracker must recover R_s and psi_r to rounding; with its
+ * inductance 10 % wrong, R_s within 1 % (the inductance's share telescopes
+ * over each half period, and its constant part at speed, dL w i_q, is the
+ * d-axis line's intercept); the samples the drive marks as not applied
+ * whole must not count; a square wave lost in the noise must leave R_s.
+ */
+#include <math.h>
+#include <stdint.h>
+
+#include "smd_test.h"
+#include "smodrive/smd_rls.h"
+
+#define T_SP 1e-4
+#define R_TRUE 2.25
+#define L_TRUE 0.02345
+#define PSI_TRUE 0.4
+#define W_E 300.0
+#define I_Q 3.0
+/* (one failure reported, not one a sample) */
+#define CHECK_SILENT_INJ(x, ref)                                                          \
+    do {                                                                                  \
+        if ((double)(x) != (double)(smd_real)(ref)) {                                     \
+            CHECK((double)(x) == (double)(smd_real)(ref));                                \
+            return;                                                                       \
+        }                                                                                 \
+    } while (0)
+
+typedef struct run_opts {
+    double L_hat, noise, i_inj, bad_u; /* bad_u: voltage error on samples marked not whole */
+    int n;
+} run_opts;
+
+/* the d-axis current at sample k: it follows the tracker's square wave
+ * (n_half samples a half, + first) half-way each sample */
+static double current_d(int k, double i_inj, int n_half, double *i_d)
+{
+    const double target = ((k / n_half) % 2 == 0) ? i_inj : -i_inj;
+    *i_d += 0.5 * (target - *i_d);
+    return *i_d;
+}
+
+static void run(const run_opts *o, smd_rls_state *s)
+{
+    enum { N_HALF = 200 };
+    smd_rls_params p;
+    double i_d = 0.0, id_next, th, i_re, i_im;
+    uint32_t seed = 7u;
+    int k;
+    CHECK_INT(smd_rls_init(&p, (smd_real)T_SP, (smd_real)o->L_hat, (smd_real)o->i_inj,
+                           SMD_R(0.3), N_HALF, SMD_R(10.0), SMD_R(1.0), SMD_R(0.3)),
+              SMD_OK);
+    smd_rls_reset(&p, s);
+    id_next = current_d(0, o->i_inj, N_HALF, &i_d);
+    for (k = 0; k < o->n; k++) {
+        /* i(k) and i(k+1); the voltage of [k, k+1) the model gives */
+        const double id_k = id_next, th_k = 0.3 + W_E * T_SP * k;
+        const double th_m = th_k + 0.5 * W_E * T_SP;
+        double j_re, j_im, u_re, u_im;
+        const int whole = (k % 37) != 0;
+        id_next = current_d(k + 1, o->i_inj, N_HALF, &i_d);
+        th = th_k + W_E * T_SP;
+        i_re = id_k * cos(th_k) - I_Q * sin(th_k);
+        i_im = id_k * sin(th_k) + I_Q * cos(th_k);
+        j_re = id_next * cos(th) - I_Q * sin(th);
+        j_im = id_next * sin(th) + I_Q * cos(th);
+        u_re = R_TRUE * 0.5 * (i_re + j_re) + L_TRUE * (j_re - i_re) / T_SP -
+               W_E * PSI_TRUE * sin(th_m);
+        u_im = R_TRUE * 0.5 * (i_im + j_im) + L_TRUE * (j_im - i_im) / T_SP +
+               W_E * PSI_TRUE * cos(th_m);
+        if (!whole) {
+            u_re += o->bad_u;
+            u_im -= o->bad_u;
+        }
+        /* the injection the tracker asks for at k is the one the current follows */
+        CHECK_SILENT_INJ(smd_rls_injection(&p, s), ((k / N_HALF) % 2 == 0) ? o->i_inj
+                                                                          : -o->i_inj);
+        smd_rls_step(&p, s,
+                     smd_c((smd_real)(i_re + o->noise * smdt_urand(&seed, -1.7320508,
+                                                                   1.7320508)),
+                           (smd_real)i_im),
+                     smd_c((smd_real)u_re, (smd_real)u_im), whole, (smd_real)th_k,
+                     (smd_real)W_E, 1);
+    }
+}
+
+static void test_exact_model(void)
+{
+    run_opts o = {L_TRUE, 0.0, 1.0, 0.0, 20000};
+    smd_rls_state s;
+    run(&o, &s);
+    CHECK_CLOSE(s.R_hat, R_TRUE, 2e-3 * R_TRUE);
+    CHECK_CLOSE(s.psi_hat, PSI_TRUE, 2e-3 * PSI_TRUE);
+    CHECK((double)s.R_se >= 0.0 && (double)s.R_se < 0.01 * R_TRUE);
+}
+
+static void test_wrong_inductance(void)
+{
+    run_opts o = {1.1 * L_TRUE, 0.0, 1.0, 0.0, 20000};
+    smd_rls_state s;
+    run(&o, &s);
+    CHECK_CLOSE(s.R_hat, R_TRUE, 0.01 * R_TRUE);
+    CHECK_CLOSE(s.psi_hat, PSI_TRUE, 0.01 * PSI_TRUE);
+}
+
+static void test_voltage_not_whole_does_not_count(void)
+{
+    /* 50 V on one sample in 37: counted, it would move R_s by volts per amp */
+    run_opts o = {L_TRUE, 0.0, 1.0, 50.0, 20000};
+    smd_rls_state s;
+    run(&o, &s);
+    CHECK_CLOSE(s.R_hat, R_TRUE, 2e-3 * R_TRUE);
+    CHECK_CLOSE(s.psi_hat, PSI_TRUE, 2e-3 * PSI_TRUE);
+}
+
+static void test_lost_in_noise(void)
+{
+    /* a 1 mA square wave under 0.1 A of current noise: R_s stays at R0 */
+    run_opts o = {L_TRUE, 0.1, 1e-3, 0.0, 20000};
+    smd_rls_state s;
+    run(&o, &s);
+    CHECK_CLOSE(s.R_hat, 1.0, 0.0);
+    CHECK((double)s.R_se > 0.05 * R_TRUE);
+}
+
+static void test_settings(void)
+{
+    smd_rls_params p;
+    const smd_real T = SMD_R(1e-4);
+    CHECK_INT(smd_rls_init(&p, T, SMD_R(0.01), SMD_R(1.0), SMD_R(0.3), 100, SMD_R(0.0),
+                           SMD_R(1.0), SMD_R(0.1)), SMD_OK);
+    CHECK_INT(smd_rls_init(&p, T, SMD_R(0.01), SMD_R(0.0), SMD_R(0.3), 100, SMD_R(0.0),
+                           SMD_R(1.0), SMD_R(0.1)), SMD_ERR_RLS);
+    CHECK_INT(smd_rls_init(&p, T, SMD_R(0.01), SMD_R(1.0), SMD_R(5e-4), 100, SMD_R(0.0),
+                           SMD_R(1.0), SMD_R(0.1)), SMD_ERR_RLS); /* tau < 10 T_sp */
+    CHECK_INT(smd_rls_init(&p, T, SMD_R(0.01), SMD_R(1.0), SMD_R(0.3), 1, SMD_R(0.0),
+                           SMD_R(1.0), SMD_R(0.1)), SMD_ERR_RLS);
+    CHECK_INT(smd_rls_init(&p, T, SMD_R(0.0), SMD_R(1.0), SMD_R(0.3), 100, SMD_R(0.0),
+                           SMD_R(1.0), SMD_R(0.1)), SMD_ERR_RLS);
+    CHECK_INT(smd_rls_init(&p, T, SMD_R(0.01), (smd_real)NAN, SMD_R(0.3), 100, SMD_R(0.0),
+                           SMD_R(1.0), SMD_R(0.1)), SMD_ERR_RLS);
+    CHECK_INT(smd_rls_init(0, T, SMD_R(0.01), SMD_R(1.0), SMD_R(0.3), 100, SMD_R(0.0),
+                           SMD_R(1.0), SMD_R(0.1)), SMD_ERR_NULL);
+}
+
+int main(void)
+{
+    RUN_TEST(test_exact_model);
+    RUN_TEST(test_wrong_inductance);
+    RUN_TEST(test_voltage_not_whole_does_not_count);
+    RUN_TEST(test_lost_in_noise);
+    RUN_TEST(test_settings);
+    return smdt_summary("rls");
+}
