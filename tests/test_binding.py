@@ -311,12 +311,12 @@ def test_gen_layout_mirrors_what_the_binding_mirrors():
 # ------------------------------------------------------- log channels -----
 
 def test_log_channel_table():
-    assert F.N_LOG == 45
-    assert len(CHANNELS) == len(set(CHANNELS)) == 45
+    assert F.N_LOG == 50
+    assert len(CHANNELS) == len(set(CHANNELS)) == 50
     assert CHANNELS[0] == "t" and CHANNELS[-1] == "fault"
     # outside the table the name is "" (what check_layout relies on)
-    assert F.lib.smd_log_channel_name(45) == F.lib.smd_log_channel_name(-1) == b""
-    assert all(F.lib.smd_log_channel_name(k) for k in range(45))
+    assert F.lib.smd_log_channel_name(50) == F.lib.smd_log_channel_name(-1) == b""
+    assert all(F.lib.smd_log_channel_name(k) for k in range(50))
 
 
 DIMENSIONLESS = {"phase", "status", "fault"}

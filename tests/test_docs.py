@@ -227,7 +227,7 @@ def test_status_table_matches_the_header():
     header = (ROOT / "core" / "include" / "smodrive" / "smd_types.h").read_text()
     enum = re.search(r"typedef enum smd_status \{(.*?)\} smd_status;", header, re.S).group(1)
     codes = [(n, int(v)) for n, v in re.findall(r"(SMD_\w+) = (\d+)", enum)]
-    assert len(codes) == 30 and codes[-1] == ("SMD_ERR_IDENT", 29)
+    assert len(codes) == 31 and codes[-1] == ("SMD_ERR_RLS", 30)
     table = _section("Status codes")
     for name, code in codes:
         assert f"\n| {code} | `{name}` |" in table, name

@@ -26,7 +26,7 @@ from smodrive.model import RPM, ControllerCfg, ParameterError, Profile, Scenario
 from smodrive.engine import CHANNEL_INFO, CHANNELS, Result, simulate
 
 # the units a channel may have: SI as the channels use them, "" for a code
-UNITS = {"s", "rad", "rad/s", "A", "V", "N m", "A/s", ""}
+UNITS = {"s", "rad", "rad/s", "A", "V", "N m", "A/s", "ohm", "Wb", "1", ""}  # 1: a ratio (duty)
 CODES = {"phase", "status", "fault"}  # the dimensionless channels
 
 

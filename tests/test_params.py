@@ -406,11 +406,12 @@ def _field_value(draw, f: dataclasses.Field):
 
 
 @st.composite
-def profiles(draw, nonnegative: bool = False):
-    """nonnegative: for a magnitude (T_brake, its range [0, inf))."""
+def profiles(draw, lo: float = -1e6, hi: float = 1e6):
+    """Values within [lo, hi]: a profile's declared range (T_brake's [0, inf),
+    R_s_scale's [0.01, 100]) clipped to +-1e6."""
     n = draw(st.integers(1, 64))
     t = sorted(draw(st.lists(st.floats(-1e3, 1e3), min_size=n, max_size=n)))
-    y = draw(st.lists(st.floats(0.0 if nonnegative else -1e6, 1e6), min_size=n, max_size=n))
+    y = draw(st.lists(st.floats(max(lo, -1e6), min(hi, 1e6)), min_size=n, max_size=n))
     return Profile(tuple(t), tuple(y))
 
 
@@ -433,7 +434,7 @@ def instances(draw, cls):
         elif f.type in ("bool", bool):
             kw[f.name] = draw(st.booleans())
         elif f.type in ("Profile", Profile):
-            kw[f.name] = draw(profiles(nonnegative=f.name in cls._profile_ranges))
+            kw[f.name] = draw(profiles(*cls._profile_ranges.get(f.name, (-1e6, 1e6))[:2]))
         elif f.name == "name":
             kw[f.name] = draw(st.text(string.ascii_letters + string.digits + "_- .",
                                       max_size=30))

@@ -52,6 +52,14 @@ def test_every_composition_is_in_the_vectors(cases, runs):
             assert int(T.drive_outputs(side[c.name])["init"]) == 0, c.name
     for side in (host, m4):
         assert int(T.drive_outputs(side["drive.rejected.dbpc_lcl"])["init"]) == 24
+    # the R_s / psi_r tracker's drive: its estimates leave their initial values (the
+    # model's R_s_hat, psi_r_hat) once the fit has data, on both builds alike
+    for side in (host, m4):
+        out = T.drive_outputs(side["drive.robust_dbpc.encoder.running.rls"])
+        assert int(out["init"]) == 0
+        assert out["R_s_rls"][0] == np.float32(2.25) and out["R_s_rls"][-1] != out["R_s_rls"][0]
+        assert abs(out["R_s_rls"][-1] / 2.25 - 1.0) < 0.1
+        assert abs(out["psi_rls"][-1] / 0.4 - 1.0) < 0.02
 
 
 def test_portable_math_builds_agree_bit_for_bit(cases, runs):

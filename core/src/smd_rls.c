@@ -82,7 +82,7 @@ static void solve(const smd_rls_params *p, smd_rls_state *s)
         const smd_real se2 = (res > SMD_R(0.0) ? res : SMD_R(0.0)) * SMD_R(0.5) * p->alpha / den;
         if (isfinite(R) && isfinite(se2)) {
             s->R_se = SMD_SQRT(se2);
-            if (se2 <= SMD_R(0.0025) * R * R) {
+            if (se2 <= SMD_R(0.0625) * R * R) {
                 s->R_hat = R;
             }
         }

@@ -180,6 +180,9 @@ static inline void engine_apply(smd_engine *e, const engine_sample *x, const smd
         r[SMD_LOG_W_HAT] = (double)v->w;
         r[SMD_LOG_UD_ALPHA] = (double)v->u_d_hat.re;
         r[SMD_LOG_UD_BETA] = (double)v->u_d_hat.im;
+        r[SMD_LOG_D_A] = d_now[0];
+        r[SMD_LOG_D_B] = d_now[1];
+        r[SMD_LOG_D_C] = d_now[2];
         r[SMD_LOG_UCMD_ALPHA] = (double)v->u_ab.re;
         r[SMD_LOG_UCMD_BETA] = (double)v->u_ab.im;
         r[SMD_LOG_I_A_MEAS] = x->i_meas[0];

@@ -86,7 +86,9 @@ def identify(scenario: str, out: Path | None, i_test: float | None) -> None:
     click.echo(f"  R_s  {r.R_s:.5g} ohm measured, {s.motor.R_s:.5g} ohm true ({err:+.2f} %); "
                f"{len(r.i_levels)} levels from {min(r.i_levels):.3g} to {max(r.i_levels):.3g} A, "
                f"{r.t:.2f} s")
-    click.echo(f"  u_0  {r.u_0:.4g} V (the inverter's drop: dead time and switches)")
+    click.echo(f"  u_0  {r.u_0:.4g} V (the inverter's drop: dead time and switches; "
+               f"compensated as {1e6 * r.t_dead(s.T_sp, s.inverter.u_dc):.3g} us of dead time, "
+               f"{1e6 * s.inverter.t_dead:.3g} us true)")
     click.echo(f"  fit  R^2 {r.r2:.6f}, residual {r.resid:.3g} V RMS: {r.outcome} "
                f"({OUTCOME_TEXT.get(r.outcome, '')})")
     for x in (c.ld, c.lq):

@@ -75,6 +75,10 @@ enum smd_log_channel {
     SMD_LOG_UD_BETA,     /* @log(u_d_hat_beta, V) SMDO disturbance estimate, beta */
     SMD_LOG_U_ALPHA,     /* @log(u_alpha, V) mean inverter voltage over [t_k, t_k+1), alpha */
     SMD_LOG_U_BETA,      /* @log(u_beta, V) mean inverter voltage, beta */
+    SMD_LOG_D_A,         /* @log(d_a, 1) duty of phase a applied during [t_k, t_k+1) (after the
+                          * dead-time compensation) */
+    SMD_LOG_D_B,         /* @log(d_b, 1) duty of phase b */
+    SMD_LOG_D_C,         /* @log(d_c, 1) duty of phase c */
     SMD_LOG_UCMD_ALPHA,  /* @log(u_cmd_alpha, V) voltage commanded for the next period (after
                           * the limit), alpha */
     SMD_LOG_UCMD_BETA,   /* @log(u_cmd_beta, V) voltage commanded for the next period, beta */

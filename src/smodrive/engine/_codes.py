@@ -27,6 +27,9 @@ LOG_CHANNELS: tuple[tuple[str, str, str], ...] = (
     ('u_d_hat_beta', 'V', 'SMDO disturbance estimate, beta'),
     ('u_alpha', 'V', 'mean inverter voltage over [t_k, t_k+1), alpha'),
     ('u_beta', 'V', 'mean inverter voltage, beta'),
+    ('d_a', '1', 'duty of phase a applied during [t_k, t_k+1) (after the dead-time compensation)'),
+    ('d_b', '1', 'duty of phase b'),
+    ('d_c', '1', 'duty of phase c'),
     ('u_cmd_alpha', 'V', 'voltage commanded for the next period (after the limit), alpha'),
     ('u_cmd_beta', 'V', 'voltage commanded for the next period, beta'),
     ('i_a_meas', 'A', 'ADC motor phase current a'),
@@ -57,7 +60,7 @@ LOG_CHANNELS: tuple[tuple[str, str, str], ...] = (
     ('status', '', 'controller status code of the step (smd_status)'),
     ('fault', '', 'controller fault word of the step (smd_drive_out.fault, FAULT_BITS)'),
 )
-N_LOG = 47  # SMD_LOG_N
+N_LOG = 50  # SMD_LOG_N
 
 # the plant's field codes (smd_plant_init, smd_plant_field)
 SMD_PF_OK = 0

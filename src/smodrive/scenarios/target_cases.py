@@ -17,6 +17,7 @@ from ..firmware import cycles
 from ..firmware.build import IN_WORDS
 from ..firmware.run import drive_case
 from ..firmware.vectors import BlockCase, DriveCase, TablesCase, variants
+from ..model import Profile
 from . import drive, yao2022
 from .catalogue import catalogue
 
@@ -42,7 +43,21 @@ def mode_scenarios() -> list[tuple[str, object]]:
     for law in ("tde17", "tde18"):
         out.append((f"lcl.pi.lcl_smo_pll.running.{law}",
                     yao2022.steady(60e3).with_controller(law=law)))
+    out.append(("robust_dbpc.encoder.running.rls", tracker_scenario()))
     return out
+
+
+def tracker_scenario():
+    """Table I's drive with the online R_s / psi_r tracker (smd_rls.h), its
+    square wave (3 A) flipping every 5 ms and forgetting over 20 ms, so that
+    a few hundred samples see the fit take its values; at half rated speed
+    (at rated speed and torque the deadbeat voltage, chasing the ADC's noise,
+    reaches the hexagon on many samples, which the tracker leaves out)."""
+    s = drive._table1_steady("x")
+    w = 0.5 * s.motor.w_M_N
+    return s.replace(w_M0=w, w_M_ref=Profile.const(w)).with_controller(
+        current="robust_dbpc", position="encoder", rls_i_inj=3.0, rls_t_half=0.005,
+        rls_tau=0.02)
 
 
 
@@ -110,6 +125,8 @@ def cycle_cases(samples: int = 150):
                           drive._table1_steady("x").with_controller(current=cur, position=pos)))
     modes.append(("drive robust_dbpc + smdo_emf, I/f forced phase", "yang2018",
                   drive.if_start()))
+    modes.append(("drive robust_dbpc + encoder, R_s/psi_r tracker", "yang2018",
+                  tracker_scenario()))
     for pos, law in (("encoder", "proposed"), ("lcl_smo_pll", "proposed"),
                      ("lcl_smo_pll", "tde17"), ("lcl_linear", "proposed")):
         name = f"drive pi + LCL + {pos}" + (f" ({law})" if pos == "lcl_smo_pll" else "")
