@@ -33,6 +33,7 @@ FLOORS: dict[str, int] = {
     "smodrive.cli": 10,
     "smodrive.cli_identify": 10,
     "smodrive.commission": 4,
+    "smodrive.fromlog": 2,
     "smodrive": 11,
 }
 #: the line count above which a module is a dumping ground to split

@@ -100,7 +100,7 @@ def test_without_its_square_wave_R_s_is_not_tracked():
     above). A fit that did not check its standard error returned -3 ohm
     here: R_s from the noise."""
     s0 = load_scenario(MOTORS["yang2018 Table I"])
-    t, R, _ = tracked(s0, 1, np.random.default_rng(1), i_inj_rel=1e-4)
+    _, R, _ = tracked(s0, 1, np.random.default_rng(1), i_inj_rel=1e-4)
     assert R[-1] == pytest.approx(s0.controller.R_s_hat or s0.motor.R_s, rel=1e-6)
     assert abs(R[-1] / (RISE * s0.motor.R_s) - 1.0) > 0.25
 

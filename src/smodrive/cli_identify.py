@@ -10,14 +10,17 @@ the tests' record under ``[identified]``).
 from __future__ import annotations
 
 import dataclasses
+import math
 import warnings
 from pathlib import Path
 
 import click
 import tomli_w
 
+from . import fromlog
 from .commission import OUTCOME_TEXT, commission
 from .engine import export
+from .model import ParameterError
 from .scenario_io import resolve_scenario, scenario_to_toml
 
 
@@ -63,17 +66,35 @@ def identified_toml(name: str, s, c) -> str:
 
 
 @click.command()
-@click.argument("scenario")
+@click.argument("scenario", required=False)
 @click.option("--out", type=click.Path(path_type=Path), default=None,
               help="write the measured values as TOML (default: print only)")
 @click.option("--i-test", type=float, default=None,
               help="the test's top current, A (default: half the rated current)")
-def identify(scenario: str, out: Path | None, i_test: float | None) -> None:
+@click.option("--from-log", "from_log", type=click.Path(path_type=Path), default=None,
+              help="instead: R_s, L_s and psi_r from a running drive's log (CSV or Parquet; "
+                   "columns in docs/commissioning.md)")
+@click.option("--L-s", "L_s", type=float, default=None,
+              help="with --from-log: the inductance, H, when the log has no rotor angle")
+@click.option("--u-dc", "u_dc", type=float, default=None,
+              help="with --from-log: the DC-link voltage, V, when the log has no u_dc column")
+def identify(scenario: str | None, out: Path | None, i_test: float | None,
+             from_log: Path | None, L_s: float | None, u_dc: float | None) -> None:
     """Measure the motor of SCENARIO as a drive would, before it runs: the
     stator resistance and the inverter's voltage drop (a DC staircase on the
     alpha axis, a least-squares line), then the inductance on the d and q
     axes (a square wave on a DC bias). The tests see only the measured
-    currents and the DC-link voltage; the true values are printed beside."""
+    currents and the DC-link voltage; the true values are printed beside.
+    With --from-log FILE (and no SCENARIO): R_s, L_s and psi_r from the log
+    of a running drive, with 95 % intervals."""
+    if from_log is not None:
+        if scenario is not None:
+            raise click.UsageError("give SCENARIO or --from-log FILE, not both")
+        _from_log(from_log, L_s, u_dc, out)
+        return
+    if scenario is None:
+        raise click.UsageError("give SCENARIO (a TOML file or a catalogue name) or "
+                               "--from-log FILE")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         s = resolve_scenario(scenario)
@@ -115,4 +136,35 @@ def identify(scenario: str, out: Path | None, i_test: float | None) -> None:
         export.write_text(out, identified_toml(scenario, s, c))
         click.echo(f"wrote {out}")
     if not (c.ok and c.psi is not None and c.psi.ok and c.mech is not None and c.mech.ok):
+        raise click.exceptions.Exit(1)
+
+
+def _from_log(path: Path, L_s: float | None, u_dc: float | None, out: Path | None) -> None:
+    """identify --from-log: the fit of smodrive.fromlog, printed and written."""
+    if L_s is not None and not (math.isfinite(L_s) and 0.0 < L_s <= 10.0):
+        raise ParameterError(f"--L-s {L_s!r} is outside its valid range (0, 10] H")
+    if u_dc is not None and not (math.isfinite(u_dc) and u_dc > 0.0):
+        raise ParameterError(f"--u-dc {u_dc!r} is outside its valid range (0, inf) V")
+    fit = fromlog.fit_log(fromlog.read_log(path, u_dc), L_s=L_s)
+    click.echo(f"{path}: {fit.samples} samples at speed, the rotor's angle "
+               f"{'from the log' if fit.angle == 'log' else 'from the EMF'}; 95 % intervals")
+    click.echo(f"  R_s   {fit.R_s} ohm")
+    click.echo(f"  L_s   {fit.L_s} H" + (" (given)" if L_s is not None else ""))
+    click.echo(f"  psi_r {fit.psi_r} Wb")
+    click.echo(f"  u_0   {fit.u_0} V (the inverter's drop per leg)")
+    click.echo(f"  fit residual {fit.resid:.3g} V RMS: "
+               + ("ok" if fit.ok else "intervals too wide to use (R_s beyond +-10 %, L_s or "
+                  "psi_r beyond +-5 %): a log with load and speed changes tells them apart"))
+    if out is not None:
+        text = (f"# Measured by `smodrive identify --from-log {path.name}` (issue 23): merge into\n"
+                "# a scenario's [motor]; 95 % intervals (block bootstrap, and the drop's shape):\n"
+                f"#   R_s [{fit.R_s.lo:.6g}, {fit.R_s.hi:.6g}], L_s [{fit.L_s.lo:.6g}, "
+                f"{fit.L_s.hi:.6g}], psi_r [{fit.psi_r.lo:.6g}, {fit.psi_r.hi:.6g}]\n"
+                f"#   u_0 = {fit.u_0.value:.6g} V, {fit.samples} samples\n"
+                "[motor]\n"
+                f"R_s = {_g(fit.R_s.value)}\nL_s = {_g(fit.L_s.value)}\n"
+                f"psi_r = {_g(fit.psi_r.value)}\n")
+        export.write_text(out, text)
+        click.echo(f"wrote {out}")
+    if not fit.ok:
         raise click.exceptions.Exit(1)
