@@ -620,7 +620,7 @@ void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real the
     s->warn = 0u;
     s->restarts = SMD_R(0.0);
     s->jumped = 0;
-    s->u_whole = s->u_whole_next = 0;
+    s->u_whole = 0;
     if (p->use_rls) {
         smd_rls_reset(&p->rls, &s->rls);
     }
@@ -712,7 +712,6 @@ static void take_sample(const smd_drive_params *p, smd_drive_state *s, const smd
     x->settled = s->phase_samples >= p->dwell;
     s->i_s_ab = *i_s_ab;
     s->u_ab = s->u_ab_next; /* the voltage computed last time is the one applied now */
-    s->u_whole = s->u_whole_next;
     x->w_ref = slew_reference(p, s, in->w_ref, x->T);
     if (!s->primed) {
         /* The SMDO's current starts at the first sample, so that a start
@@ -1043,15 +1042,6 @@ static smd_status modulate(const smd_drive_params *p, smd_drive_state *s, const 
         smd_ab_to_abc(i_mid, i_abc);
         smd_svm_deadtime_comp(out->d_abc, i_abc, p->dtc_ratio, p->i_dtc);
     }
-    if (p->use_rls) {
-        /* the tracker's model needs the voltage the inverter applies: not
-         * limited by the modulator, no duty clipped at 0 or 1 */
-        int k, whole = s->u_ab_next.re == u_ref.re && s->u_ab_next.im == u_ref.im;
-        for (k = 0; k < 3; k++) {
-            whole = whole && out->d_abc[k] > SMD_R(0.0) && out->d_abc[k] < SMD_R(1.0);
-        }
-        s->u_whole_next = whole;
-    }
     return st;
 }
 
@@ -1106,10 +1096,18 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
     rotations(p, &x);
     st = modulate(p, s, in, out, &x, current_control(p, s, &i_s_ab, &i1_ab, &x), st);
     if (p->use_rls) {
-        /* the tracker: i(k), the voltage of [k, k+1), the frame of k, which is
-         * the rotor's except in the forced phase */
+        /* the tracker: i(k), the voltage of [k, k+1) and whether the inverter
+         * applies it whole (computed last sample), the frame of k, which is the
+         * rotor's except in the forced phase; then whether the voltage just
+         * computed for [k+1, k+2) is whole: not limited by the modulator, no
+         * duty clipped at 0 or 1 */
+        int k, whole = s->u_ab_next.re == s->u_ab_ref.re && s->u_ab_next.im == s->u_ab_ref.im;
         smd_rls_step(&p->rls, &s->rls, i_s_ab, s->u_ab, s->u_whole, x.theta_k, x.w_k,
                      s->phase != SMD_PHASE_FORCED);
+        for (k = 0; k < 3; k++) {
+            whole = whole && out->d_abc[k] > SMD_R(0.0) && out->d_abc[k] < SMD_R(1.0);
+        }
+        s->u_whole = whole;
     }
     end_sample(p, s, &x);
     return st;

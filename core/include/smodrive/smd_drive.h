@@ -435,8 +435,8 @@ typedef struct smd_drive_state {
     smd_real restarts;    /* leaky count of automatic restarts */
     int jumped;           /* 1: the source's angle jumped this sample */
     smd_rls_state rls;    /* the R_s / psi_r tracker */
-    int u_whole;          /* tracker: u_ab is applied whole (not limited, no duty clipped) */
-    int u_whole_next;     /* ... and u_ab_next */
+    int u_whole;          /* tracker: the voltage of the running period, u_ab, is applied
+                             whole (not limited, no duty clipped) */
 } smd_drive_state;
 
 /* Read-only view of the controller's internals for logging. */
