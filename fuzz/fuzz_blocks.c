@@ -15,7 +15,9 @@
  *            0.5 once ended; a result's values finite), the inductance
  *            test's smd_ident_ls_* (0xF6-0xFA: duties in [0, 1], a result
  *            finite and positive) and the flux test's smd_ident_psi_*
- *            (0xFB-0xFF: duties in [0, 1], the forced frame finite)
+ *            (0xFB-0xFF: duties in [0, 1], the forced frame finite); step 4's
+ *            smd_ident_mech_* (0xEC-0xEF: its reference finite, a result's J
+ *            positive and B not negative)
  * Input: the block (u8 % 7), its parameters, then steps until the input
  * ends (op byte: even a step on new values, odd a run of 1 + u8 steps on a
  * rotating vector or, for the PI and the PLL, a constant error).
@@ -363,6 +365,31 @@ static void ident_run(fz *f, const ident_fz *x)
 typedef struct rs_t { smd_ident_rs_params p; smd_ident_rs_state s; } rs_t;
 typedef struct ls_t { smd_ident_ls_params p; smd_ident_ls_state s; } ls_t;
 typedef struct psi_t { smd_ident_psi_params p; smd_ident_psi_state s; } psi_t;
+typedef struct mech_t { smd_ident_mech_params p; smd_ident_mech_state s; } mech_t;
+
+/* step 4 through the same loop: i_a is the drive's torque current, i_b its
+ * speed estimate, a negative u_dc its fault word; no duties (0.5) */
+static smd_status mech_step(void *t, smd_real ia, smd_real ib, smd_real u_dc, smd_real d[3])
+{
+    mech_t *x = (mech_t *)t;
+    const smd_real ref = smd_ident_mech_ref(&x->p, &x->s);
+    FZ_CHECK(isfinite(ref));
+    (void)smd_ident_mech_step(&x->p, &x->s, ia, ib, u_dc < SMD_R(0.0) ? 1u : 0u);
+    d[0] = d[1] = d[2] = SMD_R(0.5);
+    return SMD_OK;
+}
+static void mech_reset(void *t) { smd_ident_mech_reset(&((mech_t *)t)->s); }
+static void mech_check(const void *t, const smd_real d[3])
+{
+    const mech_t *x = (const mech_t *)t;
+    (void)d;
+    FZ_CHECK(x->s.k >= 0 && x->s.k <= x->p.n_end && x->s.nb >= 0 && x->s.nb < x->p.n_bin);
+    if (x->s.outcome == SMD_IDENT_OK) {
+        FZ_CHECK(isfinite(x->s.J) && x->s.J > SMD_R(0.0) && isfinite(x->s.B) &&
+                 x->s.B >= SMD_R(0.0));
+    }
+    fz_use((double)x->s.J + (double)x->s.B);
+}
 
 static smd_status rs_step(void *t, smd_real ia, smd_real ib, smd_real u_dc, smd_real d[3])
 {
@@ -476,6 +503,28 @@ static void fuzz_ident_psi(fz *f)
     ident_run(f, &run);
 }
 
+static void fuzz_ident_mech(fz *f)
+{
+    mech_t x;
+    smd_ident_mech_config c;
+    ident_fz run = {mech_step, mech_reset, mech_check, &x};
+    c.T_sp = fz_r(f, 0.0, 1e-3);
+    c.k_t = fz_r(f, -1.0, 10.0);
+    c.n_p = fz_int(f, 0, 120);
+    c.w1 = fz_r(f, -10.0, 3000.0);
+    c.w2 = fz_r(f, -10.0, 6000.0);
+    c.t_step = fz_r(f, 0.0, 0.1);
+    c.t_ramp = fz_r(f, 0.0, 0.1);
+    c.t_hold = fz_r(f, 0.0, 0.1);
+    c.t_fit = fz_r(f, 0.0, 0.05);
+    c.t_bin = fz_r(f, 0.0, 0.01);
+    if (smd_ident_mech_init(&x.p, &c) != SMD_OK) {
+        return;
+    }
+    FZ_CHECK(smd_ident_mech_init(0, &c) == SMD_ERR_NULL);
+    ident_run(f, &run);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     fz f = {data, size};
@@ -490,6 +539,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     if (b >= 0xF0) {
         fuzz_ident(&f);
+        return 0;
+    }
+    if (b >= 0xEC) {
+        fuzz_ident_mech(&f);
         return 0;
     }
     switch (b % 7) {

@@ -97,6 +97,8 @@ MIRRORED = {
     "smd_ident_ls_params": "IdentLsParams", "smd_ident_ls_state": "IdentLsState",
     "smd_ident_psi_config": "IdentPsiConfig", "smd_ident_psi_params": "IdentPsiParams",
     "smd_ident_psi_state": "IdentPsiState",
+    "smd_ident_mech_config": "IdentMechConfig", "smd_ident_mech_params": "IdentMechParams",
+    "smd_ident_mech_state": "IdentMechState",
     "smd_plant": "PlantHead",  # its public head only, checked as a prefix
 }
 # Hand-written methods of a mirror (a base class in src/smodrive/engine/_mirror_methods.py).

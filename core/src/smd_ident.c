@@ -705,3 +705,129 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
     smd_svm_step(&p->svm, s->u_ab, u_dc, d_abc, &s->u_applied);
     return SMD_OK;
 }
+
+/* ------------------------------------------------------------ step 4 */
+
+smd_status smd_ident_mech_init(smd_ident_mech_params *p, const smd_ident_mech_config *c)
+{
+    smd_real T, n_total;
+    if (p == 0 || c == 0) {
+        return SMD_ERR_NULL;
+    }
+    T = c->T_sp;
+    if (!smd_in_pos_range(T, SMD_R(1.0)) || !smd_in_pos_range(c->k_t, SMD_R(1e3)) ||
+        c->n_p < 1 || c->n_p > 100 || !smd_in_pos_range(c->w1, SMD_R(1e6)) ||
+        !smd_in_pos_range(c->w2, SMD_R(1e6)) || !(c->w1 < c->w2) ||
+        !smd_in_range(c->t_bin, SMD_R(10.0) * T, SMD_R(1.0)) ||
+        !smd_in_range(c->t_fit, SMD_R(4.0) * c->t_bin, SMD_R(0.5) * c->t_step) ||
+        !smd_in_range(c->t_step, SMD_R(2.0) * c->t_fit, SMD_R(100.0)) ||
+        !smd_in_range(c->t_ramp, SMD_R(4.0) * c->t_bin, SMD_R(100.0)) ||
+        !smd_in_range(c->t_hold, SMD_R(4.0) * c->t_bin, SMD_R(100.0))) {
+        return SMD_ERR_IDENT;
+    }
+    n_total = (c->t_step + c->t_ramp + c->t_hold) / T;
+    if (!(n_total <= SMD_R(1e8))) {
+        return SMD_ERR_IDENT; /* (the sample counts are ints) */
+    }
+    p->k_t = c->k_t;
+    p->inv_np = SMD_R(1.0) / (smd_real)c->n_p;
+    p->w1 = c->w1;
+    p->w2 = c->w2;
+    p->dw = c->w2 - c->w1;
+    p->t_bin = c->t_bin;
+    p->n_step = (int)(c->t_step / T + SMD_R(0.5));
+    p->n_ramp = (int)(c->t_ramp / T + SMD_R(0.5));
+    p->n_end = p->n_step + p->n_ramp + (int)(c->t_hold / T + SMD_R(0.5));
+    p->n_fit0 = p->n_step - (int)(c->t_fit / T + SMD_R(0.5));
+    p->n_bin = (int)(c->t_bin / T + SMD_R(0.5));
+    return SMD_OK;
+}
+
+void smd_ident_mech_reset(smd_ident_mech_state *s)
+{
+    s->k = 0;
+    s->outcome = SMD_IDENT_RUNNING;
+    s->bins = 0;
+    s->nb = 0;
+    s->acc_T = s->acc_w = SMD_R(0.0);
+    s->w_b[0] = s->w_b[1] = s->T_b1 = SMD_R(0.0);
+    s->saa = s->saw = s->sww = s->sat = s->swt = SMD_R(0.0);
+    s->rows = 0;
+    s->J = s->B = SMD_R(0.0);
+}
+
+smd_real smd_ident_mech_ref(const smd_ident_mech_params *p, const smd_ident_mech_state *s)
+{
+    if (s->k < p->n_step) {
+        return p->w1;
+    }
+    if (s->k < p->n_step + p->n_ramp) {
+        return p->w1 + p->dw * (smd_real)(s->k - p->n_step) / (smd_real)p->n_ramp;
+    }
+    return p->w2;
+}
+
+/* A completed bin: the one before it, now with neighbours on both sides,
+ * joins the normal equations of T = J a + B w. */
+static void mech_bin(const smd_ident_mech_params *p, smd_ident_mech_state *s)
+{
+    const smd_real n = (smd_real)s->nb;
+    const smd_real T_new = s->acc_T / n, w_new = s->acc_w / n;
+    if (s->bins >= 2) {
+        const smd_real a = (w_new - s->w_b[0]) / (SMD_R(2.0) * p->t_bin);
+        const smd_real w = s->w_b[1], T = s->T_b1;
+        s->saa += a * a;
+        s->saw += a * w;
+        s->sww += w * w;
+        s->sat += a * T;
+        s->swt += w * T;
+        s->rows++;
+    }
+    s->w_b[0] = s->w_b[1];
+    s->w_b[1] = w_new;
+    s->T_b1 = T_new;
+    s->bins++;
+    s->nb = 0;
+    s->acc_T = s->acc_w = SMD_R(0.0);
+}
+
+static void mech_solve(smd_ident_mech_state *s)
+{
+    const smd_real det = s->saa * s->sww - s->saw * s->saw;
+    s->outcome = SMD_IDENT_POOR_FIT;
+    if (s->rows >= 2 && det > SMD_R(1e-6) * s->saa * s->sww) {
+        s->J = (s->sat * s->sww - s->swt * s->saw) / det;
+        s->B = (s->saa * s->swt - s->saw * s->sat) / det;
+        if (isfinite(s->J) && isfinite(s->B) && s->J > SMD_R(0.0) && s->B >= SMD_R(0.0)) {
+            s->outcome = SMD_IDENT_OK;
+        }
+    }
+}
+
+int smd_ident_mech_step(const smd_ident_mech_params *p, smd_ident_mech_state *s,
+                        smd_real i_q_ref, smd_real w_hat, uint32_t fault)
+{
+    if (s->outcome != SMD_IDENT_RUNNING) {
+        return 1;
+    }
+    if (fault != 0u) {
+        s->outcome = SMD_IDENT_FAULT;
+        return 1;
+    }
+    if (smd_nf(i_q_ref) + smd_nf(w_hat) != SMD_R(0.0)) {
+        s->outcome = SMD_IDENT_BAD_INPUT;
+        return 1;
+    }
+    if (s->k >= p->n_fit0) {
+        s->acc_T += p->k_t * i_q_ref;
+        s->acc_w += w_hat * p->inv_np;
+        if (++s->nb >= p->n_bin) {
+            mech_bin(p, s);
+        }
+    }
+    if (++s->k >= p->n_end) {
+        mech_solve(s);
+        return 1;
+    }
+    return 0;
+}

@@ -617,6 +617,48 @@ static void blk_ident_psi(smd_writer *w, rng *g, int n)
     wr_real(w, s.psi_coast);
 }
 
+/* Step 4 on a rotor the test drives through a first-order speed loop: its
+ * torque current tracks the reference's rate and a noisy speed; a short
+ * sequence (8 + 4 + 4 ms, 1 ms bins: the fit ends at sample 160), so that
+ * the cycle table's calls include the bins and the solve (no edge values:
+ * a non-finite input ends the test, core/test/test_ident.c checks it). */
+static void blk_ident_mech(smd_writer *w, rng *g, int n)
+{
+    smd_ident_mech_config c;
+    smd_ident_mech_params p;
+    smd_ident_mech_state s;
+    smd_real wr = SMD_R(0.0);
+    int k;
+    c.T_sp = SMD_R(1e-4);
+    c.k_t = SMD_R(2.4);
+    c.n_p = 4;
+    c.w1 = SMD_R(250.0);
+    c.w2 = SMD_R(500.0);
+    c.t_step = SMD_R(0.008);
+    c.t_ramp = SMD_R(0.004);
+    c.t_hold = SMD_R(0.004);
+    c.t_fit = SMD_R(0.004);
+    c.t_bin = SMD_R(0.001);
+    wr_i32(w, (int)smd_ident_mech_init(&p, &c));
+    smd_ident_mech_reset(&s);
+    for (k = 0; k < n; k++) {
+        const smd_real ref = smd_ident_mech_ref(&p, &s);
+        smd_real iq, wh;
+        int done;
+        wr += SMD_R(0.05) * (ref - wr);
+        iq = SMD_R(0.5) + SMD_R(1e-3) * (ref - wr) + urand(g, SMD_R(-0.05), SMD_R(0.05));
+        wh = wr + urand(g, SMD_R(-1.0), SMD_R(1.0));
+        smd_mark_begin(SMD_BLK_IDENT_MECH);
+        done = smd_ident_mech_step(&p, &s, iq, wh, 0u);
+        smd_mark_end();
+        wr_i32(w, done);
+        wr_i32(w, s.outcome);
+        wr_real(w, ref);
+    }
+    wr_real(w, s.J);
+    wr_real(w, s.B);
+}
+
 static void blk_bandpass(smd_writer *w, rng *g, int n)
 {
     smd_bandpass f;
@@ -892,6 +934,7 @@ static int run_block(smd_reader *r, smd_writer *w)
     case SMD_BLK_IDENT: blk_ident(w, &g, n); break;
     case SMD_BLK_IDENT_LS: blk_ident_ls(w, &g, n); break;
     case SMD_BLK_IDENT_PSI: blk_ident_psi(w, &g, n); break;
+    case SMD_BLK_IDENT_MECH: blk_ident_mech(w, &g, n); break;
     case SMD_BLK_MATH: blk_math(w, &g, n); break;
     case SMD_BLK_TABLE6:
         if (g_n_models < 2) return 0;

@@ -50,6 +50,7 @@ enum {
     SMD_BLK_IDENT = 14,
     SMD_BLK_IDENT_LS = 15,
     SMD_BLK_IDENT_PSI = 16,
+    SMD_BLK_IDENT_MECH = 17,
     SMD_BLK_N
 };
 

@@ -237,11 +237,95 @@ static void test_settings(void)
     CHECK_INT(smd_ident_rs_init(0, &c), SMD_ERR_NULL);
 }
 
+/* Step 4 on a rotor that follows the test's reference through a lag of
+ * tau = 20 ms, the torque its motion needs, T = J dw/dt + B w, given as
+ * i_q = T / k_t: J and B within 1 % (the bins' central differences of a
+ * speed that bends over tau: error about (t_bin / tau)^2 / 6, 0.2 % with
+ * bins of 2 ms). */
+static void mech_run(smd_real J, smd_real B, int fault_at, int nan_at, smd_ident_mech_state *s)
+{
+    smd_ident_mech_config c;
+    smd_ident_mech_params p;
+    const double T = 1e-4, tau = 0.02, k_t = 2.4;
+    double w = 0.0;
+    int k;
+    c.T_sp = SMD_R(1e-4);
+    c.k_t = SMD_R(2.4);
+    c.n_p = 4;
+    c.w1 = SMD_R(250.0);
+    c.w2 = SMD_R(500.0);
+    c.t_step = SMD_R(0.2);
+    c.t_ramp = SMD_R(0.1);
+    c.t_hold = SMD_R(0.1);
+    c.t_fit = SMD_R(0.05);
+    c.t_bin = SMD_R(0.002);
+    CHECK_INT(smd_ident_mech_init(&p, &c), SMD_OK);
+    smd_ident_mech_reset(s);
+    w = 250.0 / 4.0; /* the rotor at w1 already (a start the drive made) */
+    for (k = 0; k < 100000; k++) {
+        const double ref = (double)smd_ident_mech_ref(&p, s) / 4.0;
+        const double w_next = w + (T / tau) * (ref - w);
+        /* the torque over the sample, at its middle speed */
+        const double torque = (double)J * (w_next - w) / T + (double)B * 0.5 * (w + w_next);
+        smd_real iq = (smd_real)(torque / k_t), wh = (smd_real)(4.0 * w);
+        if (k == nan_at) {
+            wh = (smd_real)NAN;
+        }
+        if (smd_ident_mech_step(&p, s, iq, wh, k == fault_at ? 1u : 0u)) {
+            break;
+        }
+        w = w_next;
+    }
+}
+
+static void test_mech(void)
+{
+    smd_ident_mech_state s;
+    smd_ident_mech_config c;
+    smd_ident_mech_params p;
+    mech_run(SMD_R(0.012), SMD_R(0.002), -1, -1, &s);
+    CHECK_INT(s.outcome, SMD_IDENT_OK);
+    CHECK_CLOSE(s.J, 0.012, 0.01 * 0.012);
+    /* B's share of the torque on the ramp is 1/30 of J's (0.25 against 7.5
+     * N m), so J's binning error moves it 30 times as much: within 5 % */
+    CHECK_CLOSE(s.B, 0.002, 0.05 * 0.002);
+    CHECK_INT(s.k, 4000); /* the whole test: 0.2 + 0.1 + 0.1 s */
+    /* the torque current with the wrong sign (a phase swapped, the flux's
+     * sign): J < 0 is a poor fit, not a result */
+    mech_run(SMD_R(-0.012), SMD_R(0.002), -1, -1, &s);
+    CHECK_INT(s.outcome, SMD_IDENT_POOR_FIT);
+    mech_run(SMD_R(0.012), SMD_R(0.002), 2500, -1, &s);
+    CHECK_INT(s.outcome, SMD_IDENT_FAULT);
+    CHECK_INT(s.k, 2500);
+    mech_run(SMD_R(0.012), SMD_R(0.002), -1, 3000, &s);
+    CHECK_INT(s.outcome, SMD_IDENT_BAD_INPUT);
+    /* settings */
+    c.T_sp = SMD_R(1e-4);
+    c.k_t = SMD_R(2.4);
+    c.n_p = 4;
+    c.w1 = SMD_R(500.0);
+    c.w2 = SMD_R(250.0); /* w2 below w1 */
+    c.t_step = SMD_R(0.2);
+    c.t_ramp = SMD_R(0.1);
+    c.t_hold = SMD_R(0.1);
+    c.t_fit = SMD_R(0.05);
+    c.t_bin = SMD_R(0.002);
+    CHECK_INT(smd_ident_mech_init(&p, &c), SMD_ERR_IDENT);
+    c.w2 = SMD_R(1000.0);
+    c.t_fit = SMD_R(0.15); /* more than half the step */
+    CHECK_INT(smd_ident_mech_init(&p, &c), SMD_ERR_IDENT);
+    c.t_fit = SMD_R(0.05);
+    c.t_step = SMD_R(1e5);
+    CHECK_INT(smd_ident_mech_init(&p, &c), SMD_ERR_IDENT);
+    CHECK_INT(smd_ident_mech_init(0, &c), SMD_ERR_NULL);
+}
+
 int main(void)
 {
     RUN_TEST(test_rs_and_drop);
     RUN_TEST(test_outcomes);
     RUN_TEST(test_inductance);
     RUN_TEST(test_settings);
+    RUN_TEST(test_mech);
     return smdt_summary("ident");
 }

@@ -333,6 +333,36 @@ long smd_engine_run_ident_psi(smd_engine *e, const smd_ident_psi_params *p,
     return run_ident(e, psi_step, &c, &s->u_applied, n, 0, 1);
 }
 
+long smd_engine_run_ident_mech(smd_engine *e, const smd_ident_mech_params *p,
+                               smd_ident_mech_state *s, long n, double *log, long stride)
+{
+    long j, rows = 0;
+    if (stride < 1) stride = 1;
+    for (j = 0; j < n; j++) {
+        engine_sample x;
+        smd_drive_in in;
+        smd_drive_out out;
+        smd_status st;
+        smd_drive_view v;
+        int done;
+        engine_inputs(e, &x, &in);
+        in.w_ref = smd_ident_mech_ref(p, s); /* the test's reference, not the profile's */
+        x.w_ref = (double)in.w_ref / e->plant.c.n_p;
+        st = smd_drive_step(&e->ctrl_p, &e->ctrl_s, &in, &out);
+        v = smd_drive_get_view(&e->ctrl_p, &e->ctrl_s);
+        done = smd_ident_mech_step(p, s, v.i_dq_ref.im, v.w,
+                                   out.fault & (uint32_t)SMD_FAULT_LATCHED); /* (not warnings) */
+        if (log != 0 && (j % stride) == 0) {
+            engine_apply(e, &x, &out, st, &v, log + rows * SMD_LOG_N);
+            rows++;
+        } else {
+            engine_apply(e, &x, &out, st, 0, 0);
+        }
+        if (done) return j + 1;
+    }
+    return n;
+}
+
 double smd_engine_rotor_speed(const smd_engine *e) { return e->plant.w_M; }
 
 double smd_engine_rotor_angle(const smd_engine *e) { return e->plant.theta_r; }

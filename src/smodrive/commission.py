@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .engine import _ffi, fault_names, simulate
+from .engine import LATCHED_FAULTS, _ffi, fault_names
 from .engine.run import Engine
 from .model import ParameterError, Profile
 from .model.derive import rated_current
@@ -298,37 +298,38 @@ def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float) -> Scenario
 
 
 def identify_mech(s: Scenario, R_s: float, L_s: float, psi_r: float) -> MechResult:
-    """Step 4: the drive itself (the firmware code) runs a speed ramp with the
-    torque it makes known from the measured flux, k_t i_q, and what it
-    estimates of the speed (the SMDO's); J and B are fitted from its log,
-    the hold at 40 % of rated speed, the ramp to 80 % and the hold there in
-    20 ms bins: T = J dw/dt + B w by least squares (the holds need
-    not be steady: a heavy rotor is still settling there). The drive's own
-    supervision stays on: a run that ends in a fault is named."""
+    """Step 4: the drive itself (the firmware code) runs the core's test
+    (``smd_ident_mech``, smodrive/smd_ident.h), which gives it the speed
+    reference (40 % of rated speed, a ramp to 80 %, a hold) and fits the
+    drive's torque, k_t i_q with k_t from the measured flux, against what it
+    estimates of the speed (the SMDO's): from 0.5 s before the ramp, 20 ms
+    bins, T = J dw/dt + B w by least squares (viscous friction: a Coulomb
+    term of its own would take most of B's share with two speed levels; the
+    holds need not be steady: a heavy rotor is still settling there). The
+    drive's own supervision stays on: a run that ends in a fault is named."""
     sd = mech_scenario(s, R_s, L_s, psi_r)
+    m = s.motor
+    n_p = m.n_p
+    cfg = _ffi.IdentMechConfig(T_sp=s.T_sp, k_t=1.5 * n_p * psi_r, n_p=n_p,
+                               w1=0.4 * m.w_M_N * n_p, w2=0.8 * m.w_M_N * n_p, t_step=T_STEP,
+                               t_ramp=T_RAMP, t_hold=T_HOLD_MECH, t_fit=0.5, t_bin=0.02)
+    p, st = _ffi.IdentMechParams(), _ffi.IdentMechState()
+    rc = _ffi.lib.smd_ident_mech_init(ct.byref(p), ct.byref(cfg))
+    if rc != 0:
+        raise ParameterError(f"the J and B test refused its settings (smd_status {rc})")
+    _ffi.lib.smd_ident_mech_reset(ct.byref(st))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the estimates differ from the plant's values
-        r = simulate(sd)
-    names = fault_names(r.faults.final)
-    if names:
-        return MechResult(math.nan, math.nan, "fault: " + ", ".join(names), sd.duration)
-    n_p = s.motor.n_p
-    k_t = 1.5 * n_p * psi_r
-    t, iq, wh = r.t, r["i_q_ref"], r["w_hat"] / n_p
-    # 20 ms bins from 0.5 s before the ramp: the torque, the speed, the
-    # acceleration (central differences of the bins' speeds); least squares
-    # of T = J a + B w (viscous friction: a Coulomb term of its own would
-    # take most of B's share with two speed levels)
-    dt = 0.02
-    edges = np.arange(T_STEP - 0.5, sd.duration + 1e-9, dt)
-    idx = np.digitize(t, edges) - 1
-    nb = len(edges) - 1
-    keep = (idx >= 0) & (idx < nb)
-    cnt = np.bincount(idx[keep], minlength=nb)
-    tb = np.bincount(idx[keep], k_t * iq[keep], nb) / np.maximum(cnt, 1)
-    wb = np.bincount(idx[keep], wh[keep], nb) / np.maximum(cnt, 1)
-    ab = (wb[2:] - wb[:-2]) / (2.0 * dt)
-    A = np.column_stack([ab, wb[1:-1]])
-    J, B = np.linalg.lstsq(A, tb[1:-1], rcond=None)[0]
-    ok = math.isfinite(J) and J > 0 and math.isfinite(B) and B >= 0
-    return MechResult(float(J), float(B), "ok" if ok else "poor_fit", sd.duration)
+        eng = Engine(sd)
+    n = int(_ffi.lib.smd_engine_run_ident_mech(eng._buf, ct.byref(p), ct.byref(st),
+                                               int(round(sd.duration / s.T_sp)) + 1, None, 1))
+    t = n * s.T_sp
+    outcome = MECH_OUTCOMES.get(int(st.outcome), "?")
+    if outcome == "fault":
+        names = [n for n in fault_names(eng.faults().final) if n in LATCHED_FAULTS]
+        return MechResult(math.nan, math.nan, "fault: " + ", ".join(names), t)
+    return MechResult(float(st.J), float(st.B), outcome, t)
+
+
+#: smd_ident_mech_state.outcome
+MECH_OUTCOMES = {0: "ok", 1: "running", 5: "poor_fit", 6: "bad_input", 7: "fault"}

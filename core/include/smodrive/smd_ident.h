@@ -256,6 +256,65 @@ void smd_ident_psi_reset(smd_ident_psi_state *s);
 smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state *s,
                               smd_real i_a, smd_real i_b, smd_real u_dc, smd_real d_abc[3]);
 
+/*
+ * Commissioning, step 4: the inertia J and the viscous friction B, with the
+ * drive running (issue 23). The block gives the drive its speed reference,
+ * w1 for t_step (the start and the settling), a ramp to w2 over t_ramp, w2
+ * for t_hold, and takes what the drive knows each sample: its torque
+ * current i_q_ref (the torque k_t i_q_ref, k_t = 1.5 n_p psi_r from step 3)
+ * and its estimate of the electrical speed. From t_fit before the ramp on,
+ * the samples are averaged in bins of t_bin; each bin with a neighbour on
+ * both sides adds its torque T, speed w_M and acceleration a (the
+ * neighbours' central difference) to the normal equations of
+ * T = J a + B w_M; at the end J and B solve them (least squares). The
+ * holds need not be steady (a heavy rotor still settles there): the fit
+ * uses every bin. A fit with J <= 0 or B < 0, or equations without an
+ * acceleration, is POOR_FIT (values given); a drive fault (the caller's
+ * fault word, non-zero) stops the test with outcome FAULT; a non-finite
+ * input is BAD_INPUT.
+ */
+typedef struct smd_ident_mech_config {
+    smd_real T_sp;        /* s, (0, 1] */
+    smd_real k_t;         /* torque constant 1.5 n_p psi_r, N m / A, (0, 1e3] */
+    int n_p;              /* pole pairs, [1, 100] */
+    smd_real w1, w2;      /* the two speeds, electrical rad/s, 0 < w1 < w2 <= 1e6 */
+    smd_real t_step;      /* at w1 before the ramp, s, [2 t_fit, 100] */
+    smd_real t_ramp;      /* the ramp, s, [4 t_bin, 100] */
+    smd_real t_hold;      /* at w2, s, [4 t_bin, 100] */
+    smd_real t_fit;       /* the fit begins this long before the ramp, s, [4 t_bin, t_step / 2] */
+    smd_real t_bin;       /* the bins, s, [10 T_sp, 1]; the whole test at most 1e8 T_sp */
+} smd_ident_mech_config;
+
+typedef struct smd_ident_mech_params {
+    smd_real k_t, inv_np, w1, w2, dw, t_bin;
+    int n_step, n_ramp, n_end, n_fit0, n_bin;
+} smd_ident_mech_params;
+
+#define SMD_IDENT_FAULT 7 /* step 4: the drive reported a fault (smd_ident_outcome's next) */
+
+typedef struct smd_ident_mech_state {
+    int k;                /* samples done */
+    int outcome;          /* smd_ident_outcome, or SMD_IDENT_FAULT */
+    int bins;             /* bins completed */
+    int nb;               /* samples in the bin being filled */
+    smd_real acc_T, acc_w; /* its sums: torque, mechanical speed */
+    smd_real w_b[2];      /* the last two bins' mean speeds (w_b[1] the latest) */
+    smd_real T_b1;        /* the latest bin's mean torque */
+    smd_real saa, saw, sww, sat, swt; /* the normal equations' sums */
+    int rows;             /* bins in them */
+    smd_real J, B;        /* results, kg m^2 and N m s / rad */
+} smd_ident_mech_state;
+
+smd_status smd_ident_mech_init(smd_ident_mech_params *p, const smd_ident_mech_config *c);
+void smd_ident_mech_reset(smd_ident_mech_state *s);
+/* The electrical speed reference for the sample about to run, rad/s. */
+smd_real smd_ident_mech_ref(const smd_ident_mech_params *p, const smd_ident_mech_state *s);
+/* One sample: the drive's torque current and electrical speed estimate,
+ * its latched fault bits (a warning, e.g. an oscillation, is no reason to
+ * stop). Returns 1 once the test has ended (outcome set). */
+int smd_ident_mech_step(const smd_ident_mech_params *p, smd_ident_mech_state *s,
+                        smd_real i_q_ref, smd_real w_hat, uint32_t fault);
+
 #ifdef __cplusplus
 }
 #endif

@@ -167,6 +167,13 @@ long smd_engine_run_ident_rs(smd_engine *e, const smd_ident_rs_params *p, smd_id
 /* The same for step 2, the inductance (no log). */
 long smd_engine_run_ident_ls(smd_engine *e, const smd_ident_ls_params *p, smd_ident_ls_state *s,
                              long n);
+/* Step 4, J and B: the drive runs (its configuration from smd_engine_init)
+ * on the test's speed reference, the test takes its torque current, speed
+ * estimate and fault word each sample; until the test ends or n samples
+ * (the samples run). With log != 0 every stride-th sample writes a row of
+ * the log (SMD_LOG_N doubles), as smd_engine_run does. */
+long smd_engine_run_ident_mech(smd_engine *e, const smd_ident_mech_params *p,
+                               smd_ident_mech_state *s, long n, double *log, long stride);
 /* Step 3, the PM flux (no log). */
 long smd_engine_run_ident_psi(smd_engine *e, const smd_ident_psi_params *p,
                               smd_ident_psi_state *s, long n);

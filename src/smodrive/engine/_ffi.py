@@ -22,7 +22,7 @@ from ._codes import N_LOG
 from ._structs import (  # noqa: F401 (the mirrors, re-exported)
     MIRRORS, SMD_LCL_SMO_DELAY, SMD_PWL_MAX, Bandpass, Cplx, DbpcParams, DriveConfig, DriveIn,
     DriveOut, DriveView, EmfPosParams, EmfPosState, EngineStart, IdentLsConfig, IdentLsParams,
-    IdentLsState, IdentPsiConfig, IdentPsiParams, IdentPsiState, IdentRsConfig, IdentRsParams, IdentRsState, LclModel, LinConfig, LinModel,
+    IdentLsState, IdentMechConfig, IdentMechParams, IdentMechState, IdentPsiConfig, IdentPsiParams, IdentPsiState, IdentRsConfig, IdentRsParams, IdentRsState, LclModel, LinConfig, LinModel,
     LinParams, LinState, PiParams, PiState, PlantConfig, PlantHead, PllParams, PllState, Profiles,
     Pwl, SmdoParams, SmdoState, SmoConfig, SmoParams, SmoState, SvmParams, real,
 )
@@ -109,6 +109,10 @@ _sig("smd_engine_run_ident_psi", ct.c_long, ct.c_void_p, P(IdentPsiParams), P(Id
 _sig("smd_engine_rotor_speed", ct.c_double, ct.c_void_p)
 _sig("smd_ident_psi_init", ct.c_int, P(IdentPsiParams), P(IdentPsiConfig))
 _sig("smd_ident_psi_reset", None, P(IdentPsiState))
+_sig("smd_engine_run_ident_mech", ct.c_long, ct.c_void_p, P(IdentMechParams),
+     P(IdentMechState), ct.c_long, P(ct.c_double), ct.c_long)
+_sig("smd_ident_mech_init", ct.c_int, P(IdentMechParams), P(IdentMechConfig))
+_sig("smd_ident_mech_reset", None, P(IdentMechState))
 _sig("smd_plant_init", ct.c_int, ct.c_void_p, P(PlantConfig))
 _sig("smd_plant_step", None, ct.c_void_p, P(ct.c_double), ct.c_double, ct.c_double)
 _sig("smd_plant_sample", None, ct.c_void_p, P(ct.c_double), P(ct.c_double))

@@ -430,6 +430,39 @@ class IdentPsiState(ct.Structure):
     ]
 
 
+class IdentMechConfig(ct.Structure):
+    """smd_ident_mech_config (core/include/smodrive/smd_ident.h)"""
+
+    _c_name_ = "smd_ident_mech_config"
+    _fields_ = [
+        ("T_sp", real), ("k_t", real), ("n_p", ct.c_int), ("w1", real), ("w2", real),
+        ("t_step", real), ("t_ramp", real), ("t_hold", real), ("t_fit", real), ("t_bin", real),
+    ]
+
+
+class IdentMechParams(ct.Structure):
+    """smd_ident_mech_params (core/include/smodrive/smd_ident.h)"""
+
+    _c_name_ = "smd_ident_mech_params"
+    _fields_ = [
+        ("k_t", real), ("inv_np", real), ("w1", real), ("w2", real), ("dw", real), ("t_bin", real),
+        ("n_step", ct.c_int), ("n_ramp", ct.c_int), ("n_end", ct.c_int), ("n_fit0", ct.c_int),
+        ("n_bin", ct.c_int),
+    ]
+
+
+class IdentMechState(ct.Structure):
+    """smd_ident_mech_state (core/include/smodrive/smd_ident.h)"""
+
+    _c_name_ = "smd_ident_mech_state"
+    _fields_ = [
+        ("k", ct.c_int), ("outcome", ct.c_int), ("bins", ct.c_int), ("nb", ct.c_int),
+        ("acc_T", real), ("acc_w", real), ("w_b", real * 2), ("T_b1", real), ("saa", real),
+        ("saw", real), ("sww", real), ("sat", real), ("swt", real), ("rows", ct.c_int), ("J", real),
+        ("B", real),
+    ]
+
+
 class PlantHead(ct.Structure):
     """smd_plant (sim/include/smdsim/smd_plant.h): its public head,
     the fields before "--- private ---" (checked as a prefix)"""
@@ -460,7 +493,9 @@ MIRRORS: dict[str, type[ct.Structure]] = {
     "smd_ident_rs_state": IdentRsState, "smd_ident_ls_config": IdentLsConfig,
     "smd_ident_ls_params": IdentLsParams, "smd_ident_ls_state": IdentLsState,
     "smd_ident_psi_config": IdentPsiConfig, "smd_ident_psi_params": IdentPsiParams,
-    "smd_ident_psi_state": IdentPsiState, "smd_plant": PlantHead,
+    "smd_ident_psi_state": IdentPsiState, "smd_ident_mech_config": IdentMechConfig,
+    "smd_ident_mech_params": IdentMechParams, "smd_ident_mech_state": IdentMechState,
+    "smd_plant": PlantHead,
 }
 #: each table model's fields in C order: (C field, design field, its block
 #: ((row0, row1), (col0, col1)) or None for all of it), row-major

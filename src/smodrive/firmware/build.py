@@ -31,7 +31,8 @@ VERSION = 1
 CASE_END, CASE_DRIVE, CASE_TABLES, CASE_BLOCK = 0, 1, 2, 3
 BLOCKS = {"transforms": 1, "svm": 2, "pi": 3, "dbpc": 4, "smdo": 5, "emf_pos": 6, "pll": 7,
           "bandpass": 8, "lcl_smo": 9, "linobs": 10, "math": 11, "table6": 12,
-          "table6_dec": 13, "ident": 14, "ident_ls": 15, "ident_psi": 16}
+          "table6_dec": 13, "ident": 14, "ident_ls": 15, "ident_psi": 16,
+          "ident_mech": 17}
 #: the math block's outputs per step, in order
 MATH_FUNCS = ("sin", "cos", "atan2", "exp", "expm1", "floor", "sqrt", "fabs")
 #: the core's math hooks mapped to its portable float math
