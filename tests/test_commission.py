@@ -118,6 +118,11 @@ def test_cli_writes_the_measured_motor(tmp_path):
     assert data["motor"]["J"] == pytest.approx(4e-5, rel=0.10)
     assert data["motor"]["B"] == pytest.approx(2e-5, rel=0.20)
     assert '#   outcome = "ok"' in out.read_text()
+    # the uncertainty: each test's measured accuracy, and R_s's standard error from its line
+    # (well below the 2 % budget on a clean staircase: a tenth of it at most)
+    assert "R_s +-2 %, L_s +-5 %, psi_r +-2 %, J +-10 %, B +-20 %" in out.read_text()
+    se = float(out.read_text().split("R_s_std_error = ")[1].split()[0])
+    assert 0.0 < se < 0.002 * 0.25
     # the measured drop sets the dead-time compensation: 3/4 u_0 T_sp / u_dc is the
     # plant's 0.5 us within the drop's 3 % (test 1's criterion)
     assert data["controller"]["t_dead_comp"] == pytest.approx(0.5e-6, rel=0.03)
@@ -265,7 +270,9 @@ def test_a_load_on_the_bench_is_named_not_measured():
     assert p.outcome == "poor_fit" and p.psi < 0.1 * s.motor.psi_r
 
 
-MECH_CASES = [n for n in CASES if not n.startswith("micro")]
+#: every motor (the micro motor's drive starts since its I/f current fits the voltage and
+#: its SMDO's error loop is faster than its stator: smodrive.model.derive, issue 23)
+MECH_CASES = list(CASES)
 
 
 @pytest.mark.parametrize("name", MECH_CASES)
@@ -299,15 +306,6 @@ def test_inertia_with_a_load_of_ten_times_the_rotor():
     assert c5.mech.ok or c5.mech.outcome == "poor_fit"
     if c5.mech.ok:
         assert abs(c5.mech.J / s5.motor.J - 1.0) < 0.10
-
-
-def test_the_micro_motors_drive_that_does_not_start_is_named():
-    """The micro motor (12 V, 40 kHz): the sensorless drive of step 4 does
-    not start on it (its I/f start ends in start_failed: the drive's own
-    supervision), and step 4 says so instead of giving J and B."""
-    c = commission(CASES["micro 1 ohm, 50 uH (invented)"])
-    assert c.psi.ok and c.mech is not None and not c.mech.ok
-    assert c.mech.outcome.startswith("fault: ")
 
 
 @pytest.mark.parametrize("motor", ["yang2018_table1", "servo_48v_200w", "industrial_600v_10kw"])

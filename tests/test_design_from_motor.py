@@ -27,8 +27,8 @@ import pytest
 
 from smodrive.firmware import header
 from smodrive.model import derive
-from smodrive.model import (RPM, ControllerCfg, LoadCfg, MotorPars, ParameterError, Profile,
-                             Scenario)
+from smodrive.model import (RPM, ControllerCfg, InverterCfg, LoadCfg, MotorPars, ParameterError,
+                            Profile, Scenario)
 from smodrive.scenario_io import load_scenario, scenario_from_dict, scenario_to_toml
 from smodrive.scenarios import yang2018, yao2022
 from smodrive.engine import drive_config, simulate
@@ -236,3 +236,43 @@ def test_out_of_reach_derivations_are_clamped_and_named():
     assert c.w_M_max == pytest.approx(0.95 * bound, rel=1e-12)
     assert "limited" in dict((n, src) for n, _, src in c.derived)["w_M_max"]
     s.check_controller()  # the derived limit passes the drive's own check
+
+
+def test_the_if_current_fits_the_voltage_the_inverter_has():
+    """Issue 23's micro motor (1 ohm, 12 V): the I/f current scaled from the
+    rated current (8.3 A) needs 8.3 V across R_s, and the modulator has
+    12 / sqrt 3 = 6.9 V: the current loop saturates and the forced current's
+    direction is lost (the rotor started backwards). i_start is limited so
+    that R_s i_start is half of it, 3.46 A, and the origin says so; a motor
+    whose I/f current needs little of its voltage keeps its scaled value."""
+    micro = MotorPars(R_s=1.0, L_s=50e-6, psi_r=2e-3, n_p=4, J=4e-5, B=2e-5, P_N=20.0,
+                      w_M_N=3000 * RPM)
+    s = Scenario(motor=micro, inverter=InverterCfg(u_dc=12.0, t_dead=0.1e-6), T_sp=25e-6,
+                 controller=ControllerCfg(current="robust_dbpc", position="smdo_emf",
+                                          start="if"))
+    c = s.controller
+    assert c.i_start == pytest.approx(0.5 * 12.0 / math.sqrt(3.0) / 1.0, rel=1e-12)
+    assert "R_s i_start" in dict((n, src) for n, _, src in c.derived)["i_start"]
+    s.check_controller()
+    # Table I: 2.25 ohm x 10 A = 22.5 V of 312 V: the scaled value
+    t1 = Scenario(controller=ControllerCfg(current="robust_dbpc", position="smdo_emf",
+                                           start="if")).controller
+    assert t1.i_start == pytest.approx(10.0, rel=1e-12)
+
+
+def test_the_smdo_error_loop_is_faster_than_the_stator():
+    """The SMDO's error loop l + lambda_min / rho must be faster than the
+    stator's pole R_s / L_s: on the micro motor (20,000 1/s) the scaled rho
+    gave 5,400 1/s and the disturbance estimate ran away to 11.7 V (an EMF of
+    0.1 V), the I/f start failed. rho is limited so that the loop is 1.2
+    R_s / L_s; Table I (96 1/s) keeps its 0.2 A."""
+    micro = MotorPars(R_s=1.0, L_s=50e-6, psi_r=2e-3, n_p=4, J=4e-5, B=2e-5, P_N=20.0,
+                      w_M_N=3000 * RPM)
+    s = Scenario(motor=micro, inverter=InverterCfg(u_dc=12.0, t_dead=0.1e-6), T_sp=25e-6,
+                 controller=ControllerCfg(current="robust_dbpc", position="smdo_emf",
+                                          start="if"))
+    c = s.controller
+    assert c.l + c.lambda_min / c.rho == pytest.approx(1.2 * 1.0 / 50e-6, rel=1e-12)
+    assert "faster than the stator" in dict((n, src) for n, _, src in c.derived)["rho"]
+    s.check_controller()
+    assert Scenario().controller.rho == pytest.approx(0.2, rel=1e-12)

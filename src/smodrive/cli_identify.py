@@ -15,6 +15,7 @@ import warnings
 from pathlib import Path
 
 import click
+import numpy as np
 import tomli_w
 
 from . import fromlog
@@ -22,6 +23,11 @@ from .commission import OUTCOME_TEXT, commission
 from .engine import export
 from .model import ParameterError
 from .scenario_io import resolve_scenario, scenario_to_toml
+
+
+#: each test's accuracy as measured over noise seeds, sensor errors and dead time on six motors
+#: (docs/commissioning.md; tests/test_commission.py holds them)
+UNCERTAINTY = {"R_s": 0.02, "L_s": 0.05, "psi_r": 0.02, "J": 0.10, "B": 0.20}
 
 
 def _g(x: float) -> float:
@@ -57,9 +63,19 @@ def identified_toml(name: str, s, c) -> str:
         t_dc = _g(r.t_dead(s.T_sp, s.inverter.u_dc))
         measured = measured.with_controller(t_dead_comp=min(t_dc, 0.25 * s.T_sp))
         record["t_dead_comp_s"] = t_dc
+    # the uncertainty: each method's accuracy as measured (docs/commissioning.md: 10 noise
+    # seeds, sensor gain and offset errors, 0.5-2 us of dead time, six motors), and R_s's
+    # statistical standard error from its line (residual over the levels' spread)
+    unc = {k: v for k, v in UNCERTAINTY.items() if k in motor}
+    i = np.array(r.i_levels)
+    if len(i) > 2 and r.ok:
+        record["R_s_std_error"] = _g(r.resid * math.sqrt(len(i) / (len(i) - 2))
+                                     / math.sqrt(np.sum((i - i.mean()) ** 2)))
     head = (f"# Measured by `smodrive identify` on {name} (commissioning, issue 23):\n"
             f"# [motor] {', '.join(motor)} as measured; the other values are the scenario's\n"
             "# (the nameplate's: pole pairs, rated power and speed; the inverter and ADC).\n"
+            "# Uncertainty (each test's accuracy as measured, docs/commissioning.md): "
+            + ", ".join(f"{k} +-{100 * v:g} %" for k, v in unc.items()) + "\n"
             "# The tests' record:\n")
     rec = "".join(f"#   {line}\n" for line in tomli_w.dumps(record).splitlines())
     return head + rec + "\n" + scenario_to_toml(measured)

@@ -88,6 +88,10 @@ SWING_MARGIN = 3.0
 #: the handover speed at most this share of rated speed: i_start is limited to keep the
 #: swing rule below it (assumed: half the speed range sensorless at least)
 HANDOVER_MAX = 0.5
+#: the SMDO's error loop at least this many times the stator's pole R_s / L_s
+RHO_POLE = 1.2
+#: the share of the modulator's voltage (u_dc / sqrt 3) the I/f current may take across R_s
+IF_VOLTAGE = 0.5
 #: least return-to-I/f speed, fraction of rated speed (docs/design_from_motor.md)
 IF_ENTER_MIN = 0.05
 #: the plant quantities the design reads when the Scenario gives none (Table I's drive)
@@ -248,7 +252,21 @@ def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any =
         k = _ratio(rated_emf(m) / m.L_s, rated_emf(ref) / ref.L_s)
         if k is None:
             return REFERENCE[name], "reference: motor.psi_r = 0 (no rated back EMF)"
-        return REFERENCE[name] * k, "scaled by E_N / L_s (rated back EMF over inductance)"
+        v, why = REFERENCE[name] * k, "scaled by E_N / L_s (rated back EMF over inductance)"
+        if name == "rho":
+            # the SMDO's error loop, l + lambda_min / rho (1/s, eq. (21), (39)), faster
+            # than the stator's own pole R_s / L_s by RHO_POLE: slower, its disturbance
+            # estimate ran away (issue 23's 1 ohm / 50 uH micro motor, R_s / L_s = 20,000
+            # 1/s against 5,400: |u_d_hat| 11.7 V for an EMF of 0.1 V; at 20,000 it held)
+            # (within the discrete loop's stability, (l + lambda_min / rho) T_sp < 2,
+            # at half of it: a stator faster than that is named by the check)
+            need = min(RHO_POLE * m.R_s / m.L_s, 1.0 / T_sp)
+            lam = get("lambda_min")
+            if lam > 0.0 and c.l + lam / v < need:
+                v, why = lam / (need - c.l), (f"{why}, limited so that l + lambda_min / rho is "
+                                             f"{RHO_POLE:g} R_s / L_s (the SMDO's error loop "
+                                             "faster than the stator)")
+        return v, why
     if name == "w_M_max":
         k = _ratio(m.w_M_N, ref.w_M_N)
         v = REFERENCE[name] * k  # type: ignore[operator]
@@ -279,8 +297,17 @@ def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any =
             cap = ((HANDOVER_MAX * m.w_M_N / (SWING_MARGIN * s1)) ** 2 if s1 > 0.0
                    else math.inf)
             if v > cap:
-                return cap, (f"{why}, limited so that {SWING_MARGIN:g} x the rotor's speed "
-                             f"swing on I/f is {HANDOVER_MAX:g} w_M_N (the handover's bound)")
+                v, why = cap, (f"{why}, limited so that {SWING_MARGIN:g} x the rotor's speed "
+                               f"swing on I/f is {HANDOVER_MAX:g} w_M_N (the handover's bound)")
+            # the voltage the I/f current needs at standstill, R_s i_start, within
+            # IF_VOLTAGE of what the modulator has (u_dc / sqrt 3): beyond it the current
+            # loop saturates and the forced current's direction is lost (a 1 ohm micro
+            # motor on 12 V: 8.3 A asked, 6.9 V available; issue 23)
+            u_cap = IF_VOLTAGE * (plant or DEFAULT_PLANT)["u_dc"] / math.sqrt(3.0)
+            if m.R_s * v > u_cap:
+                v, why = u_cap / m.R_s, (f"{why}; limited so that R_s i_start is "
+                                         f"{IF_VOLTAGE:g} u_dc / sqrt 3 (the voltage the "
+                                         "modulator has)")
             return v, why
         return v, "scaled by I_N = T_N / k_t (rated current)"
     if name == "a_M_start":
