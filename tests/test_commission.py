@@ -25,6 +25,7 @@ from smodrive.cli import main
 from smodrive.commission import commission, identify_rs
 from smodrive.scenario_io import load_scenario
 from smodrive.scenarios import yao2022
+from smodrive.scenarios.catalogue import catalogue
 
 ROOT = Path(__file__).resolve().parents[1]
 MOTORS = ROOT / "scenarios" / "motors"
@@ -332,3 +333,26 @@ def test_accuracy_with_sensor_errors_and_dead_time(motor):
         assert abs(c.ld.L / m.L_s - 1.0) < 0.05 and abs(c.lq.L / m.L_s - 1.0) < 0.05
         assert abs(c.psi.psi / m.psi_r - 1.0) < 0.02
         assert abs(c.mech.J / m.J - 1.0) < 0.10 and abs(c.mech.B / m.B - 1.0) < 0.20
+
+
+def test_yao2022_motor_behind_its_lcl_filter():
+    """The yao2022 motor (24 uH) behind its LCL filter (L1 54 uH, C1 31.5 uF,
+    L2o 27.5 uH): step 2's wave rings the filter, and a first-order fit sees
+    the filter's inductances and the motor's in series, the capacitor aside
+    (the wave's shape, not one inductance); subtracting the filter's 81.5 uH
+    from it leaves the motor's 24 uH off by more than 5 % (the plausible wrong
+    implementation: checked). The filter's model (its data sheet's values)
+    fitted to the averaged wave gives L_d and L_q within 5 % over 10 ADC
+    seeds (issue 23), R_s within 2 % (phase a's current sensor reads 1 %
+    high in this scenario: R_s -1 %)."""
+    s0 = catalogue()["yao2022.steady.100k"]()
+    m, f = s0.motor, s0.lcl
+    for seed in range(1, 11):
+        s = s0.replace(adc=dataclasses.replace(s0.adc, seed=seed))
+        c = commission(s, mechanics=False)
+        assert c.ok, (seed, c)
+        assert abs(c.rs.R_s / m.R_s - 1.0) < 0.02
+        for x in (c.ld, c.lq):
+            assert abs(x.L / m.L_s - 1.0) < 0.05, (seed, x)
+            assert abs((x.L_series - f.L1 - f.L2o) / m.L_s - 1.0) > 0.05, (seed, x)
+        assert c.t <= 10.0
