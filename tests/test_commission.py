@@ -55,9 +55,12 @@ def _cases():
         # issue 23's micro motor, 1 ohm / 50 uH / 2 mWb (L/R = 50 us), on the inverter such a
         # motor has: 12 V, 40 kHz, 0.1 us of dead time (at 10 kHz, with L/R half a sample,
         # the current sampled at the carrier's peak is not the period's mean: R_s +4 %)
+        # (rated 12 W at 3000 r/min: its rated point needs 5.7 V of the 6.9 V a 12 V inverter
+        # has; 20 W, as first written here, needed 7.8 V and its usual profile ended in
+        # speed_tracking at rated load, which the rated-point warning now names)
         "micro 1 ohm, 50 uH (invented)": _inverter(
             _motor(servo := load_scenario(MOTORS / "servo_48v_200w.toml"), R_s=1.0, L_s=50e-6,
-                   psi_r=2e-3, P_N=20.0), u_dc=12.0, t_dead=0.1e-6).replace(T_sp=2.5e-5),
+                   psi_r=2e-3, P_N=12.0), u_dc=12.0, t_dead=0.1e-6).replace(T_sp=2.5e-5),
     }
 
 
@@ -201,7 +204,8 @@ def test_flux_a_result_it_gives_is_right_or_named():
     assert accepted >= 5
 
 
-@pytest.mark.parametrize("motor", ["servo_48v_200w", "industrial_600v_10kw", "yang2018_table1"])
+@pytest.mark.parametrize("motor", ["servo_48v_200w", "industrial_600v_10kw", "yang2018_table1",
+                                   "micro 1 ohm, 50 uH (invented)"])
 def test_the_drive_designed_from_the_identified_motor(motor):
     """Issue 23: the sensorless drive (robust DBPC + SMDO, I/f start) with
     R_s_hat, L_s_hat and psi_r_hat from commissioning, instead of the true
@@ -214,10 +218,11 @@ def test_the_drive_designed_from_the_identified_motor(motor):
     from smodrive.engine import simulate
     from smodrive.scenarios import trials
 
-    base = load_scenario(MOTORS / f"{motor}.toml")
+    base = CASES[motor] if motor in CASES else load_scenario(MOTORS / f"{motor}.toml")
     c = commission(base)
     assert c.ok and c.psi.ok
-    s = trials.profile_scenario(base)
+    # (the micro motor on its 40 kHz inverter; the others at the profile's 10 kHz)
+    s = trials.profile_scenario(base, T_sp=base.T_sp if motor in CASES else 100e-6)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # "tuned for another machine": by a few %, here
         runs = [simulate(x) for x in (s, s.with_controller(R_s_hat=c.rs.R_s, L_s_hat=c.L_s,

@@ -276,3 +276,35 @@ def test_the_smdo_error_loop_is_faster_than_the_stator():
     assert "faster than the stator" in dict((n, src) for n, _, src in c.derived)["rho"]
     s.check_controller()
     assert Scenario().controller.rho == pytest.approx(0.2, rel=1e-12)
+
+
+def test_a_rated_point_the_inverter_cannot_reach_is_named():
+    """A data sheet whose rated point needs more voltage than the inverter
+    has (the micro motor as first written: 1 ohm, 20 W at 3000 r/min, 12 V:
+    R_s I_N + w psi_r = 5.3 + 2.5 V, 7.8 V at the terminals against
+    12 / sqrt 3 = 6.9 V) warns, naming both voltages; its usual profile ended
+    in speed_tracking at rated load. At 12 W (5.7 V) and on Table I (282 V of
+    312 V) nothing is said."""
+    def scenario(p_n):
+        micro = MotorPars(R_s=1.0, L_s=50e-6, psi_r=2e-3, n_p=4, J=4e-5, B=2e-5, P_N=p_n,
+                          w_M_N=3000 * RPM)
+        return Scenario(motor=micro, inverter=InverterCfg(u_dc=12.0, t_dead=0.1e-6),
+                        T_sp=25e-6, controller=ControllerCfg(current="robust_dbpc",
+                                                             position="smdo_emf", start="if"))
+    with pytest.warns(UserWarning, match=r"needs 7\.8\d* V .* has 6\.93 V"):
+        scenario(20.0).check_controller()
+    import warnings
+    for s in (scenario(12.0), Scenario()):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            s.check_controller()
+
+
+def test_a_motor_whose_if_swing_vanishes_derives_without_overflow():
+    """Found by the round-trip property test: a flux of 1e-300 Wb (inside
+    its range [0, 100]) makes the I/f swing per amp vanish, and the swing's
+    bound on i_start, squared, overflowed a float: an OverflowError reached
+    the user. The bound is then no bound (inf) and the other limits apply."""
+    m = MotorPars(R_s=1.0, L_s=1e-3, psi_r=1e-300, n_p=1, J=1e4, P_N=1.0, w_M_N=9e4)
+    c = Scenario(motor=m, controller=ControllerCfg(start="if")).controller
+    assert math.isfinite(c.i_start) and c.i_start > 0.0

@@ -294,8 +294,9 @@ def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any =
             # HANDOVER_MAX w_M_N would keep the drive on I/f at every speed the profile asks
             # (a 10 pole-pair hub motor: 33 A, a handover at 313 r/min, rated 300; issue 23)
             s1 = if_swing(m, 1.0)
-            cap = ((HANDOVER_MAX * m.w_M_N / (SWING_MARGIN * s1)) ** 2 if s1 > 0.0
-                   else math.inf)
+            ratio = HANDOVER_MAX * m.w_M_N / (SWING_MARGIN * s1) if s1 > 0.0 else math.inf
+            # (squared: beyond 1e150 it is no bound; a float's square would overflow)
+            cap = ratio * ratio if ratio < 1e150 else math.inf
             if v > cap:
                 v, why = cap, (f"{why}, limited so that {SWING_MARGIN:g} x the rotor's speed "
                                f"swing on I/f is {HANDOVER_MAX:g} w_M_N (the handover's bound)")
@@ -517,7 +518,26 @@ def override_warnings(c: ControllerCfg, m: MotorPars, *, T_sp: float, lcl: Any =
                    f"the motor, {ref:g} {unit} ({basis}), outside [{lo:g}, {hi:g}]: the "
                    f"controller is tuned for another machine; remove controller.{name} to "
                    "derive it".replace("  ", " "))
+    rated = rated_voltage(m)
+    u_max = (plant or DEFAULT_PLANT)["u_dc"] / math.sqrt(3.0)
+    if rated > u_max:
+        out.append(f"the motor's rated point (I_N = {rated_current(m):.3g} A at w_M_N = "
+                   f"{m.w_M_N:.4g} rad/s) needs {rated:.3g} V at its terminals and the inverter "
+                   f"has {u_max:.3g} V (inverter.u_dc / sqrt 3): rated torque at rated speed is "
+                   "out of reach, a run asking for it ends in speed_tracking; check motor.R_s, "
+                   "L_s, psi_r, P_N, w_M_N and inverter.u_dc")
     return out
+
+
+def rated_voltage(m: MotorPars) -> float:
+    """The stator voltage amplitude of the rated point, V: i_q = I_N at
+    w = n_p w_M_N in steady state (SPMSM), |(R_s + j w L_s) j I_N + j w psi_r|
+    (0 without a rated current)."""
+    i_n = rated_current(m)
+    if not (i_n and i_n > 0.0 and math.isfinite(i_n)):
+        return 0.0
+    w = m.n_p * m.w_M_N
+    return math.hypot(w * m.L_s * i_n, m.R_s * i_n + w * m.psi_r)
 
 
 def unset(c: ControllerCfg, keep: set[str] | frozenset[str] = frozenset()) -> ControllerCfg:
