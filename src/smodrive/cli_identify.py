@@ -17,13 +17,13 @@ from pathlib import Path
 import click
 import numpy as np
 import tomli_w
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from . import fromlog
 from .commission import OUTCOME_TEXT, commission
 from .engine import export
 from .model import ParameterError
 from .scenario_io import resolve_scenario, scenario_to_toml
-
 
 #: each test's accuracy as measured over noise seeds, sensor errors and dead time on six motors
 #: (docs/commissioning.md; tests/test_commission.py holds them)
@@ -161,7 +161,12 @@ def _from_log(path: Path, L_s: float | None, u_dc: float | None, out: Path | Non
         raise ParameterError(f"--L-s {L_s!r} is outside its valid range (0, 10] H")
     if u_dc is not None and not (math.isfinite(u_dc) and u_dc > 0.0):
         raise ParameterError(f"--u-dc {u_dc!r} is outside its valid range (0, inf) V")
-    fit = fromlog.fit_log(fromlog.read_log(path, u_dc), L_s=L_s)
+    log = fromlog.read_log(path, u_dc)
+    with Progress(TextColumn("[bold]{task.description}"), BarColumn(),
+                  TextColumn("{task.percentage:>3.0f}%"), TimeElapsedColumn()) as prog:
+        task = prog.add_task(f"fit of {len(log.i_ab)} samples", total=1.0)
+        fit = fromlog.fit_log(log, L_s=L_s,
+                              progress=lambda f: prog.update(task, completed=f))
     click.echo(f"{path}: {fit.samples} samples at speed, the rotor's angle "
                f"{'from the log' if fit.angle == 'log' else 'from the EMF'}; 95 % intervals")
     click.echo(f"  R_s   {fit.R_s} ohm")

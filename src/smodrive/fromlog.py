@@ -45,6 +45,7 @@ says so.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -252,9 +253,11 @@ def _solve(A, y):
     return x
 
 
-def fit_log(log: DriveLog, L_s: float | None = None, seed: int = 0) -> LogFit:
+def fit_log(log: DriveLog, L_s: float | None = None, seed: int = 0,
+            progress: Callable[[float], None] | None = None) -> LogFit:
     """R_s, L_s, psi_r and the drop from `log`, with 95 % intervals; with
-    `L_s` given (H), the inductance is taken as known (a log without the
+    `L_s` given (H), the inductance is taken as known; `progress(fraction)`
+    after each band's fit and bootstrap (a log without the
     rotor's angle needs it: the inductance and the angle trade off, the
     fit's fixed point then had L_s 37 % low on Table I's motor).
 
@@ -308,10 +311,14 @@ def fit_log(log: DriveLog, L_s: float | None = None, seed: int = 0) -> LogFit:
         y = np.concatenate([(u[sel] * r).real, (u[sel] * r).imag])
         x = _solve(A, y)
         fits.append((float(np.sqrt(np.mean((y - A @ x) ** 2))), x, A, y, n))
+        if progress is not None:
+            progress(0.5 * len(fits) / len(BANDS))
     best = min(f[0] for f in fits)
     rng = np.random.default_rng(seed)
     lo, hi = np.full(4, np.inf), np.full(4, -np.inf)
-    for resid, x, A, y, n in fits:
+    for j, (resid, x, A, y, n) in enumerate(fits):
+        if progress is not None:
+            progress(0.5 + 0.5 * (j + 1) / len(fits))
         if resid > BAND_SLACK * best:
             continue
         # block bootstrap: the rows of each block are its d and its q rows
