@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from issue23_draws import sensor_errors
 
 from smodrive._util import tomllib
 from smodrive.cli import main
@@ -325,12 +326,7 @@ def test_accuracy_with_sensor_errors_and_dead_time(motor):
     s0 = load_scenario(MOTORS / f"{motor}.toml")
     rng = np.random.default_rng(2026)
     for seed in range(1, 11):
-        gain = tuple(float(g) for g in 1.0 + rng.uniform(-0.005, 0.005, 3))
-        offset = tuple(float(o) for o in rng.uniform(-0.002, 0.002, 3) * s0.adc.full_scale)
-        s = s0.replace(adc=dataclasses.replace(s0.adc, seed=seed, gain=gain, offset=offset),
-                       inverter=dataclasses.replace(s0.inverter,
-                                                    t_dead=float(rng.uniform(0.5e-6, 2e-6)),
-                                                    dead_time_model="clamp"))
+        s = sensor_errors(s0, seed, rng)
         c = commission(s)
         m = s.motor
         assert c.ok and c.psi.ok and c.mech.ok, (seed, c)

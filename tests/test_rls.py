@@ -33,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from issue23_draws import sensor_errors
 
 from smodrive.commission import identify_rs
 from smodrive.engine import simulate
@@ -57,12 +58,7 @@ def tracked(s0, seed: int, rng, i_inj_rel: float = 0.4, **ctl):
     dead-time compensation from commissioning's step 1; the run's times,
     R_s and psi_r estimates."""
     m = s0.motor
-    gain = tuple(float(g) for g in 1.0 + rng.uniform(-0.005, 0.005, 3))
-    offset = tuple(float(o) for o in rng.uniform(-0.002, 0.002, 3) * s0.adc.full_scale)
-    plant = s0.replace(adc=dataclasses.replace(s0.adc, seed=seed, gain=gain, offset=offset),
-                       inverter=dataclasses.replace(s0.inverter,
-                                                    t_dead=float(rng.uniform(0.5e-6, 2e-6)),
-                                                    dead_time_model="clamp"))
+    plant = sensor_errors(s0, seed, rng)
     rs = identify_rs(plant)
     assert rs.ok, rs
     s = plant.replace(T_sp=100e-6, duration=4.0, log_stride=10, warm_start=True,

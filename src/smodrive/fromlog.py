@@ -278,16 +278,19 @@ def fit_log(log: DriveLog, L_s: float | None = None, seed: int = 0,
         u = u - L_s * di  # the inductance's share is known: the fit sees u - L_s di/dt
         di = np.zeros_like(di)
     i_big = float(np.percentile(np.abs(raw), 99.5))
+    if log.theta is not None:
+        # the log's angle: the same frame for every band
+        th = np.unwrap(log.theta)
+        th_log = 0.5 * (th[:-1] + th[1:])
+        w_log = np.gradient(_lowpass(th, T, SMOOTH_HZ), T)[:-1]
+        sel_log = np.ones_like(w_log, dtype=bool)
+        edge = math.ceil(5.0 / (2.0 * math.pi * SMOOTH_HZ * T))
+        sel_log[:edge] = sel_log[-edge:] = False
     fits = []
     for band in BANDS:
         ph = _drop(raw, band * i_big, T)
         if log.theta is not None:
-            th = np.unwrap(log.theta)
-            th_m = 0.5 * (th[:-1] + th[1:])
-            w = np.gradient(_lowpass(th, T, SMOOTH_HZ), T)[:-1]
-            sel = np.ones_like(w, dtype=bool)
-            edge = math.ceil(5.0 / (2.0 * math.pi * SMOOTH_HZ * T))
-            sel[:edge] = sel[-edge:] = False
+            th_m, w, sel = th_log, w_log, sel_log
         else:
             # from the voltage's own angle (the EMF dominates at speed) to the
             # fixed point of the fit and the angle of its EMF
