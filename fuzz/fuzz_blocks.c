@@ -368,13 +368,15 @@ typedef struct psi_t { smd_ident_psi_params p; smd_ident_psi_state s; } psi_t;
 typedef struct mech_t { smd_ident_mech_params p; smd_ident_mech_state s; } mech_t;
 
 /* step 4 through the same loop: i_a is the drive's torque current, i_b its
- * speed estimate, a negative u_dc its fault word; no duties (0.5) */
+ * speed estimate, a negative u_dc its fault word, u_dc = 0 a drive not on its
+ * source; no duties (0.5) */
 static smd_status mech_step(void *t, smd_real ia, smd_real ib, smd_real u_dc, smd_real d[3])
 {
     mech_t *x = (mech_t *)t;
     const smd_real ref = smd_ident_mech_ref(&x->p, &x->s);
     FZ_CHECK(isfinite(ref));
-    (void)smd_ident_mech_step(&x->p, &x->s, ia, ib, u_dc < SMD_R(0.0) ? 1u : 0u);
+    (void)smd_ident_mech_step(&x->p, &x->s, ia, ib, u_dc != SMD_R(0.0),
+                              u_dc < SMD_R(0.0) ? 1u : 0u);
     d[0] = d[1] = d[2] = SMD_R(0.5);
     return SMD_OK;
 }
@@ -386,9 +388,11 @@ static void mech_check(const void *t, const smd_real d[3])
     FZ_CHECK(x->s.k >= 0 && x->s.k <= x->p.n_end && x->s.nb >= 0 && x->s.nb < x->p.n_bin);
     if (x->s.outcome == SMD_IDENT_OK) {
         FZ_CHECK(isfinite(x->s.J) && x->s.J > SMD_R(0.0) && isfinite(x->s.B) &&
-                 x->s.B >= SMD_R(0.0));
+                 x->s.B >= SMD_R(0.0) && isfinite(x->s.K) && x->s.K >= SMD_R(0.0));
     }
-    fz_use((double)x->s.J + (double)x->s.B);
+    FZ_CHECK(x->s.n_closed >= 0 && x->s.n_closed <= x->p.n_settle && x->s.wait >= 0 &&
+             x->s.wait <= x->p.n_end);
+    fz_use((double)x->s.J + (double)x->s.B + (double)x->s.K);
 }
 
 static smd_status rs_step(void *t, smd_real ia, smd_real ib, smd_real u_dc, smd_real d[3])
@@ -496,6 +500,11 @@ static void fuzz_ident_psi(fz *f)
     c.t_hold = fz_r(f, 0.0, 0.2);
     c.t_coast = fz_r(f, 0.0, 0.2);
     c.w_cc = fz_r(f, -1.0, 1e4);
+    c.L1 = fz_r(f, -1e-5, 1e-3);
+    c.C1 = fz_r(f, -1e-6, 1e-4);
+    c.L2o = fz_r(f, -1e-5, 1e-3);
+    c.w_damp = fz_r(f, -1.0, 2e3);
+    c.share_max = fz_r(f, -0.1, 1.2);
     if (smd_ident_psi_init(&x.p, &c) != SMD_OK) {
         return;
     }
@@ -518,6 +527,8 @@ static void fuzz_ident_mech(fz *f)
     c.t_hold = fz_r(f, 0.0, 0.1);
     c.t_fit = fz_r(f, 0.0, 0.05);
     c.t_bin = fz_r(f, 0.0, 0.01);
+    c.w_lpf = fz_r(f, -1.0, 1e4);
+    c.fan = fz_int(f, -1, 2);
     if (smd_ident_mech_init(&x.p, &c) != SMD_OK) {
         return;
     }

@@ -484,14 +484,15 @@ def block_seeds() -> None:
     write("fuzz_blocks", "ident-ls-yang2018", w.bytes())
     # the flux test (0xFB or more) on the same stator: a spin's first samples
     w = W().u8(0xFB).f32(1e-4).f32(2.25).f32(23.45e-3).f32(14.4).f32(4.0).f32(157.0)
-    w.f32(314.0).f32(157.0).f32(0.05).f32(0.02).f32(1570.0)
+    w.f32(314.0).f32(157.0).f32(0.05).f32(0.02).f32(1570.0).f32(0.0).f32(0.0).f32(0.0)  # no filter
+    w.f32(125.7).f32(0.7)  # the stabiliser and the governor
     for i_a in (0.0, 1.0, 2.0, -2.0, 3.0, 0.5):
         w.u8(1).f32(i_a).f32(-0.5 * i_a).f32(540.0).u8(200)
     write("fuzz_blocks", "ident-psi-yang2018", w.bytes())
     # step 4 (0xEC-0xEF): J and B at 10 kHz, Table I's k_t and pole pairs, a short sequence
     # (20 ms each part, 2 ms bins), a rotor accelerating under its torque current, a fault
     w = W().u8(0xEC).f32(1e-4).f32(2.4).int(4, 0, 120).f32(250.0).f32(500.0).f32(0.02)
-    w.f32(0.02).f32(0.02).f32(0.008).f32(0.002)
+    w.f32(0.02).f32(0.02).f32(0.008).f32(0.002).f32(100.0).int(1, -1, 2)  # with a fan
     for i_q, w_e in ((0.5, 250.0), (0.5, 250.0), (3.0, 300.0), (3.0, 400.0), (0.5, 500.0)):
         w.u8(1).f32(i_q).f32(w_e).f32(540.0).u8(120)
     w.u8(0).f32(0.5).f32(500.0).f32(-1.0)

@@ -564,7 +564,15 @@ smd_status smd_ident_psi_init(smd_ident_psi_params *p, const smd_ident_psi_confi
         !smd_in_range(c->t_hold, SMD_R(0.01), SMD_R(100.0)) ||
         !smd_in_range(c->t_coast, SMD_R(0.01), SMD_R(100.0)) ||
         !(c->t_hold <= SMD_R(1e8) * c->T_sp && c->t_coast <= SMD_R(1e8) * c->T_sp) ||
-        !(c->w_cc > SMD_R(0.0) && c->w_cc <= SMD_PI / (SMD_R(10.0) * c->T_sp))) {
+        !(c->w_cc > SMD_R(0.0) && c->w_cc <= SMD_PI / (SMD_R(10.0) * c->T_sp)) ||
+        !smd_in_range(c->L1, SMD_R(0.0), SMD_R(10.0)) ||
+        !smd_in_range(c->L2o, SMD_R(0.0), SMD_R(10.0)) ||
+        !(c->L1 == SMD_R(0.0) || smd_in_pos_range(c->C1, SMD_R(10.0))) ||
+        !(c->L1 == SMD_R(0.0) || c->w2 * c->w2 * c->L1 * c->C1 < SMD_R(0.5)) ||
+        !(c->share_max > SMD_R(0.0) && c->share_max <= SMD_R(1.0)) ||
+        !smd_in_range(c->w_damp, SMD_R(0.0), SMD_R(1e5)) ||
+        !(c->w_damp * c->T_sp <= SMD_R(0.5))) {
+        /* (the spin below the filter's resonance, w2^2 L1 C1 < 1/2) */
         return SMD_ERR_IDENT;
     }
     st = smd_svm_init(&p->svm, SMD_SVM_LIMIT_HEXAGON, SMD_R(0.0));
@@ -579,10 +587,24 @@ smd_status smd_ident_psi_init(smd_ident_psi_params *p, const smd_ident_psi_confi
     p->w1 = c->w1;
     p->w2 = c->w2;
     p->a_spin = c->a_spin;
-    p->k_p = c->L_s * c->w_cc;
+    /* the current loop's inductance: behind a filter, its inductances in
+     * series with the motor's (the capacitor aside, far below resonance) */
+    if (c->L1 > SMD_R(0.0)) {
+        p->L_s = c->L_s + c->L1 + c->L2o;
+    }
+    p->k_p = p->L_s * c->w_cc;
     p->k_i = c->R_s * c->w_cc;
     p->n_hold = (int)(c->t_hold / c->T_sp + SMD_R(0.5));
     p->n_coast = (int)(c->t_coast / c->T_sp + SMD_R(0.5));
+    p->L1 = c->L1;
+    p->L1C1 = c->L1 > SMD_R(0.0) ? c->L1 * c->C1 : SMD_R(0.0);
+    p->L2 = c->L1 > SMD_R(0.0) ? c->L2o + c->L_s : c->L_s;
+    p->share_max = c->share_max;
+    p->w_gov = SMD_R(0.2) * c->w1;
+    p->a_share = SMD_R(10.0) * c->T_sp < SMD_R(1.0) ? SMD_R(10.0) * c->T_sp : SMD_R(1.0);
+    p->k_g = SMD_R(4.0);
+    p->w_damp = c->w_damp;
+    p->a_hp = SMD_R(0.1) * c->w_damp * c->T_sp;
     return SMD_OK;
 }
 
@@ -596,8 +618,11 @@ void smd_ident_psi_reset(smd_ident_psi_state *s)
     s->x_i = s->u_ab = s->u_prev = s->u_applied = z;
     s->n = 0;
     s->acc_e = s->acc_n = s->acc_w = SMD_R(0.0);
-    s->e1 = s->e2 = SMD_R(0.0);
+    s->e1 = s->e2 = s->w1m = s->w2m = SMD_R(0.0);
     s->psi = s->psi1 = s->psi2 = s->psi_coast = s->psi_slope = SMD_R(0.0);
+    s->phi_lpf = s->w_c = s->share = SMD_R(0.0);
+    s->g = SMD_R(1.0);
+    s->gov_on = 0;
     s->samples = 0;
 }
 
@@ -633,10 +658,11 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
     }
     s->samples++;
     s->n++;
-    /* the forced frame's speed */
+    /* the forced frame's speed: the ramp, which waits while the rotor takes
+     * more than share_max of the current's torque (the header) */
     if (s->phase == SMD_IDENT_PSI_RAMP1 || s->phase == SMD_IDENT_PSI_RAMP2) {
         const smd_real w_to = s->phase == SMD_IDENT_PSI_RAMP1 ? p->w1 : p->w2;
-        s->w_f += p->a_spin * T;
+        s->w_f += s->g * p->a_spin * T;
         if (s->w_f >= w_to) {
             s->w_f = w_to;
             psi_next_phase(s, s->phase + 1);
@@ -650,44 +676,93 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
     u_dq = smd_cadd(smd_cadd(smd_cscale(err, p->k_p), s->x_i),
                     smd_cj(smd_cscale(i_ref, s->w_f * p->L_s)));
     s->x_i = smd_cadd(s->x_i, smd_cscale(err, p->k_i * T));
-    if (s->phase == SMD_IDENT_PSI_HOLD1 || s->phase == SMD_IDENT_PSI_HOLD2) {
-        if (2 * s->n > p->n_hold) {
-            /* e = u - (R + j w L) i - the inverter's drop along the current */
-            const smd_real ia = smd_cabs(i_dq);
-            smd_cplx e = smd_csub(u_dq, smd_cmul(smd_c(p->R_s, s->w_f * p->L_s), i_dq));
-            if (ia > SMD_R(0.0)) {
-                e = smd_csub(e, smd_cscale(i_dq, p->u_drop / ia));
+    if (s->phase != SMD_IDENT_PSI_COAST) {
+        /* e = u - (R + j w L) i - the inverter's drop along the current;
+         * behind a filter, through the capacitor's voltage (the header) */
+        const smd_real ia = smd_cabs(i_dq), w = s->w_f + s->w_c;
+        smd_cplx v = u_dq, e;
+        if (ia > SMD_R(0.0)) {
+            v = smd_csub(v, smd_cscale(i_dq, p->u_drop / ia));
+        }
+        if (p->L1 > SMD_R(0.0)) {
+            v = smd_cscale(smd_csub(v, smd_cj(smd_cscale(i_dq, w * p->L1))),
+                           SMD_R(1.0) / (SMD_R(1.0) - w * w * p->L1C1));
+        }
+        e = smd_csub(v, smd_cmul(smd_c(p->R_s, w * p->L2), i_dq));
+        if (s->w_f >= p->w_gov && ia > SMD_R(0.0) && smd_cabs(e) > SMD_R(0.0)) {
+            /* the stabiliser and the governor (the header) */
+            const smd_real phi = SMD_ATAN2(e.im, e.re),
+                           share = (e.re * i_dq.re + e.im * i_dq.im) / (smd_cabs(e) * ia);
+            smd_real d;
+            if (!s->gov_on) {
+                s->phi_lpf = phi;
+                s->share = share;
+                s->gov_on = 1;
             }
+            d = smd_wrap_pi(phi - s->phi_lpf);
+            s->phi_lpf = smd_wrap_pi(s->phi_lpf + p->a_hp * d);
+            /* (at most half the ramp's speed: a rotor that slipped does not
+             * turn the frame back) */
+            s->w_c = p->w_damp * d;
+            if (s->w_c > SMD_R(0.5) * s->w_f) {
+                s->w_c = SMD_R(0.5) * s->w_f;
+            } else if (s->w_c < SMD_R(-0.5) * s->w_f) {
+                s->w_c = SMD_R(-0.5) * s->w_f;
+            }
+            s->share += p->a_share * (share - s->share);
+            if (s->share > p->share_max) {
+                s->g -= p->k_g * T * (s->share - p->share_max);
+                if (s->g < SMD_R(0.01)) {
+                    s->g = SMD_R(0.01);
+                }
+            }
+        }
+        if ((s->phase == SMD_IDENT_PSI_HOLD1 || s->phase == SMD_IDENT_PSI_HOLD2) &&
+            2 * s->n > p->n_hold) {
             s->acc_e += smd_cabs(e);
+            s->acc_w += w;
             s->acc_n += SMD_R(1.0);
         }
+    }
+    if (s->phase == SMD_IDENT_PSI_HOLD1 || s->phase == SMD_IDENT_PSI_HOLD2) {
         if (s->n >= p->n_hold) {
-            const smd_real em = s->acc_e / s->acc_n;
+            /* mean |e| and the frame's mean speed (the rotor's, on average) */
+            const smd_real em = s->acc_e / s->acc_n, wm = s->acc_w / s->acc_n;
             if (s->phase == SMD_IDENT_PSI_HOLD1) {
                 s->e1 = em;
+                s->w1m = wm;
                 psi_next_phase(s, SMD_IDENT_PSI_RAMP2);
             } else {
                 s->e2 = em;
+                s->w2m = wm;
                 psi_next_phase(s, SMD_IDENT_PSI_COAST);
             }
         }
     } else if (s->phase == SMD_IDENT_PSI_COAST) {
         /* the PI holds i = 0: the voltage it applies is the back EMF; its
-         * turn from the last sample's is the rotor's electrical speed */
+         * turn from the last sample's is the rotor's electrical speed, which
+         * the frame follows (low-passed at 1/(20 T_sp)): a rotor that slows
+         * (a fan load) would otherwise turn against the frame, and the PI's
+         * integral would lag the EMF's turn in it */
+        const smd_cplx rot = smd_cmul(s->u_ab, smd_cconj(s->u_prev));
+        const smd_real turn = SMD_ATAN2(rot.im, rot.re);
+        s->w_c = SMD_R(0.0);
+        if (s->n > 1) {
+            s->w_f += SMD_R(0.05) * (turn / T - s->w_f);
+        }
         if (10 * s->n > p->n_coast) {
-            const smd_cplx rot = smd_cmul(s->u_ab, smd_cconj(s->u_prev));
             s->acc_e += smd_cabs(s->u_ab);
             /* (signed: a mean of absolute turns would grow with the
              * noise the current loop puts on the voltage) */
-            s->acc_w += SMD_ATAN2(rot.im, rot.re);
+            s->acc_w += turn;
             s->acc_n += SMD_R(1.0);
         }
         if (s->n >= p->n_coast) {
             const smd_real w = SMD_FABS(s->acc_w) / (s->acc_n * T);
-            s->psi_coast = (s->acc_e / s->acc_n) / w;
-            s->psi1 = s->e1 / p->w1;
-            s->psi2 = s->e2 / p->w2;
-            s->psi_slope = (s->e2 - s->e1) / (p->w2 - p->w1);
+            s->psi_coast = (s->acc_e / s->acc_n) / (w * (SMD_R(1.0) - w * w * p->L1C1));
+            s->psi1 = s->e1 / s->w1m;
+            s->psi2 = s->e2 / s->w2m;
+            s->psi_slope = (s->e2 - s->e1) / (s->w2m - s->w1m);
             s->psi = s->psi2;
             s->outcome = (isfinite(s->psi) && s->psi > SMD_R(0.0) && isfinite(s->psi_coast) &&
                           SMD_FABS(s->psi_coast / s->psi - SMD_R(1.0)) <= SMD_R(0.05) &&
@@ -700,8 +775,11 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
         }
     }
     s->u_prev = s->u_ab;
-    s->u_ab = smd_cmul(u_dq, smd_cexpj(s->theta_f + SMD_R(1.5) * s->w_f * T));
-    s->theta_f = smd_wrap_pi(s->theta_f + s->w_f * T);
+    {
+        const smd_real w = s->w_f + s->w_c;
+        s->u_ab = smd_cmul(u_dq, smd_cexpj(s->theta_f + SMD_R(1.5) * w * T));
+        s->theta_f = smd_wrap_pi(s->theta_f + w * T);
+    }
     smd_svm_step(&p->svm, s->u_ab, u_dc, d_abc, &s->u_applied);
     return SMD_OK;
 }
@@ -722,7 +800,10 @@ smd_status smd_ident_mech_init(smd_ident_mech_params *p, const smd_ident_mech_co
         !smd_in_range(c->t_fit, SMD_R(4.0) * c->t_bin, SMD_R(0.5) * c->t_step) ||
         !smd_in_range(c->t_step, SMD_R(2.0) * c->t_fit, SMD_R(100.0)) ||
         !smd_in_range(c->t_ramp, SMD_R(4.0) * c->t_bin, SMD_R(100.0)) ||
-        !smd_in_range(c->t_hold, SMD_R(4.0) * c->t_bin, SMD_R(100.0))) {
+        !smd_in_range(c->t_hold, SMD_R(4.0) * c->t_bin, SMD_R(100.0)) ||
+        !smd_in_range(c->w_lpf, SMD_R(0.0), SMD_PI / T) ||
+        !(c->w_lpf == SMD_R(0.0) || c->w_lpf * c->t_step >= SMD_R(5.0)) ||
+        (c->fan != 0 && c->fan != 1)) {
         return SMD_ERR_IDENT;
     }
     n_total = (c->t_step + c->t_ramp + c->t_hold) / T;
@@ -735,6 +816,12 @@ smd_status smd_ident_mech_init(smd_ident_mech_params *p, const smd_ident_mech_co
     p->w2 = c->w2;
     p->dw = c->w2 - c->w1;
     p->t_bin = c->t_bin;
+    p->a_lpf = c->w_lpf > SMD_R(0.0) ? -SMD_EXPM1(-c->w_lpf * T) : SMD_R(1.0);
+    p->fan = c->fan;
+    p->inv_w2 = (smd_real)c->n_p / c->w2; /* (the fit's speeds are mechanical) */
+    /* 5 time constants of the filter: then a closed drive's signals count
+     * (1 sample without one) */
+    p->n_settle = c->w_lpf > SMD_R(0.0) ? (int)(SMD_R(5.0) / (c->w_lpf * T) + SMD_R(0.5)) : 1;
     p->n_step = (int)(c->t_step / T + SMD_R(0.5));
     p->n_ramp = (int)(c->t_ramp / T + SMD_R(0.5));
     p->n_end = p->n_step + p->n_ramp + (int)(c->t_hold / T + SMD_R(0.5));
@@ -750,10 +837,14 @@ void smd_ident_mech_reset(smd_ident_mech_state *s)
     s->bins = 0;
     s->nb = 0;
     s->acc_T = s->acc_w = SMD_R(0.0);
-    s->w_b[0] = s->w_b[1] = s->T_b1 = SMD_R(0.0);
+    s->T_f = SMD_R(0.0);
+    s->w_b[0] = s->w_b[1] = s->T_b[0] = s->T_b[1] = SMD_R(0.0);
     s->saa = s->saw = s->sww = s->sat = s->swt = SMD_R(0.0);
+    s->saq = s->swq = s->sqq = s->sqt = SMD_R(0.0);
     s->rows = 0;
-    s->J = s->B = SMD_R(0.0);
+    s->wait = 0;
+    s->n_closed = 0;
+    s->J = s->B = s->K = SMD_R(0.0);
 }
 
 smd_real smd_ident_mech_ref(const smd_ident_mech_params *p, const smd_ident_mech_state *s)
@@ -768,44 +859,95 @@ smd_real smd_ident_mech_ref(const smd_ident_mech_params *p, const smd_ident_mech
 }
 
 /* A completed bin: the one before it, now with neighbours on both sides,
- * joins the normal equations of T = J a + B w. */
+ * joins the normal equations of T = J a + B w: a the neighbours' central
+ * difference, which weighs the acceleration over the three bins with a
+ * trapezoid (rising over the first, flat over the middle one, falling over
+ * the last), and T and w weighted alike, (x0 + 2 x1 + x2) / 4 of the bins'
+ * means, so that the equation holds for the weighted means (the middle
+ * bin's T and w alone put B 28 % off on a rotor 10 times Table I's with its
+ * true torque and speed; with the weights, 2 %). */
 static void mech_bin(const smd_ident_mech_params *p, smd_ident_mech_state *s)
 {
     const smd_real n = (smd_real)s->nb;
     const smd_real T_new = s->acc_T / n, w_new = s->acc_w / n;
     if (s->bins >= 2) {
         const smd_real a = (w_new - s->w_b[0]) / (SMD_R(2.0) * p->t_bin);
-        const smd_real w = s->w_b[1], T = s->T_b1;
+        const smd_real w = SMD_R(0.25) * (s->w_b[0] + SMD_R(2.0) * s->w_b[1] + w_new);
+        const smd_real T = SMD_R(0.25) * (s->T_b[0] + SMD_R(2.0) * s->T_b[1] + T_new);
         s->saa += a * a;
         s->saw += a * w;
         s->sww += w * w;
         s->sat += a * T;
         s->swt += w * T;
+        if (p->fan) {
+            const smd_real q = w * SMD_FABS(w) * p->inv_w2;
+            s->saq += a * q;
+            s->swq += w * q;
+            s->sqq += q * q;
+            s->sqt += q * T;
+        }
         s->rows++;
     }
     s->w_b[0] = s->w_b[1];
     s->w_b[1] = w_new;
-    s->T_b1 = T_new;
+    s->T_b[0] = s->T_b[1];
+    s->T_b[1] = T_new;
     s->bins++;
     s->nb = 0;
     s->acc_T = s->acc_w = SMD_R(0.0);
 }
 
-static void mech_solve(smd_ident_mech_state *s)
+static void mech_solve(const smd_ident_mech_params *p, smd_ident_mech_state *s)
 {
-    const smd_real det = s->saa * s->sww - s->saw * s->saw;
     s->outcome = SMD_IDENT_POOR_FIT;
-    if (s->rows >= 2 && det > SMD_R(1e-6) * s->saa * s->sww) {
-        s->J = (s->sat * s->sww - s->swt * s->saw) / det;
-        s->B = (s->saa * s->swt - s->saw * s->sat) / det;
-        if (isfinite(s->J) && isfinite(s->B) && s->J > SMD_R(0.0) && s->B >= SMD_R(0.0)) {
-            s->outcome = SMD_IDENT_OK;
+    if (!p->fan) {
+        const smd_real det = s->saa * s->sww - s->saw * s->saw;
+        if (s->rows >= 2 && det > SMD_R(1e-6) * s->saa * s->sww) {
+            s->J = (s->sat * s->sww - s->swt * s->saw) / det;
+            s->B = (s->saa * s->swt - s->saw * s->sat) / det;
         }
+    } else {
+        /* the 3 x 3 normal equations [saa saw saq; saw sww swq; saq swq sqq]
+         * x = [sat swt sqt] by their adjugate (q = w |w| / w2: the same scale
+         * as w) */
+        const smd_real c11 = s->sww * s->sqq - s->swq * s->swq;
+        const smd_real c12 = s->saq * s->swq - s->saw * s->sqq;
+        const smd_real c13 = s->saw * s->swq - s->saq * s->sww;
+        const smd_real c22 = s->saa * s->sqq - s->saq * s->saq;
+        const smd_real c23 = s->saw * s->saq - s->saa * s->swq;
+        const smd_real c33 = s->saa * s->sww - s->saw * s->saw;
+        const smd_real det = s->saa * c11 + s->saw * c12 + s->saq * c13;
+        if (s->rows >= 3 && det > SMD_R(1e-6) * s->saa * s->sww * s->sqq) {
+            s->J = (c11 * s->sat + c12 * s->swt + c13 * s->sqt) / det;
+            s->B = (c12 * s->sat + c22 * s->swt + c23 * s->sqt) / det;
+            s->K = (c13 * s->sat + c23 * s->swt + c33 * s->sqt) / det;
+            /* B and K from speeds within a factor of 2 or so lean on each
+             * other: one that comes out negative is 0, and the others are
+             * the least squares without it (non-negative least squares) */
+            if (s->B < SMD_R(0.0) && c22 > SMD_R(0.0)) {
+                s->B = SMD_R(0.0);
+                s->J = (s->sat * s->sqq - s->sqt * s->saq) / c22;
+                s->K = (s->saa * s->sqt - s->saq * s->sat) / c22;
+            } else if (s->K < SMD_R(0.0) && c33 > SMD_R(0.0)) {
+                s->K = SMD_R(0.0);
+                s->J = (s->sat * s->sww - s->swt * s->saw) / c33;
+                s->B = (s->saa * s->swt - s->saw * s->sat) / c33;
+            }
+            if (s->B < SMD_R(0.0) || s->K < SMD_R(0.0)) {
+                s->B = s->K = SMD_R(0.0);
+                s->J = s->sat / s->saa;
+            }
+            s->K *= p->inv_w2;
+        }
+    }
+    if (isfinite(s->J) && isfinite(s->B) && isfinite(s->K) && s->J > SMD_R(0.0) &&
+        s->B >= SMD_R(0.0) && s->K >= SMD_R(0.0) && s->rows > 0) {
+        s->outcome = SMD_IDENT_OK;
     }
 }
 
 int smd_ident_mech_step(const smd_ident_mech_params *p, smd_ident_mech_state *s,
-                        smd_real i_q_ref, smd_real w_hat, uint32_t fault)
+                        smd_real i_q, smd_real w_hat, int closed, uint32_t fault)
 {
     if (s->outcome != SMD_IDENT_RUNNING) {
         return 1;
@@ -814,19 +956,41 @@ int smd_ident_mech_step(const smd_ident_mech_params *p, smd_ident_mech_state *s,
         s->outcome = SMD_IDENT_FAULT;
         return 1;
     }
-    if (smd_nf(i_q_ref) + smd_nf(w_hat) != SMD_R(0.0)) {
+    if (smd_nf(i_q) + smd_nf(w_hat) != SMD_R(0.0)) {
         s->outcome = SMD_IDENT_BAD_INPUT;
         return 1;
     }
+    /* (from the test's start: the filter has settled by the fit's) */
+    s->T_f += p->a_lpf * (p->k_t * i_q - s->T_f);
+    if (!closed) {
+        s->n_closed = 0;
+    } else if (s->n_closed < p->n_settle) {
+        s->n_closed++;
+    }
+    if (s->n_closed < p->n_settle && s->k >= p->n_fit0) {
+        /* the drive's torque is not k_t i_q (its forced start), or has
+         * not been for 5 / w_lpf (the filters still hold the start): the fit
+         * waits for its source (the header), or starts its bins again */
+        s->bins = 0;
+        s->nb = 0;
+        s->acc_T = s->acc_w = SMD_R(0.0);
+        if (s->k == p->n_fit0) {
+            if (++s->wait >= p->n_end) {
+                s->outcome = SMD_IDENT_NOT_SETTLED;
+                return 1;
+            }
+            return 0;
+        }
+    }
     if (s->k >= p->n_fit0) {
-        s->acc_T += p->k_t * i_q_ref;
+        s->acc_T += s->T_f;
         s->acc_w += w_hat * p->inv_np;
         if (++s->nb >= p->n_bin) {
             mech_bin(p, s);
         }
     }
     if (++s->k >= p->n_end) {
-        mech_solve(s);
+        mech_solve(p, s);
         return 1;
     }
     return 0;

@@ -594,6 +594,9 @@ static void blk_ident_psi(smd_writer *w, rng *g, int n)
     c.t_hold = SMD_R(0.05);
     c.t_coast = SMD_R(0.02);
     c.w_cc = SMD_R(1500.0);
+    c.L1 = c.C1 = c.L2o = SMD_R(0.0); /* no filter */
+    c.w_damp = SMD_R(125.7);
+    c.share_max = SMD_R(0.7);
     wr_i32(w, (int)smd_ident_psi_init(&p, &c));
     smd_ident_psi_reset(&s);
     for (k = 0; k < n; k++) {
@@ -639,6 +642,8 @@ static void blk_ident_mech(smd_writer *w, rng *g, int n)
     c.t_hold = SMD_R(0.004);
     c.t_fit = SMD_R(0.004);
     c.t_bin = SMD_R(0.001);
+    c.w_lpf = SMD_R(200.0);
+    c.fan = 1; /* (the 3 x 3 fit) */
     wr_i32(w, (int)smd_ident_mech_init(&p, &c));
     smd_ident_mech_reset(&s);
     for (k = 0; k < n; k++) {
@@ -649,7 +654,7 @@ static void blk_ident_mech(smd_writer *w, rng *g, int n)
         iq = SMD_R(0.5) + SMD_R(1e-3) * (ref - wr) + urand(g, SMD_R(-0.05), SMD_R(0.05));
         wh = wr + urand(g, SMD_R(-1.0), SMD_R(1.0));
         smd_mark_begin(SMD_BLK_IDENT_MECH);
-        done = smd_ident_mech_step(&p, &s, iq, wh, 0u);
+        done = smd_ident_mech_step(&p, &s, iq, wh, k >= 40, 0u); /* (a start first) */
         smd_mark_end();
         wr_i32(w, done);
         wr_i32(w, s.outcome);
@@ -657,6 +662,7 @@ static void blk_ident_mech(smd_writer *w, rng *g, int n)
     }
     wr_real(w, s.J);
     wr_real(w, s.B);
+    wr_real(w, s.K);
 }
 
 static void blk_bandpass(smd_writer *w, rng *g, int n)

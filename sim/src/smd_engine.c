@@ -2,6 +2,8 @@
 
 #include <math.h>
 
+#include "smodrive/smd_transforms.h"
+
 #include "smd_log_names.h" /* CHANNELS[], generated from enum smd_log_channel */
 
 const char *smd_log_channel_name(int ch)
@@ -344,13 +346,17 @@ long smd_engine_run_ident_mech(smd_engine *e, const smd_ident_mech_params *p,
         smd_drive_out out;
         smd_status st;
         smd_drive_view v;
+        smd_real i_q;
         int done;
         engine_inputs(e, &x, &in);
         in.w_ref = smd_ident_mech_ref(p, s); /* the test's reference, not the profile's */
         x.w_ref = (double)in.w_ref / e->plant.c.n_p;
         st = smd_drive_step(&e->ctrl_p, &e->ctrl_s, &in, &out);
         v = smd_drive_get_view(&e->ctrl_p, &e->ctrl_s);
-        done = smd_ident_mech_step(p, s, v.i_dq_ref.im, v.w,
+        /* the torque current: the measured current in the drive's frame
+         * (the reference is not what flows at the voltage limit) */
+        i_q = smd_cmul(smd_ab2_to_ab(in.i_a, in.i_b), smd_cconj(smd_cexpj(v.theta))).im;
+        done = smd_ident_mech_step(p, s, i_q, v.w, v.phase == SMD_PHASE_SOURCE,
                                    out.fault & (uint32_t)SMD_FAULT_LATCHED); /* (not warnings) */
         if (log != 0 && (j % stride) == 0) {
             engine_apply(e, &x, &out, st, &v, log + rows * SMD_LOG_N);

@@ -278,6 +278,11 @@ def commission(s: Scenario, i_test: float | None = None, mechanics: bool = True
 T_SPIN = 2.0
 T_HOLD = 0.5
 T_COAST = 0.1
+#: step 3's governor (assumed): the ramp waits while the rotor takes more than this share of
+#: the spin current's torque (smd_ident_psi_config.share_max)
+SHARE_MAX = 0.7
+#: step 3's stabiliser (assumed): its gain, rad/s (smd_ident_psi_config.w_damp)
+W_DAMP = 2.0 * math.pi * 20.0
 
 
 @dataclass(frozen=True)
@@ -303,7 +308,9 @@ def identify_psi(s: Scenario, rs: RsResult, L_s: float, i_spin: float, engine: E
     cfg = _ffi.IdentPsiConfig(T_sp=s.T_sp, R_s=max(rs.R_s, 0.0), L_s=L_s, u_0=max(rs.u_0, 0.0),
                               i_spin=i_spin, w1=0.25 * w_n, w2=0.5 * w_n,
                               a_spin=0.5 * w_n / T_SPIN, t_hold=T_HOLD, t_coast=T_COAST,
-                              w_cc=math.pi / (20.0 * s.T_sp))
+                              w_cc=math.pi / (20.0 * s.T_sp), share_max=SHARE_MAX, w_damp=W_DAMP,
+                              **({} if s.lcl is None else
+                                 {"L1": s.lcl.L1, "C1": s.lcl.C1, "L2o": s.lcl.L2o}))
     p, st = _ffi.IdentPsiParams(), _ffi.IdentPsiState()
     rc = _ffi.lib.smd_ident_psi_init(ct.byref(p), ct.byref(cfg))
     if rc != 0:
@@ -325,6 +332,7 @@ SPEED_BW_MECH = 20.0
 T_STEP = 1.5
 T_RAMP = 0.4
 T_HOLD_MECH = 0.6
+T_BIN = 0.02
 
 
 @dataclass(frozen=True)
@@ -332,46 +340,75 @@ class MechResult:
     """J and B as step 4 measured them."""
     J: float            # kg m^2
     B: float            # N m s/rad
-    outcome: str        # "ok", "poor_fit" or "fault: <names>"
+    outcome: str        # "ok", "poor_fit", "not_settled" or "fault: <names>"
     t: float            # s
+    K: float = 0.0      # N m s^2/rad^2: a fan load's K w_M |w_M| (fitted with one)
 
     @property
     def ok(self) -> bool:
         return self.outcome == "ok"
 
 
+def mech_speeds(sd: Scenario) -> tuple[float, float]:
+    """Step 4's two speeds, mechanical rad/s: 40 % and 80 % of rated speed,
+    the first at least 1.25 times the drive's handover speed (below it the
+    drive stays on its forced start, whose torque is not k_t i_q: the hub
+    motor's handover is at half its rated speed), the second 40 % of rated
+    above it, at most rated."""
+    w_n = sd.motor.w_M_N
+    w1 = max(0.4 * w_n, 1.25 * sd.controller.w_M_handover)
+    return w1, min(w_n, w1 + 0.4 * w_n)
+
+
 def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float) -> Scenario:
     """Step 4's run: the sensorless drive (robust DBPC, SMDO, I/f start) on
     the bench, designed from the measured R_s, L_s, psi_r and a guessed
-    inertia, on the reference of the test."""
+    inertia, on the reference of the test (:func:`mech_speeds`)."""
     m = s.motor
     w_n = m.w_M_N
     t2 = T_STEP + T_RAMP + T_HOLD_MECH
-    sd = bench(s).replace(duration=t2, warm_start=False, theta_r0=0.0,
-                          w_M_ref=Profile((0.0, 0.0, T_STEP, T_STEP + T_RAMP),
-                                          (0.0, 0.4 * w_n, 0.4 * w_n, 0.8 * w_n)))
-    return sd.with_controller(current="robust_dbpc", position="smdo_emf", start="if",
-                              R_s_hat=R_s, L_s_hat=L_s, psi_r_hat=psi_r,
-                              J_hat=J_GUESS_T * m.T_N / w_n, a_M_ref=0.4 * w_n / T_RAMP,
-                              speed_bw=SPEED_BW_MECH)
+
+    def design(w1: float, w2: float) -> Scenario:
+        sd = bench(s).replace(duration=t2, warm_start=False, theta_r0=0.0,
+                              w_M_ref=Profile((0.0, 0.0, T_STEP, T_STEP + T_RAMP),
+                                              (0.0, w1, w1, w2)))
+        # behind an LCL filter: yao2022's drive (current PI with active damping, the
+        # sliding-mode observer and PLL), the filter's data sheet values as they are
+        parts = (dict(current="robust_dbpc", position="smdo_emf") if s.lcl is None else
+                 dict(current="pi", position="lcl_smo_pll"))
+        return sd.with_controller(**parts, start="if",
+                                  R_s_hat=R_s, L_s_hat=L_s, psi_r_hat=psi_r,
+                                  J_hat=J_GUESS_T * m.T_N / w_n, a_M_ref=(w2 - w1) / T_RAMP,
+                                  speed_bw=SPEED_BW_MECH)
+
+    sd = design(0.4 * w_n, 0.8 * w_n)
+    w1, w2 = mech_speeds(sd)
+    return sd if (w1, w2) == (0.4 * w_n, 0.8 * w_n) else design(w1, w2)
 
 
 def identify_mech(s: Scenario, R_s: float, L_s: float, psi_r: float) -> MechResult:
     """Step 4: the drive itself (the firmware code) runs the core's test
     (``smd_ident_mech``, smodrive/smd_ident.h), which gives it the speed
-    reference (40 % of rated speed, a ramp to 80 %, a hold) and fits the
-    drive's torque, k_t i_q with k_t from the measured flux, against what it
-    estimates of the speed (the SMDO's): from 0.5 s before the ramp, 20 ms
-    bins, T = J dw/dt + B w by least squares (viscous friction: a Coulomb
-    term of its own would take most of B's share with two speed levels; the
-    holds need not be steady: a heavy rotor is still settling there). The
-    drive's own supervision stays on: a run that ends in a fault is named."""
+    reference (:func:`mech_speeds`: a speed, a ramp to the second, a hold)
+    and fits the drive's torque, k_t i_q with k_t from the measured flux,
+    passed through the low-pass its speed estimate has passed (w_lpf),
+    against what it estimates of the speed (the SMDO's): from 0.5 s before
+    the ramp, once the drive runs on its estimate (it waits for the end of
+    the forced start: a heavy rotor's is long), T_BIN bins, T = J dw/dt + B w
+    by least squares (viscous friction: a Coulomb term of its own would take
+    most of B's share with two speed levels; the holds need not be steady: a
+    heavy rotor is still settling there). The drive's own supervision stays
+    on: a run that ends in a fault is named; a drive that never leaves its
+    forced start is "not_settled"."""
     sd = mech_scenario(s, R_s, L_s, psi_r)
+    w1, w2 = mech_speeds(sd)
     m = s.motor
     n_p = m.n_p
     cfg = _ffi.IdentMechConfig(T_sp=s.T_sp, k_t=1.5 * n_p * psi_r, n_p=n_p,
-                               w1=0.4 * m.w_M_N * n_p, w2=0.8 * m.w_M_N * n_p, t_step=T_STEP,
-                               t_ramp=T_RAMP, t_hold=T_HOLD_MECH, t_fit=0.5, t_bin=0.02)
+                               w1=w1 * n_p, w2=w2 * n_p, t_step=T_STEP,
+                               t_ramp=T_RAMP, t_hold=T_HOLD_MECH, t_fit=0.5, t_bin=T_BIN,
+                               w_lpf=sd.controller.w_lpf if s.lcl is None else 0.0,
+                               fan=1 if s.load.k_fan > 0.0 else 0)
     p, st = _ffi.IdentMechParams(), _ffi.IdentMechState()
     rc = _ffi.lib.smd_ident_mech_init(ct.byref(p), ct.byref(cfg))
     if rc != 0:
@@ -381,14 +418,17 @@ def identify_mech(s: Scenario, R_s: float, L_s: float, psi_r: float) -> MechResu
         warnings.simplefilter("ignore")  # the estimates differ from the plant's values
         eng = Engine(sd)
     n = int(_ffi.lib.smd_engine_run_ident_mech(eng._buf, ct.byref(p), ct.byref(st),
-                                               int(round(sd.duration / s.T_sp)) + 1, None, 1))
+                                               2 * int(round(sd.duration / s.T_sp)) + 2, None, 1))
     t = n * s.T_sp
     outcome = MECH_OUTCOMES.get(int(st.outcome), "?")
     if outcome == "fault":
         names = [n for n in fault_names(eng.faults().final) if n in LATCHED_FAULTS]
-        return MechResult(math.nan, math.nan, "fault: " + ", ".join(names), t)
-    return MechResult(float(st.J), float(st.B), outcome, t)
+        return MechResult(math.nan, math.nan, "fault: " + ", ".join(names), t, math.nan)
+    if outcome not in ("ok", "poor_fit"):
+        return MechResult(math.nan, math.nan, outcome, t, math.nan)
+    return MechResult(float(st.J), float(st.B), outcome, t, float(st.K))
 
 
 #: smd_ident_mech_state.outcome
-MECH_OUTCOMES = {0: "ok", 1: "running", 5: "poor_fit", 6: "bad_input", 7: "fault"}
+MECH_OUTCOMES = {0: "ok", 1: "running", 4: "not_settled", 5: "poor_fit", 6: "bad_input",
+                 7: "fault"}

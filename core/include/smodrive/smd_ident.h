@@ -221,10 +221,31 @@ typedef struct smd_ident_psi_config {
     smd_real t_hold;      /* each hold, s, [0.01, 100] */
     smd_real t_coast;     /* the coast, s, [0.01, 100] */
     smd_real w_cc;        /* the current loop's bandwidth, rad/s, (0, pi / (10 T_sp)] */
+    /* an LCL filter between the inverter and the motor (its data sheet's values;
+     * L1 = 0: none): H [0, 10], F (0, 10] with L1 > 0, H [0, 10]. The currents
+     * are the motor's (i_2); the EMF is then u_c - (R_s + j w (L2o + L_s)) i with
+     * the capacitor's voltage u_c = (u - j w L1 i) / (1 - w^2 L1 C1) in steady
+     * state, and the coast's voltage is (1 - w^2 L1 C1) times the EMF */
+    smd_real L1, C1, L2o;
+    /* the I/f rotor is an undamped pendulum without friction, and a ramp
+     * that asks most of the current's torque makes it slip; from w1 / 5 on,
+     * two loops on the angle of e keep it: the stabiliser (w_damp, rad/s,
+     * [0, 1e5], 0: none) adds w_damp times the high-passed angle (corner
+     * w_damp / 10) to the frame's speed, which damps the swing; the governor
+     * (share_max, (0, 1], 1: none) slows the ramp (by 4 (share - share_max)
+     * a second) while the rotor takes more than share_max of the torque the
+     * current can give: the share is e's component along the current over
+     * its magnitude, the cosine of the rotor's lag behind the frame,
+     * low-passed at 10 rad/s */
+    smd_real w_damp, share_max;
 } smd_ident_psi_config;
 
 typedef struct smd_ident_psi_params {
     smd_real T_sp, R_s, L_s, u_drop, i_spin, w1, w2, a_spin, k_p, k_i;
+    smd_real L1, L1C1, L2;  /* the filter: L1, L1 C1, L2o + L_s (L1 = 0: none) */
+    smd_real w_damp, a_hp;  /* the stabiliser: its gain, rad/s, and high-pass w_damp T_sp / 10 */
+    smd_real share_max, w_gov, a_share, k_g; /* the governor: its share, from w_gov, the
+                                              * share's low-pass, the ramp's reduction, 1/s */
     int n_hold, n_coast;
     smd_svm_params svm;
 } smd_ident_psi_params;
@@ -244,8 +265,14 @@ typedef struct smd_ident_psi_state {
     smd_cplx u_prev;      /* the voltage applied over the last period (the sample before's) */
     int n;                /* samples in this phase */
     smd_real acc_e, acc_n; /* sums of |e| (or |u| coasting) and of their samples */
-    smd_real acc_w;       /* coasting: sum of d arg u a sample */
+    smd_real acc_w;       /* coasting: sum of d arg u a sample; holding: of the frame's speed */
+    smd_real phi_lpf;     /* the stabiliser's low-passed angle of e, rad */
+    smd_real w_c;         /* the stabiliser's term of the frame's speed, rad/s */
+    smd_real share;       /* the governor's low-passed share */
+    smd_real g;           /* the ramp's factor, [0.01, 1] */
+    int gov_on;
     smd_real e1, e2;      /* mean |e| at w1, w2, V */
+    smd_real w1m, w2m;    /* the frame's mean speed over the same samples, rad/s */
     smd_real psi, psi1, psi2, psi_coast, psi_slope; /* results, Wb */
     smd_cplx u_applied;
     int samples;
@@ -261,17 +288,29 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
  * drive running (issue 23). The block gives the drive its speed reference,
  * w1 for t_step (the start and the settling), a ramp to w2 over t_ramp, w2
  * for t_hold, and takes what the drive knows each sample: its torque
- * current i_q_ref (the torque k_t i_q_ref, k_t = 1.5 n_p psi_r from step 3)
- * and its estimate of the electrical speed. From t_fit before the ramp on,
- * the samples are averaged in bins of t_bin; each bin with a neighbour on
- * both sides adds its torque T, speed w_M and acceleration a (the
- * neighbours' central difference) to the normal equations of
- * T = J a + B w_M; at the end J and B solve them (least squares). The
- * holds need not be steady (a heavy rotor still settles there): the fit
- * uses every bin. A fit with J <= 0 or B < 0, or equations without an
- * acceleration, is POOR_FIT (values given); a drive fault (the caller's
- * fault word, non-zero) stops the test with outcome FAULT; a non-finite
- * input is BAD_INPUT.
+ * current i_q (the measured current in its frame: at the voltage limit the
+ * reference is not what flows; the torque k_t i_q, k_t = 1.5 n_p psi_r from
+ * step 3) and its estimate of the electrical speed. From t_fit before the
+ * ramp on, the samples are averaged in bins of t_bin; each bin with a
+ * neighbour on both sides adds a row to the normal equations of
+ * T = J a + B w_M: a is the neighbours' central difference, which weighs the
+ * acceleration over the three bins with a trapezoid, and T and w_M are
+ * weighted alike, (x0 + 2 x1 + x2) / 4 of the bins' means, so that the row
+ * holds for the weighted means; at the end J and B solve them (least
+ * squares). The torque passes the first-order low-pass (w_lpf) that the
+ * drive's speed estimate has passed, so that both sides of the (linear)
+ * equation lag alike. The holds need not be steady (a heavy rotor still
+ * settles there): the fit uses every bin; with fan = 1 the load's
+ * K w_M |w_M| is a third unknown (a fan, a pump). A fit with J <= 0, B < 0
+ * or K < 0, or equations without an acceleration, is POOR_FIT (values
+ * given). The caller says each sample whether the drive runs on its
+ * position source (closed != 0: its torque is k_t i_q); before that (its
+ * forced start, slow with a heavy rotor) the fit waits at its first sample,
+ * with the reference at w1, until the drive has run on its source for
+ * 5 / w_lpf (the filters forget the start), at most as long as the whole
+ * test (then NOT_SETTLED); a fall back to the forced phase later starts the
+ * bins again. A drive fault (the caller's fault word, non-zero) stops the
+ * test with outcome FAULT; a non-finite input is BAD_INPUT.
  */
 typedef struct smd_ident_mech_config {
     smd_real T_sp;        /* s, (0, 1] */
@@ -283,10 +322,18 @@ typedef struct smd_ident_mech_config {
     smd_real t_hold;      /* at w2, s, [4 t_bin, 100] */
     smd_real t_fit;       /* the fit begins this long before the ramp, s, [4 t_bin, t_step / 2] */
     smd_real t_bin;       /* the bins, s, [10 T_sp, 1]; the whole test at most 1e8 T_sp */
+    smd_real w_lpf;       /* the low-pass of the drive's speed estimate, rad/s, 0 (none) or
+                           * [5 / t_step, pi / T_sp]: the torque passes the same filter */
+    int fan;              /* 1: the load has a fan's torque K w_M |w_M| besides B w_M, fitted
+                           * too (K, N m s^2 / rad^2); 0: not */
 } smd_ident_mech_config;
 
 typedef struct smd_ident_mech_params {
     smd_real k_t, inv_np, w1, w2, dw, t_bin;
+    smd_real a_lpf;       /* the torque's filter, 1 - e^{-w_lpf T_sp} (1: none) */
+    int n_settle;         /* samples on the source before they count: 5 / (w_lpf T_sp), or 1 */
+    int fan;
+    smd_real inv_w2;      /* the fan regressor's scale, 1 / w2 mechanical */
     int n_step, n_ramp, n_end, n_fit0, n_bin;
 } smd_ident_mech_params;
 
@@ -298,22 +345,28 @@ typedef struct smd_ident_mech_state {
     int bins;             /* bins completed */
     int nb;               /* samples in the bin being filled */
     smd_real acc_T, acc_w; /* its sums: torque, mechanical speed */
+    smd_real T_f;         /* the torque through the speed estimate's filter, N m */
     smd_real w_b[2];      /* the last two bins' mean speeds (w_b[1] the latest) */
-    smd_real T_b1;        /* the latest bin's mean torque */
+    smd_real T_b[2];      /* their mean torques */
     smd_real saa, saw, sww, sat, swt; /* the normal equations' sums */
+    smd_real saq, swq, sqq, sqt; /* and the fan's, q = w_M |w_M| / w2 (fan = 1) */
     int rows;             /* bins in them */
+    int wait;             /* samples the fit waited for the drive's source */
+    int n_closed;         /* samples the drive has run on its source, up to n_settle */
     smd_real J, B;        /* results, kg m^2 and N m s / rad */
+    smd_real K;           /* the fan's, N m s^2 / rad^2 (fan = 1; 0 otherwise) */
 } smd_ident_mech_state;
 
 smd_status smd_ident_mech_init(smd_ident_mech_params *p, const smd_ident_mech_config *c);
 void smd_ident_mech_reset(smd_ident_mech_state *s);
 /* The electrical speed reference for the sample about to run, rad/s. */
 smd_real smd_ident_mech_ref(const smd_ident_mech_params *p, const smd_ident_mech_state *s);
-/* One sample: the drive's torque current and electrical speed estimate,
+/* One sample: the drive's torque current (measured, in its frame) and
+ * electrical speed estimate, whether it runs on its position source,
  * its latched fault bits (a warning, e.g. an oscillation, is no reason to
  * stop). Returns 1 once the test has ended (outcome set). */
 int smd_ident_mech_step(const smd_ident_mech_params *p, smd_ident_mech_state *s,
-                        smd_real i_q_ref, smd_real w_hat, uint32_t fault);
+                        smd_real i_q, smd_real w_hat, int closed, uint32_t fault);
 
 #ifdef __cplusplus
 }

@@ -404,6 +404,7 @@ class IdentPsiConfig(ct.Structure):
     _fields_ = [
         ("T_sp", real), ("R_s", real), ("L_s", real), ("u_0", real), ("i_spin", real), ("w1", real),
         ("w2", real), ("a_spin", real), ("t_hold", real), ("t_coast", real), ("w_cc", real),
+        ("L1", real), ("C1", real), ("L2o", real), ("w_damp", real), ("share_max", real),
     ]
 
 
@@ -413,8 +414,10 @@ class IdentPsiParams(ct.Structure):
     _c_name_ = "smd_ident_psi_params"
     _fields_ = [
         ("T_sp", real), ("R_s", real), ("L_s", real), ("u_drop", real), ("i_spin", real),
-        ("w1", real), ("w2", real), ("a_spin", real), ("k_p", real), ("k_i", real),
-        ("n_hold", ct.c_int), ("n_coast", ct.c_int), ("svm", SvmParams),
+        ("w1", real), ("w2", real), ("a_spin", real), ("k_p", real), ("k_i", real), ("L1", real),
+        ("L1C1", real), ("L2", real), ("w_damp", real), ("a_hp", real), ("share_max", real),
+        ("w_gov", real), ("a_share", real), ("k_g", real), ("n_hold", ct.c_int),
+        ("n_coast", ct.c_int), ("svm", SvmParams),
     ]
 
 
@@ -425,8 +428,10 @@ class IdentPsiState(ct.Structure):
     _fields_ = [
         ("phase", ct.c_int), ("outcome", ct.c_int), ("theta_f", real), ("w_f", real), ("x_i", Cplx),
         ("u_ab", Cplx), ("u_prev", Cplx), ("n", ct.c_int), ("acc_e", real), ("acc_n", real),
-        ("acc_w", real), ("e1", real), ("e2", real), ("psi", real), ("psi1", real), ("psi2", real),
-        ("psi_coast", real), ("psi_slope", real), ("u_applied", Cplx), ("samples", ct.c_int),
+        ("acc_w", real), ("phi_lpf", real), ("w_c", real), ("share", real), ("g", real),
+        ("gov_on", ct.c_int), ("e1", real), ("e2", real), ("w1m", real), ("w2m", real),
+        ("psi", real), ("psi1", real), ("psi2", real), ("psi_coast", real), ("psi_slope", real),
+        ("u_applied", Cplx), ("samples", ct.c_int),
     ]
 
 
@@ -437,6 +442,7 @@ class IdentMechConfig(ct.Structure):
     _fields_ = [
         ("T_sp", real), ("k_t", real), ("n_p", ct.c_int), ("w1", real), ("w2", real),
         ("t_step", real), ("t_ramp", real), ("t_hold", real), ("t_fit", real), ("t_bin", real),
+        ("w_lpf", real), ("fan", ct.c_int),
     ]
 
 
@@ -446,6 +452,7 @@ class IdentMechParams(ct.Structure):
     _c_name_ = "smd_ident_mech_params"
     _fields_ = [
         ("k_t", real), ("inv_np", real), ("w1", real), ("w2", real), ("dw", real), ("t_bin", real),
+        ("a_lpf", real), ("n_settle", ct.c_int), ("fan", ct.c_int), ("inv_w2", real),
         ("n_step", ct.c_int), ("n_ramp", ct.c_int), ("n_end", ct.c_int), ("n_fit0", ct.c_int),
         ("n_bin", ct.c_int),
     ]
@@ -457,9 +464,10 @@ class IdentMechState(ct.Structure):
     _c_name_ = "smd_ident_mech_state"
     _fields_ = [
         ("k", ct.c_int), ("outcome", ct.c_int), ("bins", ct.c_int), ("nb", ct.c_int),
-        ("acc_T", real), ("acc_w", real), ("w_b", real * 2), ("T_b1", real), ("saa", real),
-        ("saw", real), ("sww", real), ("sat", real), ("swt", real), ("rows", ct.c_int), ("J", real),
-        ("B", real),
+        ("acc_T", real), ("acc_w", real), ("T_f", real), ("w_b", real * 2), ("T_b", real * 2),
+        ("saa", real), ("saw", real), ("sww", real), ("sat", real), ("swt", real), ("saq", real),
+        ("swq", real), ("sqq", real), ("sqt", real), ("rows", ct.c_int), ("wait", ct.c_int),
+        ("n_closed", ct.c_int), ("J", real), ("B", real), ("K", real),
     ]
 
 

@@ -53,11 +53,15 @@ def segment(s: Scenario) -> float:
 
 def profile_scenario(base: Scenario, seed: int = 1, T_sp: float = 100e-6) -> Scenario:
     """`base`'s plant (motor, inverter, ADC) under sensorless robust DBPC
-    with an I/f start, on the usual profile, ADC noise seed `seed`."""
+    with an I/f start, on the usual profile, ADC noise seed `seed`. Behind
+    an LCL filter the drive is yao2022's instead (current PI with active
+    damping, the sliding-mode observer and PLL), with the I/f start."""
     s = base.replace(T_sp=T_sp, warm_start=False, w_M0=0.0, theta_r0=0.0,
                      adc=dataclasses.replace(base.adc, seed=seed),
                      load=LoadCfg(), name=f"{base.name}.profile")
-    s = s.with_controller(current="robust_dbpc", position="smdo_emf", start="if")
+    s = s.with_controller(**(dict(current="robust_dbpc", position="smdo_emf")
+                             if base.lcl is None else
+                             dict(current="pi", position="lcl_smo_pll")), start="if")
     seg = segment(s)
     w_n, t_n = s.motor.w_M_N, s.motor.T_N
     t, y = [0.0, 0.0], [0.0, STEPS[0][0] * w_n]
