@@ -110,6 +110,21 @@ def test_an_open_phase_is_named():
     assert r.outcome == "no_current" and not r.ok
 
 
+def test_cli_on_the_lcl_example_writes_its_fan(tmp_path):
+    """`identify` on the README's LCL example (yao2022's motor, B = 0, a fan
+    load): the true B of 0 is printed as a difference (a relative error of
+    it divided by zero: a traceback before), and the fitted fan's K goes to
+    [load] k_fan within 20 %."""
+    out = tmp_path / "y.toml"
+    res = CliRunner().invoke(main, ["identify", str(ROOT / "scenarios" / "lcl_speed_step.toml"),
+                                    "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    assert "the fan's K" in res.output and "0 true (+" in res.output
+    data = tomllib.loads(out.read_text())
+    assert data["load"]["k_fan"] == pytest.approx(4.9e-10, rel=0.20)
+    assert data["motor"]["J"] == pytest.approx(1e-5, rel=0.10)
+
+
 def test_cli_writes_the_measured_motor(tmp_path):
     out = tmp_path / "m.toml"
     res = CliRunner().invoke(main, ["identify", str(MOTORS / "servo_48v_200w.toml"),

@@ -34,6 +34,11 @@ def _g(x: float) -> float:
     return float(f"{x:.6g}")
 
 
+def _rel(x: float, true: float) -> str:
+    """x against the true value, in percent (a true 0: the difference)."""
+    return f"({100.0 * (x / true - 1.0):+.1f} %)" if true != 0.0 else f"({x - true:+.3g})"
+
+
 def identified_toml(name: str, s, c) -> str:
     """The TOML that `identify` writes for commissioning `c` of scenario `s`
     (from `name`): the scenario with the measured motor values, loadable by
@@ -57,7 +62,12 @@ def identified_toml(name: str, s, c) -> str:
         if c.mech.ok:
             motor.update({"J": _g(c.mech.J), "B": _g(c.mech.B)})
             record.update({"J": _g(c.mech.J), "B": _g(c.mech.B), "mech_test_s": _g(c.mech.t)})
+            if s.load.k_fan > 0.0:
+                record["k_fan"] = _g(c.mech.K)
     measured = s.replace(motor=dataclasses.replace(s.motor, **motor))
+    if c.mech is not None and c.mech.ok and s.load.k_fan > 0.0:
+        # a fan load (the scenario has one) was fitted with J and B
+        measured = measured.replace(load=dataclasses.replace(s.load, k_fan=_g(c.mech.K)))
     if r.ok:
         # the measured drop sets the dead-time compensation (issue 23)
         t_dc = _g(r.t_dead(s.T_sp, s.inverter.u_dc))
@@ -143,9 +153,11 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
     if c.mech is not None:
         x = c.mech
         if x.ok:
+            fan = (f"; the fan's K {x.K:.4g} N m s^2 measured, {s.load.k_fan:.4g} true "
+                   f"{_rel(x.K, s.load.k_fan)}" if s.load.k_fan > 0.0 else "")
             click.echo(f"  J    {x.J:.5g} kg m^2 measured, {s.motor.J:.5g} true "
-                       f"({100.0 * (x.J / s.motor.J - 1.0):+.1f} %); B {x.B:.4g} N m s measured, "
-                       f"{s.motor.B:.4g} true ({100.0 * (x.B / s.motor.B - 1.0):+.1f} %), {x.t:.2f} s")
+                       f"{_rel(x.J, s.motor.J)}; B {x.B:.4g} N m s measured, "
+                       f"{s.motor.B:.4g} true {_rel(x.B, s.motor.B)}{fan}, {x.t:.2f} s")
         else:
             click.echo(f"  J, B not measured: {x.outcome}")
     if out is not None:
