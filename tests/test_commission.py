@@ -201,10 +201,11 @@ def test_flux_within_2_percent_over_ten_seeds(name):
 
 def test_flux_a_result_it_gives_is_right_or_named():
     """The invented 20 ohm, 50 mH stator on yang2018's heavy rotor (J = 0.012
-    kg m^2): in some seeds its I/f spin swings at the lower speed (psi from it
-    3.7 % high) and the coasting estimate disagrees by 5-6 %; the test names
-    those (poor_fit) instead of giving a value. Every result it accepts is
-    within 2 %, and none is accepted with the coast off by more than 5 %."""
+    kg m^2): before the spin's stabiliser, 3 seeds of 10 swung at the lower
+    speed (psi from it 3.7 % high, the coast 5-6 % off) and the test named
+    them (poor_fit); with it, all 10 measured (psi within 0.3 %, the coast
+    within 1.2 %). Every result it accepts is within 2 %, none is accepted
+    with the coast off by more than 5 %, and at least 9 are accepted."""
     s0 = CASES["20 ohm, 50 mH (invented)"]
     accepted = 0
     for seed in range(1, 11):
@@ -217,7 +218,7 @@ def test_flux_a_result_it_gives_is_right_or_named():
             assert abs(p.psi_coast / p.psi - 1.0) <= 0.05
         else:
             assert abs(p.psi_coast / p.psi - 1.0) > 0.05 or abs(p.psi1 / p.psi - 1.0) > 0.05
-    assert accepted >= 5
+    assert accepted >= 9
 
 
 @pytest.mark.parametrize("motor", ["servo_48v_200w", "industrial_600v_10kw", "yang2018_table1",
