@@ -27,6 +27,7 @@ DRIVE_FIELDS = (
     ('k_p_i', 'real', (0.0, 10.0)),
     ('k_i_i', 'real', (0.0, 100000.0)),
     ('L_dec', 'real', (0.0, 0.1)),
+    ('dec_ref', 'int', (0, 1)),
     ('R_v', 'real', (0.0, 10.0)),
     ('emf_ff', 'int', (0, 1)),
     ('speed_loop', 'int', (0, 1)),

@@ -44,6 +44,7 @@ static inline void fz_drive_config(fz *f, smd_drive_config *c, fz_tables *t)
     c->k_p_i = fz_r(f, 0.0, 10.0);
     c->k_i_i = fz_r(f, 0.0, 100000.0);
     c->L_dec = fz_r(f, 0.0, 0.1);
+    c->dec_ref = fz_int(f, 0, 1);
     c->R_v = fz_r(f, 0.0, 10.0);
     c->emf_ff = fz_int(f, 0, 1);
     c->speed_loop = fz_int(f, 0, 1);

@@ -103,3 +103,37 @@ def test_the_protected_reversal_still_stops_in_the_crossing():
     assert fault_names(r0.faults.first) == ["lost_lock"]
     t0 = _t_lost(r0)
     assert t < t0 and abs(np.interp(t0, r0.t, r0.n_rpm)) < 3e3
+
+
+def _osc_2k3(decouple: str, position: str) -> tuple[float, list[str]]:
+    """yao2022's motor at 100 kr/min with no load (its fan off), 0.3 s: the
+    largest current component away from the fundamental over the last
+    0.1 s, A, and the fault word's names there."""
+    w = 100e3 * RPM
+    s = dataclasses.replace(y.BASE, duration=0.3, w_M0=w, w_M_ref=Profile.const(w),
+                            load=dataclasses.replace(y.BASE.load, k_fan=0.0))
+    r = simulate(s.with_controller(decouple=decouple, position=position))
+    sel = r.t > r.t[-1] - 0.1
+    x = r["i_alpha"][sel]
+    amp = np.abs(np.fft.rfft(x - x.mean())) * 2.0 / len(x)
+    f = np.fft.rfftfreq(len(x), s.T_sp)
+    away = np.abs(f - w * y.MOTOR.n_p / (2.0 * np.pi)) > 30.0
+    word = int(np.bitwise_or.reduce(r["fault"][sel].astype(np.int64)))
+    return float(np.max(amp * away)), fault_names(word)
+
+
+@pytest.mark.parametrize("position", ["encoder", "lcl_smo_pll"])
+def test_the_filtered_drive_decouples_without_a_loop_at_high_speed(position):
+    """The current PI's decoupling j w L_dec i with the measured current is a
+    loop: the current, a sample and the filter late, back into the voltage
+    with gain w L_dec, 1.1 ohm at 100 kr/min against the PI's 0.35 V/A.
+    yao2022's motor there with no load oscillated at 2.3 kHz, 15 A, with or
+    without its position sensor (the preset keeps it: the paper's claims
+    were reproduced with it; docs/assumptions.md). With the reference in the
+    term (controller.decouple = "auto" behind a filter) the largest current
+    away from the fundamental is below 0.1 A (measured 0.04 A) and nothing is
+    flagged."""
+    amp, names = _osc_2k3("auto", position)
+    assert amp < 0.1 and names == [], (amp, names)
+    amp, names = _osc_2k3("measured", position)
+    assert amp > 5.0 and "oscillation" in names, (amp, names)

@@ -27,6 +27,7 @@ void smd_example_drive_config(smd_drive_config *c)
     c->k_p_i = SMD_R(EX_L_S * EX_ALPHA);
     c->k_i_i = SMD_R(EX_L_S * EX_ALPHA * EX_ALPHA / 4.0);
     c->L_dec = SMD_R(EX_L_S);
+    c->dec_ref = 0;
     c->R_v = SMD_R(0.0);
     c->emf_ff = 1;
     c->speed_loop = 0;

@@ -49,6 +49,7 @@ static void smd_rd_smd_drive_config(smd_reader *r, smd_drive_config *x)
     smd_rd_reals(r, (smd_real *)&x->k_p_i, sizeof x->k_p_i / sizeof(smd_real));
     smd_rd_reals(r, (smd_real *)&x->k_i_i, sizeof x->k_i_i / sizeof(smd_real));
     smd_rd_reals(r, (smd_real *)&x->L_dec, sizeof x->L_dec / sizeof(smd_real));
+    smd_rd_ints(r, (int *)&x->dec_ref, sizeof x->dec_ref / sizeof(int));
     smd_rd_reals(r, (smd_real *)&x->R_v, sizeof x->R_v / sizeof(smd_real));
     smd_rd_ints(r, (int *)&x->emf_ff, sizeof x->emf_ff / sizeof(int));
     smd_rd_ints(r, (int *)&x->speed_loop, sizeof x->speed_loop / sizeof(int));

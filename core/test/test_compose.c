@@ -183,6 +183,9 @@ static void test_values_rejected(void)
          * request, but still not a value the PI accepts */
         c = c0; c.R_v = R(-1.0);  CHECK_INT(init_status(&c), SMD_ERR_CURRENT_PI);
         c = c0; c.R_v = nan;      CHECK_INT(init_status(&c), SMD_ERR_CURRENT_PI);
+        c = c0; c.dec_ref = 2;    CHECK_INT(init_status(&c), SMD_ERR_CURRENT_PI);
+        c = c0; c.dec_ref = -1;   CHECK_INT(init_status(&c), SMD_ERR_CURRENT_PI);
+        c = c0; c.dec_ref = 1;    CHECK_INT(init_status(&c), SMD_OK);
         c = c0; c.k_p_i = R(0.0); c.k_i_i = R(0.0); c.L_dec = R(0.0);
         CHECK_INT(init_status(&c), SMD_OK);
         c = c0; c.k_p_i = R(1e4); c.k_i_i = R(1e9); c.L_dec = R(10.0);

@@ -213,6 +213,7 @@ static const smd_layout_row ROWS[] = {
     F(smd_drive_config, k_p_i, "smd_real"),
     F(smd_drive_config, k_i_i, "smd_real"),
     F(smd_drive_config, L_dec, "smd_real"),
+    F(smd_drive_config, dec_ref, "int"),
     F(smd_drive_config, R_v, "smd_real"),
     F(smd_drive_config, emf_ff, "int"),
     F(smd_drive_config, speed_loop, "int"),

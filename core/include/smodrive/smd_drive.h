@@ -228,6 +228,8 @@ typedef struct smd_drive_config {
     smd_real k_i_i;       /* V/(A s) @fuzz(0, 1e5) */
     smd_real L_dec;       /* inductance of the decoupling term j w L_dec i, H
                              (L1 + L2o + Ls with the LCL filter) @fuzz(0, 0.1) */
+    int dec_ref;          /* 1: the decoupling term takes the current reference,
+                             j w L_dec i_ref; 0: the measured current @fuzz(0, 1) */
     smd_real R_v;         /* virtual resistance on i_1 - i_2, V/A (LCL only; else 0)
                              @fuzz(0, 10) */
     int emf_ff;           /* 1: feed the source's EMF estimate forward @fuzz(0, 1) */
@@ -334,7 +336,7 @@ typedef struct smd_drive_params {
     int current, position, start, lcl;
     smd_real T_sp;
     int use_smdo;         /* derived: the SMDO runs (robust_dbpc or smdo_emf) */
-    int speed_loop, speed_decimation, handover, emf_ff;
+    int speed_loop, speed_decimation, handover, emf_ff, dec_ref;
     smd_real k_p_i, k_i_i, L_dec, R_v, psi_r_hat, i_max;
     smd_real i_start, a_start, w_handover;
     smd_real dtc_ratio;   /* t_dead_comp / T_sp */

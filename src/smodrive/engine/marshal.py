@@ -229,7 +229,7 @@ def drive_config(s: Scenario, tables=None) -> _ffi.DriveConfig:
         lambda_min=k.lambda_min, l=k.l, w_c=k.w_c, rho=k.rho,
         smdo_euler=1 if k.smdo_euler else 0,
         w_lpf=k.w_lpf, w_hys=k.w_hys, w_max=k.w_M_max * n_p,
-        k_p_i=k_p_i, k_i_i=k_i_i, L_dec=s.L_dec, R_v=k.R_v,
+        k_p_i=k_p_i, k_i_i=k_i_i, L_dec=s.L_dec, R_v=k.R_v, dec_ref=1 if s.decouple_ref else 0,
         emf_ff=1 if k.emf_ff else 0,
         speed_loop=1 if k.speed_loop else 0,
         k_p_w=k_p_w, k_i_w=k_i_w, i_max=k.i_max,

@@ -211,6 +211,10 @@ class ControllerCfg(_Validated):
     L_dec: float | None = num(None, 0.0, 10.0, "H",
                               "decoupling inductance (None: L_s_hat, plus L1 + L2o with the filter)")
     R_v: float = num(0.0, 0.0, 1e4, "V/A", "virtual resistance on i_1 - i_2 (LCL, assumed)")
+    decouple: str = choice("auto", ("auto", "measured", "reference"),
+                           "the PI's decoupling j w L_dec i with the measured current or the "
+                           "reference (auto: the reference behind the filter when w_M_N n_p "
+                           "L_dec exceeds k_p_i, else the measured one)")
     emf_ff: bool = flag(True, "feed the position source's EMF estimate forward (PI)")
     # speed loop
     speed_loop: bool = flag(True, "i_q reference from the speed PI (else from i_q_ref)")

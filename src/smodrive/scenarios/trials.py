@@ -44,24 +44,31 @@ ANGLE_TOL_DEG = 10.0
 
 def segment(s: Scenario) -> float:
     """One segment of the profile, s: twice the time the derived reference
-    slew takes to rated speed, plus ten speed-loop time constants, at least
-    0.3 s."""
+    slew takes to rated speed (without a slew, a_M_ref = 0: the time the
+    rotor takes at the current limit, J_hat w_M_N / (k_t i_max)), plus ten
+    speed-loop time constants, at least 0.3 s."""
     c = s.controller
-    t_ramp = s.motor.w_M_N / c.a_M_ref if c.a_M_ref and c.a_M_ref > 0 else 0.0
+    if c.a_M_ref and c.a_M_ref > 0:
+        t_ramp = s.motor.w_M_N / c.a_M_ref
+    else:
+        t_ramp = c.J_hat * s.motor.w_M_N / (1.5 * s.motor.n_p * c.psi_r_pi * c.i_max)
     return max(0.3, 2.0 * t_ramp + 10.0 / c.speed_bw)
 
 
 def profile_scenario(base: Scenario, seed: int = 1, T_sp: float = 100e-6) -> Scenario:
     """`base`'s plant (motor, inverter, ADC) under sensorless robust DBPC
     with an I/f start, on the usual profile, ADC noise seed `seed`. Behind
-    an LCL filter the drive is yao2022's instead (current PI with active
-    damping, the sliding-mode observer and PLL), with the I/f start."""
+    an LCL filter the drive is yao2022's instead (current PI, the
+    sliding-mode observer and PLL), with the I/f start and its decoupling
+    chosen for the filter (controller.decouple = "auto")."""
     s = base.replace(T_sp=T_sp, warm_start=False, w_M0=0.0, theta_r0=0.0,
                      adc=dataclasses.replace(base.adc, seed=seed),
                      load=LoadCfg(), name=f"{base.name}.profile")
     s = s.with_controller(**(dict(current="robust_dbpc", position="smdo_emf")
                              if base.lcl is None else
-                             dict(current="pi", position="lcl_smo_pll")), start="if")
+                             dict(current="pi", position="lcl_smo_pll", decouple="auto",
+                                  w_M_if_enter=None, t_dwell=None, t_chatter=None)),
+                          start="if")
     seg = segment(s)
     w_n, t_n = s.motor.w_M_N, s.motor.T_N
     t, y = [0.0, 0.0], [0.0, STEPS[0][0] * w_n]
