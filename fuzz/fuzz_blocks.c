@@ -529,6 +529,7 @@ static void fuzz_ident_mech(fz *f)
     c.t_bin = fz_r(f, 0.0, 0.01);
     c.w_lpf = fz_r(f, -1.0, 1e4);
     c.fan = fz_int(f, -1, 2);
+    c.t_coast = fz_r(f, -0.01, 0.05);
     if (smd_ident_mech_init(&x.p, &c) != SMD_OK) {
         return;
     }

@@ -493,6 +493,7 @@ def block_seeds() -> None:
     # (20 ms each part, 2 ms bins), a rotor accelerating under its torque current, a fault
     w = W().u8(0xEC).f32(1e-4).f32(2.4).int(4, 0, 120).f32(250.0).f32(500.0).f32(0.02)
     w.f32(0.02).f32(0.02).f32(0.008).f32(0.002).f32(100.0).int(1, -1, 2)  # with a fan
+    w.f32(0.06)  # a coast
     for i_q, w_e in ((0.5, 250.0), (0.5, 250.0), (3.0, 300.0), (3.0, 400.0), (0.5, 500.0)):
         w.u8(1).f32(i_q).f32(w_e).f32(540.0).u8(120)
     w.u8(0).f32(0.5).f32(500.0).f32(-1.0)

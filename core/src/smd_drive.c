@@ -582,6 +582,7 @@ void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real the
     }
     s->samples = 0;
     s->count = 0;
+    s->torque_in = 0;
     s->primed = 0;
     s->theta = smd_wrap_pi(theta0);
     s->w = w0;
@@ -910,7 +911,7 @@ static void current_reference(const smd_drive_params *p, smd_drive_state *s,
             /* the tracker's excitation (smd_rls.h) */
             s->i_dq_ref.re += smd_rls_injection(&p->rls, &s->rls);
         }
-        if (p->speed_loop) {
+        if (p->speed_loop && !s->torque_in) {
             if (s->count == 0) {
                 s->i_dq_ref.im = smd_pi_step(&p->speed_pi, &s->speed_pi, x->w_ref - x->w_k);
             }
@@ -1146,7 +1147,7 @@ static uint32_t check_inputs(const smd_drive_params *p, const smd_drive_state *s
         /* a current reference beyond any physical range (1e30 A) is as bad
          * as a NaN */
         ok = ok && in_lim(in->i_dq_ref.re, I_LIM) &&
-             (p->speed_loop || in_lim(in->i_dq_ref.im, I_LIM));
+             ((p->speed_loop && !s->torque_in) || in_lim(in->i_dq_ref.im, I_LIM));
     }
     return ok ? 0u : (uint32_t)SMD_FAULT_INPUT;
 }
@@ -1237,6 +1238,7 @@ static void recover(const smd_drive_params *p, smd_drive_state *s, smd_real thet
                     smd_real i_q0)
 {
     int phase = s->phase, samples = s->samples, count = s->count, dir_f = s->dir_f;
+    int torque_in = s->torque_in;
     int start_dir = s->start_dir;
     int have_last = s->have_last;
     smd_drive_in last_in = s->last_in;
@@ -1262,6 +1264,7 @@ static void recover(const smd_drive_params *p, smd_drive_state *s, smd_real thet
     s->phase = phase;
     s->samples = samples;
     s->count = count;
+    s->torque_in = torque_in;
     s->dir_f = dir_f;
     s->start_dir = start_dir;
     s->fault = fault;
@@ -1544,6 +1547,13 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
     }
     out->fault = s->warn;
     return st;
+}
+
+void smd_drive_set_torque_in(smd_drive_state *s, int on)
+{
+    if (s != 0) {
+        s->torque_in = on != 0;
+    }
 }
 
 void smd_drive_clear_faults(smd_drive_state *s)

@@ -803,10 +803,17 @@ smd_status smd_ident_mech_init(smd_ident_mech_params *p, const smd_ident_mech_co
         !smd_in_range(c->t_hold, SMD_R(4.0) * c->t_bin, SMD_R(100.0)) ||
         !smd_in_range(c->w_lpf, SMD_R(0.0), SMD_PI / T) ||
         !(c->w_lpf == SMD_R(0.0) || c->w_lpf * c->t_step >= SMD_R(5.0)) ||
-        (c->fan != 0 && c->fan != 1)) {
+        (c->fan != 0 && c->fan != 1) ||
+        !(c->t_coast == SMD_R(0.0) ||
+          (smd_in_range(c->t_coast, SMD_R(0.0), SMD_R(100.0)) &&
+           c->t_coast * (c->w_lpf > SMD_R(0.0) ? c->w_lpf : SMD_R(1.0) / T) >=
+               SMD_R(5.0) + SMD_R(4.0) * c->t_bin * (c->w_lpf > SMD_R(0.0) ? c->w_lpf
+                                                                          : SMD_R(1.0) / T)))) {
+        /* (a coast: 0, or long enough for the filter to forget the drive's
+         * torque and 4 bins after it) */
         return SMD_ERR_IDENT;
     }
-    n_total = (c->t_step + c->t_ramp + c->t_hold) / T;
+    n_total = (c->t_step + c->t_ramp + c->t_hold + c->t_coast) / T;
     if (!(n_total <= SMD_R(1e8))) {
         return SMD_ERR_IDENT; /* (the sample counts are ints) */
     }
@@ -827,6 +834,7 @@ smd_status smd_ident_mech_init(smd_ident_mech_params *p, const smd_ident_mech_co
     p->n_end = p->n_step + p->n_ramp + (int)(c->t_hold / T + SMD_R(0.5));
     p->n_fit0 = p->n_step - (int)(c->t_fit / T + SMD_R(0.5));
     p->n_bin = (int)(c->t_bin / T + SMD_R(0.5));
+    p->n_coast = (int)(c->t_coast / T + SMD_R(0.5));
     return SMD_OK;
 }
 
@@ -841,6 +849,9 @@ void smd_ident_mech_reset(smd_ident_mech_state *s)
     s->w_b[0] = s->w_b[1] = s->T_b[0] = s->T_b[1] = SMD_R(0.0);
     s->saa = s->saw = s->sww = s->sat = s->swt = SMD_R(0.0);
     s->saq = s->swq = s->sqq = s->sqt = SMD_R(0.0);
+    s->cww = s->cwq = s->cqq = s->cwa = s->cqa = SMD_R(0.0);
+    s->crows = 0;
+    s->B_ramp = SMD_R(0.0);
     s->rows = 0;
     s->wait = 0;
     s->n_closed = 0;
@@ -874,19 +885,31 @@ static void mech_bin(const smd_ident_mech_params *p, smd_ident_mech_state *s)
         const smd_real a = (w_new - s->w_b[0]) / (SMD_R(2.0) * p->t_bin);
         const smd_real w = SMD_R(0.25) * (s->w_b[0] + SMD_R(2.0) * s->w_b[1] + w_new);
         const smd_real T = SMD_R(0.25) * (s->T_b[0] + SMD_R(2.0) * s->T_b[1] + T_new);
-        s->saa += a * a;
-        s->saw += a * w;
-        s->sww += w * w;
-        s->sat += a * T;
-        s->swt += w * T;
-        if (p->fan) {
-            const smd_real q = w * SMD_FABS(w) * p->inv_w2;
-            s->saq += a * q;
-            s->swq += w * q;
-            s->sqq += q * q;
-            s->sqt += q * T;
+        const smd_real q = w * SMD_FABS(w) * p->inv_w2;
+        if (s->k >= p->n_end) {
+            /* the coast: J a = -(B w + K w |w|), no torque */
+            s->cww += w * w;
+            s->cwa += w * a;
+            if (p->fan) {
+                s->cwq += w * q;
+                s->cqq += q * q;
+                s->cqa += q * a;
+            }
+            s->crows++;
+        } else {
+            s->saa += a * a;
+            s->saw += a * w;
+            s->sww += w * w;
+            s->sat += a * T;
+            s->swt += w * T;
+            if (p->fan) {
+                s->saq += a * q;
+                s->swq += w * q;
+                s->sqq += q * q;
+                s->sqt += q * T;
+            }
+            s->rows++;
         }
-        s->rows++;
     }
     s->w_b[0] = s->w_b[1];
     s->w_b[1] = w_new;
@@ -895,6 +918,35 @@ static void mech_bin(const smd_ident_mech_params *p, smd_ident_mech_state *s)
     s->bins++;
     s->nb = 0;
     s->acc_T = s->acc_w = SMD_R(0.0);
+}
+
+/* The coast's deceleration, -(beta w + kappa q) (q = w |w| / w2), gives
+ * B / J and K / J with no torque to measure; then the ramp's equations,
+ * T = J (a + beta w + kappa q), give J by least squares. */
+static void mech_coast(const smd_ident_mech_params *p, smd_ident_mech_state *s)
+{
+    smd_real beta = -s->cwa / s->cww, kappa = SMD_R(0.0), num, den;
+    if (p->fan) {
+        const smd_real det = s->cww * s->cqq - s->cwq * s->cwq;
+        if (det > SMD_R(1e-6) * s->cww * s->cqq) {
+            beta = (-s->cwa * s->cqq + s->cqa * s->cwq) / det;
+            kappa = (-s->cqa * s->cww + s->cwa * s->cwq) / det;
+        }
+        /* (non-negative, as the ramp's) */
+        if (beta < SMD_R(0.0) && s->cqq > SMD_R(0.0)) {
+            beta = SMD_R(0.0);
+            kappa = -s->cqa / s->cqq;
+        } else if (kappa < SMD_R(0.0)) {
+            kappa = SMD_R(0.0);
+            beta = -s->cwa / s->cww;
+        }
+    }
+    num = s->sat + beta * s->swt + kappa * s->sqt;
+    den = s->saa + SMD_R(2.0) * beta * s->saw + SMD_R(2.0) * kappa * s->saq +
+          beta * beta * s->sww + SMD_R(2.0) * beta * kappa * s->swq + kappa * kappa * s->sqq;
+    s->J = num / den;
+    s->B = s->J * beta;
+    s->K = s->J * kappa * p->inv_w2;
 }
 
 static void mech_solve(const smd_ident_mech_params *p, smd_ident_mech_state *s)
@@ -940,6 +992,10 @@ static void mech_solve(const smd_ident_mech_params *p, smd_ident_mech_state *s)
             s->K *= p->inv_w2;
         }
     }
+    s->B_ramp = s->B;
+    if (s->crows > 0 && s->rows > 0 && s->saa > SMD_R(0.0) && s->cww > SMD_R(0.0)) {
+        mech_coast(p, s);
+    }
     if (isfinite(s->J) && isfinite(s->B) && isfinite(s->K) && s->J > SMD_R(0.0) &&
         s->B >= SMD_R(0.0) && s->K >= SMD_R(0.0) && s->rows > 0) {
         s->outcome = SMD_IDENT_OK;
@@ -982,16 +1038,29 @@ int smd_ident_mech_step(const smd_ident_mech_params *p, smd_ident_mech_state *s,
             return 0;
         }
     }
-    if (s->k >= p->n_fit0) {
+    if (s->k == p->n_end) {
+        /* the coast begins: its bins stand apart from the ramp's */
+        s->bins = 0;
+        s->nb = 0;
+        s->acc_T = s->acc_w = SMD_R(0.0);
+    }
+    /* (the coast's bins once the speed estimate's filter has forgotten the
+     * drive's torque) */
+    if (s->k >= p->n_fit0 && (s->k < p->n_end || s->k >= p->n_end + p->n_settle)) {
         s->acc_T += s->T_f;
         s->acc_w += w_hat * p->inv_np;
         if (++s->nb >= p->n_bin) {
             mech_bin(p, s);
         }
     }
-    if (++s->k >= p->n_end) {
+    if (++s->k >= p->n_end + p->n_coast) {
         mech_solve(p, s);
         return 1;
     }
     return 0;
+}
+
+int smd_ident_mech_coasting(const smd_ident_mech_params *p, const smd_ident_mech_state *s)
+{
+    return s->outcome == SMD_IDENT_RUNNING && s->k >= p->n_end;
 }

@@ -622,9 +622,11 @@ static void blk_ident_psi(smd_writer *w, rng *g, int n)
 
 /* Step 4 on a rotor the test drives through a first-order speed loop: its
  * torque current tracks the reference's rate and a noisy speed; a short
- * sequence (8 + 4 + 4 ms, 1 ms bins: the fit ends at sample 160), so that
- * the cycle table's calls include the bins and the solve (no edge values:
- * a non-finite input ends the test, core/test/test_ident.c checks it). */
+ * sequence (8 + 4 + 4 ms and a 10 ms coast, 1 ms bins, the drive on its
+ * source from sample 40 and its filter settled 50 later: the fit ends at
+ * sample 310, within the vector case's 800), with a fan (the 3 x 3 fit) (no
+ * edge values: a non-finite input ends the test, core/test/test_ident.c
+ * checks it). */
 static void blk_ident_mech(smd_writer *w, rng *g, int n)
 {
     smd_ident_mech_config c;
@@ -642,8 +644,9 @@ static void blk_ident_mech(smd_writer *w, rng *g, int n)
     c.t_hold = SMD_R(0.004);
     c.t_fit = SMD_R(0.004);
     c.t_bin = SMD_R(0.001);
-    c.w_lpf = SMD_R(200.0);
-    c.fan = 1; /* (the 3 x 3 fit) */
+    c.w_lpf = SMD_R(1000.0);
+    c.fan = 1;
+    c.t_coast = SMD_R(0.01);
     wr_i32(w, (int)smd_ident_mech_init(&p, &c));
     smd_ident_mech_reset(&s);
     for (k = 0; k < n; k++) {

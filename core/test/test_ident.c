@@ -247,6 +247,8 @@ typedef struct mech_rig {
     int fan;              /* the test's config */
     double w_est;         /* the speed estimate's low-pass, rad/s (0: none) */
     smd_real w_lpf;       /* the test's config */
+    smd_real t_coast;     /* the test's config; coasting, the rotor runs down on B and K */
+    double i_off;         /* a torque current the coast's zero does not remove, A */
     int fault_at, nan_at, open_to;
 } mech_rig;
 
@@ -259,6 +261,8 @@ static mech_rig rig(smd_real J, smd_real B)
     r.fan = 0;
     r.w_est = 0.0;
     r.w_lpf = SMD_R(0.0);
+    r.t_coast = SMD_R(0.0);
+    r.i_off = 0.0;
     r.fault_at = r.nan_at = -1;
     r.open_to = 0;
     return r;
@@ -284,18 +288,27 @@ static void mech_run_rig(const mech_rig *r, smd_ident_mech_state *s)
     c.t_bin = SMD_R(0.002);
     c.w_lpf = r->w_lpf;
     c.fan = r->fan;
+    c.t_coast = r->t_coast;
     CHECK_INT(smd_ident_mech_init(&p, &c), SMD_OK);
     smd_ident_mech_reset(s);
     w = 250.0 / 4.0; /* the rotor at w1 already (a start the drive made) */
     w_f = w;
     for (k = 0; k < 100000; k++) {
         const double ref = (double)smd_ident_mech_ref(&p, s) / 4.0;
-        const double w_next = w + (T / tau) * (ref - w);
+        const int coast = smd_ident_mech_coasting(&p, s);
+        double w_next = w + (T / tau) * (ref - w);
+        double w_mid, torque;
+        smd_real iq, wh = (smd_real)(4.0 * w_f);
+        if (coast) {
+            /* no torque but the offset's: the rotor runs down on its losses */
+            const double load = (double)r->B * w + (double)r->K * w * fabs(w);
+            w_next = w + T * (k_t * r->i_off - load) / (double)r->J;
+        }
         /* the torque over the sample, at its middle speed */
-        const double w_mid = 0.5 * (w + w_next);
-        const double torque = (double)r->J * (w_next - w) / T + (double)r->B * w_mid +
-                              (double)r->K * w_mid * fabs(w_mid);
-        smd_real iq = (smd_real)(torque / k_t), wh = (smd_real)(4.0 * w_f);
+        w_mid = 0.5 * (w + w_next);
+        torque = (double)r->J * (w_next - w) / T + (double)r->B * w_mid +
+                 (double)r->K * w_mid * fabs(w_mid);
+        iq = (smd_real)(coast ? 0.0 : torque / k_t);
         if (k == r->nan_at) {
             wh = (smd_real)NAN;
         }
@@ -398,6 +411,26 @@ static void test_mech(void)
         CHECK_CLOSE(s.J, 0.012, 0.01 * 0.012);
         CHECK_CLOSE(s.B, 0.002, 0.1 * 0.002);
     }
+    /* a coast of 0.1 s at zero current after the hold: B from the
+     * deceleration (2 % of the rotor's speed in 0.1 s), J from the ramp with
+     * it: within 1 % and 5 %, and the ramp's own B kept aside (B_ramp); a
+     * torque current of 0.05 A the coast's zero leaves (a sensor's offset)
+     * moves B by its share, 0.12 N m of B w's 0.25 at w2, and the ramp's B
+     * not: the coast's B is what the test gives */
+    {
+        mech_rig r = rig(SMD_R(0.012), SMD_R(0.002));
+        r.t_coast = SMD_R(0.1);
+        mech_run_rig(&r, &s);
+        CHECK_INT(s.outcome, SMD_IDENT_OK);
+        CHECK_INT(s.k, 5000);
+        CHECK_CLOSE(s.J, 0.012, 0.01 * 0.012);
+        CHECK_CLOSE(s.B, 0.002, 0.05 * 0.002);
+        CHECK_CLOSE(s.B_ramp, 0.002, 0.05 * 0.002);
+        r.i_off = -0.05;
+        mech_run_rig(&r, &s);
+        CHECK((double)s.B > 1.3 * 0.002);
+        CHECK_CLOSE(s.B_ramp, 0.002, 0.05 * 0.002);
+    }
     /* never on its source: NOT_SETTLED after waiting as long as the test */
     mech_run_open(SMD_R(0.012), SMD_R(0.002), -1, -1, 1000000, &s);
     CHECK_INT(s.outcome, SMD_IDENT_NOT_SETTLED);
@@ -415,6 +448,7 @@ static void test_mech(void)
     c.t_bin = SMD_R(0.002);
     c.w_lpf = SMD_R(0.0);
     c.fan = 0;
+    c.t_coast = SMD_R(0.0);
     CHECK_INT(smd_ident_mech_init(&p, &c), SMD_ERR_IDENT);
     c.w2 = SMD_R(1000.0);
     c.t_fit = SMD_R(0.15); /* more than half the step */
@@ -428,6 +462,17 @@ static void test_mech(void)
     c.w_lpf = SMD_R(25.0);
     CHECK_INT(smd_ident_mech_init(&p, &c), SMD_OK);
     c.fan = 2;
+    CHECK_INT(smd_ident_mech_init(&p, &c), SMD_ERR_IDENT);
+    c.fan = 0;
+    /* a coast: 5 time constants of the filter and 4 bins at least (0.2 + 0.008 s
+     * at 25 rad/s), 100 s at most */
+    c.t_coast = SMD_R(0.2);
+    CHECK_INT(smd_ident_mech_init(&p, &c), SMD_ERR_IDENT);
+    c.t_coast = SMD_R(0.21);
+    CHECK_INT(smd_ident_mech_init(&p, &c), SMD_OK);
+    c.t_coast = SMD_R(101.0);
+    CHECK_INT(smd_ident_mech_init(&p, &c), SMD_ERR_IDENT);
+    c.t_coast = (smd_real)NAN;
     CHECK_INT(smd_ident_mech_init(&p, &c), SMD_ERR_IDENT);
     CHECK_INT(smd_ident_mech_init(0, &c), SMD_ERR_NULL);
 }

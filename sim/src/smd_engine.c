@@ -347,9 +347,15 @@ long smd_engine_run_ident_mech(smd_engine *e, const smd_ident_mech_params *p,
         smd_status st;
         smd_drive_view v;
         smd_real i_q;
-        int done;
+        int done, coast;
         engine_inputs(e, &x, &in);
         in.w_ref = smd_ident_mech_ref(p, s); /* the test's reference, not the profile's */
+        /* the coast: zero current in torque mode */
+        coast = smd_ident_mech_coasting(p, s);
+        smd_drive_set_torque_in(&e->ctrl_s, coast);
+        if (coast) {
+            in.i_dq_ref = smd_c(SMD_R(0.0), SMD_R(0.0));
+        }
         x.w_ref = (double)in.w_ref / e->plant.c.n_p;
         st = smd_drive_step(&e->ctrl_p, &e->ctrl_s, &in, &out);
         v = smd_drive_get_view(&e->ctrl_p, &e->ctrl_s);

@@ -61,7 +61,8 @@ def identified_toml(name: str, s, c) -> str:
         record["mech_outcome"] = c.mech.outcome
         if c.mech.ok:
             motor.update({"J": _g(c.mech.J), "B": _g(c.mech.B)})
-            record.update({"J": _g(c.mech.J), "B": _g(c.mech.B), "mech_test_s": _g(c.mech.t)})
+            record.update({"J": _g(c.mech.J), "B": _g(c.mech.B), "B_ramp": _g(c.mech.B_ramp),
+                           "mech_test_s": _g(c.mech.t)})
             if s.load.k_fan > 0.0:
                 record["k_fan"] = _g(c.mech.K)
     measured = s.replace(motor=dataclasses.replace(s.motor, **motor))

@@ -333,6 +333,9 @@ T_STEP = 1.5
 T_RAMP = 0.4
 T_HOLD_MECH = 0.6
 T_BIN = 0.02
+#: ... and a coast at zero current after the hold (B from the deceleration, no torque to
+#: measure; not with a fan load)
+T_COAST_MECH = 0.4
 
 
 @dataclass(frozen=True)
@@ -343,6 +346,7 @@ class MechResult:
     outcome: str        # "ok", "poor_fit", "not_settled" or "fault: <names>"
     t: float            # s
     K: float = 0.0      # N m s^2/rad^2: a fan load's K w_M |w_M| (fitted with one)
+    B_ramp: float = math.nan  # N m s/rad: B from the ramp alone (the coast's is B)
 
     @property
     def ok(self) -> bool:
@@ -366,7 +370,7 @@ def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float) -> Scenario
     inertia, on the reference of the test (:func:`mech_speeds`)."""
     m = s.motor
     w_n = m.w_M_N
-    t2 = T_STEP + T_RAMP + T_HOLD_MECH
+    t2 = T_STEP + T_RAMP + T_HOLD_MECH + T_COAST_MECH
 
     def design(w1: float, w2: float) -> Scenario:
         sd = bench(s).replace(duration=t2, warm_start=False, theta_r0=0.0,
@@ -397,18 +401,25 @@ def identify_mech(s: Scenario, R_s: float, L_s: float, psi_r: float) -> MechResu
     the forced start: a heavy rotor's is long), T_BIN bins, T = J dw/dt + B w
     by least squares (viscous friction: a Coulomb term of its own would take
     most of B's share with two speed levels; the holds need not be steady: a
-    heavy rotor is still settling there). The drive's own supervision stays
-    on: a run that ends in a fault is named; a drive that never leaves its
-    forced start is "not_settled"."""
+    heavy rotor is still settling there). Then, without a fan load, a coast
+    of T_COAST_MECH at zero current (the drive in torque mode): B / J from
+    the deceleration, with no torque to measure, and J from the ramp with
+    it (the ramp's own B is kept as B_ramp). With a fan (the scenario's
+    load.k_fan) its K w|w| is fitted on the ramp too, and no coast. The
+    drive's own supervision stays on: a run that ends in a fault is named; a
+    drive that never leaves its forced start is "not_settled"."""
     sd = mech_scenario(s, R_s, L_s, psi_r)
     w1, w2 = mech_speeds(sd)
+    # (with a fan the coast's deceleration is mostly the fan's, where B and K lean on each
+    # other: yao2022's K came out -41 % from a 0.4 s coast, -3 % from the ramp alone)
+    fan = s.load.k_fan > 0.0
     m = s.motor
     n_p = m.n_p
     cfg = _ffi.IdentMechConfig(T_sp=s.T_sp, k_t=1.5 * n_p * psi_r, n_p=n_p,
                                w1=w1 * n_p, w2=w2 * n_p, t_step=T_STEP,
                                t_ramp=T_RAMP, t_hold=T_HOLD_MECH, t_fit=0.5, t_bin=T_BIN,
                                w_lpf=sd.controller.w_lpf if s.lcl is None else 0.0,
-                               fan=1 if s.load.k_fan > 0.0 else 0)
+                               fan=1 if fan else 0, t_coast=0.0 if fan else T_COAST_MECH)
     p, st = _ffi.IdentMechParams(), _ffi.IdentMechState()
     rc = _ffi.lib.smd_ident_mech_init(ct.byref(p), ct.byref(cfg))
     if rc != 0:
@@ -426,7 +437,7 @@ def identify_mech(s: Scenario, R_s: float, L_s: float, psi_r: float) -> MechResu
         return MechResult(math.nan, math.nan, "fault: " + ", ".join(names), t, math.nan)
     if outcome not in ("ok", "poor_fit"):
         return MechResult(math.nan, math.nan, outcome, t, math.nan)
-    return MechResult(float(st.J), float(st.B), outcome, t, float(st.K))
+    return MechResult(float(st.J), float(st.B), outcome, t, float(st.K), float(st.B_ramp))
 
 
 #: smd_ident_mech_state.outcome

@@ -395,6 +395,8 @@ typedef struct smd_drive_state {
     int phase;            /* smd_drive_phase */
     int samples;          /* samples run on the encoder (handover) */
     int count;            /* speed-loop decimation counter */
+    int torque_in;        /* 1: the q reference from the input with the speed loop on
+                             (smd_drive_set_torque_in) */
     int primed;           /* 0 until the first sample has initialised the SMDO */
     smd_real theta;       /* frame angle for sample k (predicted at k-1 for the PLL
                              sources and the forced angle), rad */
@@ -488,6 +490,12 @@ smd_drive_view smd_drive_get_view(const smd_drive_params *p, const smd_drive_sta
 /* Clear the latched faults (SMD_FAULT_LATCHED); the drive stays in the safe
  * state only while a cause persists. Restart with smd_drive_reset. */
 void smd_drive_clear_faults(smd_drive_state *s);
+/* on != 0: from the next sample the q-axis current reference is the input's
+ * i_dq_ref.im even with the speed loop on (torque control, e.g. a coast at
+ * zero current: commissioning's step 4); the speed PI holds its integral
+ * and takes over again at on = 0. Kept through the drive's recovery from a
+ * non-finite value and its restarts; cleared by smd_drive_reset. */
+void smd_drive_set_torque_in(smd_drive_state *s, int on);
 
 #ifdef __cplusplus
 }

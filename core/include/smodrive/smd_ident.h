@@ -326,6 +326,8 @@ typedef struct smd_ident_mech_config {
                            * [5 / t_step, pi / T_sp]: the torque passes the same filter */
     int fan;              /* 1: the load has a fan's torque K w_M |w_M| besides B w_M, fitted
                            * too (K, N m s^2 / rad^2); 0: not */
+    smd_real t_coast;     /* the coast at zero current after the hold, s: 0 (none) or
+                           * [5 / w_lpf + 4 t_bin, 100] (5 T_sp without w_lpf) */
 } smd_ident_mech_config;
 
 typedef struct smd_ident_mech_params {
@@ -335,6 +337,7 @@ typedef struct smd_ident_mech_params {
     int fan;
     smd_real inv_w2;      /* the fan regressor's scale, 1 / w2 mechanical */
     int n_step, n_ramp, n_end, n_fit0, n_bin;
+    int n_coast;          /* samples of the coast */
 } smd_ident_mech_params;
 
 #define SMD_IDENT_FAULT 7 /* step 4: the drive reported a fault (smd_ident_outcome's next) */
@@ -355,10 +358,17 @@ typedef struct smd_ident_mech_state {
     int n_closed;         /* samples the drive has run on its source, up to n_settle */
     smd_real J, B;        /* results, kg m^2 and N m s / rad */
     smd_real K;           /* the fan's, N m s^2 / rad^2 (fan = 1; 0 otherwise) */
+    smd_real cww, cwq, cqq, cwa, cqa; /* the coast's sums (w, q = w |w| / w2, a) */
+    int crows;            /* its bins */
+    smd_real B_ramp;      /* B from the ramp's equations alone (with a coast: a check) */
 } smd_ident_mech_state;
 
 smd_status smd_ident_mech_init(smd_ident_mech_params *p, const smd_ident_mech_config *c);
 void smd_ident_mech_reset(smd_ident_mech_state *s);
+/* 1 while the test asks for zero current (the coast, t_coast > 0): the
+ * caller gives the drive a zero q reference in torque mode
+ * (smd_drive_set_torque_in), and its speed estimate as before. */
+int smd_ident_mech_coasting(const smd_ident_mech_params *p, const smd_ident_mech_state *s);
 /* The electrical speed reference for the sample about to run, rad/s. */
 smd_real smd_ident_mech_ref(const smd_ident_mech_params *p, const smd_ident_mech_state *s);
 /* One sample: the drive's torque current (measured, in its frame) and

@@ -442,7 +442,7 @@ class IdentMechConfig(ct.Structure):
     _fields_ = [
         ("T_sp", real), ("k_t", real), ("n_p", ct.c_int), ("w1", real), ("w2", real),
         ("t_step", real), ("t_ramp", real), ("t_hold", real), ("t_fit", real), ("t_bin", real),
-        ("w_lpf", real), ("fan", ct.c_int),
+        ("w_lpf", real), ("fan", ct.c_int), ("t_coast", real),
     ]
 
 
@@ -454,7 +454,7 @@ class IdentMechParams(ct.Structure):
         ("k_t", real), ("inv_np", real), ("w1", real), ("w2", real), ("dw", real), ("t_bin", real),
         ("a_lpf", real), ("n_settle", ct.c_int), ("fan", ct.c_int), ("inv_w2", real),
         ("n_step", ct.c_int), ("n_ramp", ct.c_int), ("n_end", ct.c_int), ("n_fit0", ct.c_int),
-        ("n_bin", ct.c_int),
+        ("n_bin", ct.c_int), ("n_coast", ct.c_int),
     ]
 
 
@@ -467,7 +467,8 @@ class IdentMechState(ct.Structure):
         ("acc_T", real), ("acc_w", real), ("T_f", real), ("w_b", real * 2), ("T_b", real * 2),
         ("saa", real), ("saw", real), ("sww", real), ("sat", real), ("swt", real), ("saq", real),
         ("swq", real), ("sqq", real), ("sqt", real), ("rows", ct.c_int), ("wait", ct.c_int),
-        ("n_closed", ct.c_int), ("J", real), ("B", real), ("K", real),
+        ("n_closed", ct.c_int), ("J", real), ("B", real), ("K", real), ("cww", real), ("cwq", real),
+        ("cqq", real), ("cwa", real), ("cqa", real), ("crows", ct.c_int), ("B_ramp", real),
     ]
 
 
