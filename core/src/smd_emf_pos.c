@@ -68,7 +68,13 @@ void smd_emf_pos_step(const smd_emf_pos_params *p, smd_emf_pos_state *s, smd_cpl
     }
     d_sign = s->dir > 0 ? SMD_R(1.0) : SMD_R(-1.0);
     /* eq. (44), sign-corrected: theta = atan2(s u_alpha, -s u_beta) */
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+    /* (the fast build: the same angle is phi + s pi/2, without a second
+     * atan2; the wrap below brings it into (-pi, pi]) */
+    s->theta_r_hat = phi + d_sign * SMD_R(1.5707963);
+#else
     s->theta_r_hat = SMD_ATAN2(d_sign * u_d_hat.re, -d_sign * u_d_hat.im);
+#endif
     /* The Euler model (35) identifies the disturbance averaged over
      * [t_k, t_k+1), i.e. at t_k + T_sp/2: step back half a sample so that the
      * angle belongs to the sampling instant (docs/errata.md, yang2018 E4). */
