@@ -33,7 +33,7 @@ void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
                   smd_real d_abc[3], smd_cplx *u_s_ab_applied)
 {
     smd_real u_abc[3];
-    smd_real span;
+    smd_real span, mx, mn;
     smd_real u_avail = (SMD_R(1.0) - SMD_R(2.0) * p->d_min) * u_dc;
     smd_real u_0;
 #if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
@@ -55,7 +55,9 @@ void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
         }
     }
     smd_ab_to_abc(u_s_ab_ref, u_abc);
-    span = max3(u_abc) - min3(u_abc);
+    mx = max3(u_abc);
+    mn = min3(u_abc);
+    span = mx - mn;
     overflow = !isfinite(span);
     if (overflow) {
         /* Phase values beyond the real type (a finite reference near its
@@ -64,7 +66,9 @@ void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
          * an infinite span (whose limit factor 0 would give NaN duties). */
         u_s_ab_ref = smd_cscale(u_s_ab_ref, SMD_R(5.42101086242752217e-20));
         smd_ab_to_abc(u_s_ab_ref, u_abc);
-        span = max3(u_abc) - min3(u_abc);
+        mx = max3(u_abc);
+        mn = min3(u_abc);
+        span = mx - mn;
     }
     if (span > u_avail || overflow) {
         /* Hexagon limit: shrink along the reference direction. */
@@ -73,8 +77,12 @@ void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
         for (k = 0; k < 3; k++) {
             u_abc[k] *= k_lim;
         }
+        /* (the same products as the phases': their largest and smallest
+         * stay theirs, k_lim > 0) */
+        mx *= k_lim;
+        mn *= k_lim;
     }
-    u_0 = SMD_R(-0.5) * (max3(u_abc) + min3(u_abc));
+    u_0 = SMD_R(-0.5) * (mx + mn);
 #if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
     inv_dc = SMD_R(1.0) / u_dc; /* the fast build: one division, not three */
 #endif
