@@ -318,14 +318,14 @@ static void source_restart(const smd_drive_params *p, smd_drive_state *s)
 /* Every value of the source's state finite. */
 static int source_finite(const smd_drive_params *p, const smd_drive_state *s)
 {
-    /* a sum of x - x (smd_nf): 0 exactly when every value is finite */
+    /* a sum of smd_nfs (smd_types.h): finite exactly when every value is */
     smd_real nf = SMD_R(0.0);
     int k;
     switch (p->position) {
     case SMD_POS_SMDO_EMF: {
         const smd_emf_pos_state *e = &s->pos.u.emf;
-        nf = smd_nf(e->theta_r_hat) + smd_nf(e->w_r_hat) + smd_nf(e->w_r_dir) +
-             smd_nf(e->phi_prev) + smd_nf(e->w_r_raw);
+        nf = smd_nfs(e->theta_r_hat) + smd_nfs(e->w_r_hat) + smd_nfs(e->w_r_dir) +
+             smd_nfs(e->phi_prev) + smd_nfs(e->w_r_raw);
         break;
     }
     case SMD_POS_LCL_SMO_PLL:
@@ -333,19 +333,19 @@ static int source_finite(const smd_drive_params *p, const smd_drive_state *s)
          * and reset the observer otherwise; the reframe after it turns them
          * by the PLL's correction, whose values the PLL check below covers) */
         for (k = 0; k < 2; k++) {
-            nf += smd_nf(s->pos.u.smo.d_hat[k]) + smd_nf(s->pos.u.smo.v_prev[k]);
+            nf += smd_nfs(s->pos.u.smo.d_hat[k]) + smd_nfs(s->pos.u.smo.v_prev[k]);
         }
         break;
     case SMD_POS_LCL_LINEAR:
-        for (k = 0; k < 4; k++) nf += smd_nf(s->pos.u.lin.z[k]) + smd_nf(s->pos.u.lin.x2[k]);
+        for (k = 0; k < 4; k++) nf += smd_nfs(s->pos.u.lin.z[k]) + smd_nfs(s->pos.u.lin.x2[k]);
         break;
     default: break;
     }
     if (source_is_lcl(p->position)) {
-        nf += smd_nf(s->pos.pll.theta) + smd_nf(s->pos.pll.w) + smd_nf(s->pos.pll.a) +
-              smd_nf(s->pos.theta_err);
+        nf += smd_nfs(s->pos.pll.theta) + smd_nfs(s->pos.pll.w) + smd_nfs(s->pos.pll.a) +
+              smd_nfs(s->pos.theta_err);
     }
-    return nf == SMD_R(0.0);
+    return smd_nf(nf) == SMD_R(0.0);
 }
 
 /* The source's internals in the view (the LCL observers'). */
@@ -1221,15 +1221,16 @@ static smd_status hold_safe(const smd_drive_params *p, smd_drive_state *s, smd_d
 
 static int state_finite(const smd_drive_params *p, const smd_drive_state *s)
 {
-    smd_real nf = smd_nf(s->theta) + smd_nf(s->w) + smd_nf(s->theta_k) + smd_nf(s->w_k) +
-                  smd_nf(s->theta_f) + smd_nf(s->w_f) + smd_cnf(s->x_i) + smd_cnf(s->u_ab_next) +
-                  smd_cnf(s->i_dq_ref) + smd_nf(s->speed_pi.x_i) + smd_nf(s->speed_pi.y);
+    smd_real nf = smd_nfs(s->theta) + smd_nfs(s->w) + smd_nfs(s->theta_k) + smd_nfs(s->w_k) +
+                  smd_nfs(s->theta_f) + smd_nfs(s->w_f) + smd_cnfs(s->x_i) +
+                  smd_cnfs(s->u_ab_next) + smd_cnfs(s->i_dq_ref) + smd_nfs(s->speed_pi.x_i) +
+                  smd_nfs(s->speed_pi.y);
     if (p->use_smdo) {
         const smd_smdo_state *o = &s->smdo;
-        nf += smd_cnf(o->i_s_hat) + smd_cnf(o->u_d_hat) + smd_cnf(o->e_i_prev) +
-              smd_cnf(o->u_smo_prev) + smd_nf(o->lambda);
+        nf += smd_cnfs(o->i_s_hat) + smd_cnfs(o->u_d_hat) + smd_cnfs(o->e_i_prev) +
+              smd_cnfs(o->u_smo_prev) + smd_nfs(o->lambda);
     }
-    return nf == SMD_R(0.0) && source_finite(p, s);
+    return smd_nf(nf) == SMD_R(0.0) && source_finite(p, s);
 }
 
 /* After a non-finite value: every block restarts from the last good frame

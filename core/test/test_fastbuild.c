@@ -85,10 +85,38 @@ static void test_wrap_fast(void)
     CHECK(off_turn < 100);
 }
 
+/* The fast build's finiteness sum (smd_nfs): a state of finite values
+ * passes, one infinite or NaN value among them (either sign, any place)
+ * fails, as with the exact build's sum of x - x; an infinity and its
+ * negative together still fail (inf - inf is NaN). */
+static void test_finite_sum(void)
+{
+    const smd_real big = SMD_R(1e30), inf = (smd_real)INFINITY, nan = (smd_real)NAN;
+    const smd_real bad[3] = {inf, -inf, nan};
+    smd_real x[6] = {SMD_R(3.1), SMD_R(-2.0e4), SMD_R(0.0), big, -big, SMD_R(1e-30)};
+    smd_real nf = SMD_R(0.0);
+    int k, j, b;
+    for (k = 0; k < 6; k++) nf += smd_nfs(x[k]);
+    CHECK(smd_nf(nf) == SMD_R(0.0));
+    for (b = 0; b < 3; b++) {
+        for (j = 0; j < 6; j++) {
+            smd_real y[6];
+            for (k = 0; k < 6; k++) y[k] = x[k];
+            y[j] = bad[b];
+            nf = smd_cnfs(smd_c(y[0], y[1])) + smd_nfs(y[2]) + smd_nfs(y[3]) + smd_nfs(y[4]) +
+                 smd_nfs(y[5]);
+            CHECK(!(smd_nf(nf) == SMD_R(0.0)));
+        }
+    }
+    nf = smd_nfs(inf) + smd_nfs(-inf);
+    CHECK(!(smd_nf(nf) == SMD_R(0.0)));
+}
+
 int main(void)
 {
     RUN_TEST(test_cexpj_small);
     RUN_TEST(test_cexpj_unit);
     RUN_TEST(test_wrap_fast);
+    RUN_TEST(test_finite_sum);
     return smdt_summary("fastbuild");
 }

@@ -268,6 +268,18 @@ static inline bool smd_cfinite(smd_cplx a) { return isfinite(a.re) && isfinite(a
  * isfinite() calls take a compare and a branch each. */
 static inline smd_real smd_nf(smd_real x) { return x - x; }
 static inline smd_real smd_cnf(smd_cplx a) { return (a.re - a.re) + (a.im - a.im); }
+/* A long finiteness check, nf = sum of smd_nfs(x) (smd_cnfs(a)), then
+ * smd_nf(nf) == 0: the exact build sums x - x; the fast build sums the
+ * values themselves, one addition each instead of two operations, and a
+ * sum is finite when every value is (a finite sum beyond FLT_MAX reads as
+ * not finite: the drive then recovers, as from a NaN). */
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+static inline smd_real smd_nfs(smd_real x) { return x; }
+static inline smd_real smd_cnfs(smd_cplx a) { return a.re + a.im; }
+#else
+static inline smd_real smd_nfs(smd_real x) { return smd_nf(x); }
+static inline smd_real smd_cnfs(smd_cplx a) { return smd_cnf(a); }
+#endif
 
 /* floor(y) for |y| < 2^23 through the integer conversion, bit for bit
  * floorf's (every float there is exact as an int32; y itself when it is an
