@@ -385,7 +385,8 @@ static void mech_check(const void *t, const smd_real d[3])
 {
     const mech_t *x = (const mech_t *)t;
     (void)d;
-    FZ_CHECK(x->s.k >= 0 && x->s.k <= x->p.n_end && x->s.nb >= 0 && x->s.nb < x->p.n_bin);
+    FZ_CHECK(x->s.k >= 0 && x->s.k <= x->p.n_end + x->p.n_coast && x->s.nb >= 0 &&
+             x->s.nb < x->p.n_bin && x->s.crows >= 0 && x->s.rows >= 0);
     if (x->s.outcome == SMD_IDENT_OK) {
         FZ_CHECK(isfinite(x->s.J) && x->s.J > SMD_R(0.0) && isfinite(x->s.B) &&
                  x->s.B >= SMD_R(0.0) && isfinite(x->s.K) && x->s.K >= SMD_R(0.0));

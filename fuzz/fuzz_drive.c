@@ -10,7 +10,8 @@
  *   op % 5 == 1  set one parameter of the synthetic source (below)
  *   op % 5 == 2  1 + u8 steps of the synthetic source
  *   op % 5 == 3  reset again (theta0, w0, i_q0)
- *   op % 5 == 4  clear the latched faults (when the drive has them)
+ *   op % 5 == 4  clear the latched faults (when the drive has them); torque
+ *                mode (smd_drive_set_torque_in) on when the op's bit 3 is set
  * The synthetic source is a machine turning at w with current i_d + j i_q
  * in its rotor frame: theta advances by w T_sp each step, the phase currents
  * follow (i_1 = (1 + k1) i_2 with the LCL filter), the encoder reads theta
@@ -189,6 +190,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 #if FZ_FAULT_API
             smd_drive_clear_faults(&s);
 #endif
+            /* torque mode on or off (step 4's coast), by the op's bit 3 */
+            smd_drive_set_torque_in(&s, (op >> 3) & 1);
             break;
         }
         {
