@@ -455,7 +455,7 @@ def test_each_plant_field_code_is_the_one_smd_plant_init_returns():
                   "i_d0/i_q0": (plain, "i_q0", 2e5, None),
                   "uc_d0/uc_q0": (lcl, "uc_d0", nan, None),
                   "i1_d0/i1_q0": (lcl, "i1_q0", -2e5, None),
-                  "dead_time_model": (lcl, "dead_time_model", 1, None),
+                  "dead_time_model": (lcl, "dead_time_model", 2, None),
                   "adc_n_oversample": (plain, "adc_n_oversample", 65, None)})
     buf = (ct.c_double * (F.lib.smd_sizeof_plant() // 8 + 1))()
     assert F.lib.smd_plant_init(buf, ct.byref(plain)) == _codes.SMD_PF_OK

@@ -17,6 +17,7 @@
 #include "smdsim/smd_plant.h"
 #include "smd_mech.h"
 #include "smdsim/smd_pwm.h"
+#include "smd_dtc.h"
 
 #include <complex.h>
 #include <math.h>
@@ -218,6 +219,135 @@ static void edge(const smd_lcl_modes *md, const lcl_kernel *k, double t, double 
     }
 }
 
+/* The averaged mode's edge sums: one step of the mean voltage u_mean at t = 0. */
+static void averaged_sums(const smd_lcl_modes *md, const lcl_kernel *k, double T,
+                          double complex u_mean, double complex G[3], double complex S[3])
+{
+    const double w_e = k->w;
+    double complex h;
+    int m;
+    if (fabs(w_e * T) < SERIES_EPS) {
+        double complex xx = I * w_e * T;
+        h = -T * (1.0 - xx * (0.5 - xx * (1.0 / 6.0 - xx * (1.0 / 24.0))));
+    } else {
+        h = (k->emjwT - 1.0) / (I * w_e);
+    }
+    for (m = 0; m < 3; m++) {
+        double complex d = md->lam[m] - I * w_e, s;
+        G[m] = u_mean * md->gT[m];
+        if (small(d * T)) {
+            double complex y = d * T;
+            s = (T * (1.0 + y * (0.5 + y * (1.0 / 6.0 + y * (1.0 / 24.0)))) + h) / md->lam[m];
+        } else {
+            s = (k->emjwT * md->gT[m] + h) * k->inv_d[m];
+        }
+        S[m] = u_mean * s;
+    }
+}
+
+/* ---- dead time with zero-current clamping: smd_dtc.c ----
+ * The circuit: the inverter-side current i_1 through L1 against the
+ * capacitor voltage u_c (no resistance in L1), the filter's modal state exact
+ * between events: dz_k/dt = lambda_k z_k + beta_k U + phi_k E0 e^{j w t}. */
+typedef struct lcl_dtc {
+    const smd_lcl_modes *md;
+    const lcl_kernel *k;
+    double complex E0, z[3];
+    double u_dc;
+} lcl_dtc;
+
+static void lcl_dtc_advance(void *ctx, double t0, double t1, const double v[3])
+{
+    lcl_dtc *s = ctx;
+    const smd_lcl_modes *md = s->md;
+    const double w = s->k->w;
+    double complex U = 2.0 / 3.0 * s->u_dc *
+                       (v[0] + v[1] * (A_RE + I * A_IM) + v[2] * (A_RE - I * A_IM));
+    double complex r0 = cos(w * t0) + I * sin(w * t0), r1 = cos(w * t1) + I * sin(w * t1);
+    int m;
+    for (m = 0; m < 3; m++) {
+        double complex zp = -md->phi[m] * s->E0 * s->k->inv_d[m]; /* EMF's, at t = 0 */
+        double complex zu = -md->beta[m] * U / md->lam[m];         /* the held voltage's */
+        double complex eh = cexp(md->lam[m] * (t1 - t0));
+        s->z[m] = (s->z[m] - zp * r0 - zu) * eh + zp * r1 + zu;
+    }
+}
+
+static void lcl_dtc_probe(void *ctx, double t, double i_x[3], double ex[3])
+{
+    lcl_dtc *s = ctx;
+    const smd_lcl_modes *md = s->md;
+    double complex uc = 0.0, i1 = 0.0;
+    int m, x;
+    (void)t;
+    for (m = 0; m < 3; m++) {
+        uc += md->v[0][m] * s->z[m];
+        i1 += md->v[1][m] * s->z[m];
+    }
+    for (x = 0; x < 3; x++) {
+        i_x[x] = smd_dtc_phase(i1, x);
+        ex[x] = smd_dtc_phase(uc, x) / s->u_dc;
+    }
+}
+
+/* The period's leg voltages with zero-current clamping added to the modal
+ * edge sums G, S (carrier: the event walk; averaged: smd_pwm_avg_duty_clamp
+ * with the capacitor voltage of the period start for the floating level and
+ * L1 for the rate, as the SPMSM plant with the back EMF and L_s); returns the
+ * mean voltage. */
+#if defined(__GNUC__)
+__attribute__((noinline))
+#endif
+static double complex lcl_clamp_voltage(const smd_plant *p, const double d_abc[3],
+                                        const lcl_kernel *k, double complex E0,
+                                        const double complex z0[3], double complex uc0,
+                                        const double complex leg_dir[3],
+                                        const double i1_abc[3], double complex G[3],
+                                        double complex S[3])
+{
+    const smd_plant_config *c = &p->c;
+    const double T = c->T_sw;
+    double complex u_mean = 0.0;
+    double d[3];
+    int x, j, m;
+    for (x = 0; x < 3; x++) d[x] = smd_pwm_clamp(d_abc[x]);
+    if (c->pwm_mode == SMD_PWM_CARRIER) {
+        dtc_leg legs[3];
+        lcl_dtc s;
+        dtc_circuit circ;
+        s.md = &p->m;
+        s.k = k;
+        s.E0 = E0;
+        s.u_dc = c->u_dc;
+        for (m = 0; m < 3; m++) s.z[m] = z0[m];
+        circ.R = 0.0;
+        circ.L = c->L1;
+        circ.u_dc = c->u_dc;
+        circ.ctx = &s;
+        circ.advance = lcl_dtc_advance;
+        circ.probe = lcl_dtc_probe;
+        smd_dtc_legs(&circ, d, T, c->t_dead, legs);
+        for (x = 0; x < 3; x++) {
+            for (j = 0; j < legs[x].n; j++) {
+                edge(&p->m, k, legs[x].t[j], legs[x].dv[j] * leg_dir[x], G, S);
+                u_mean += leg_dir[x] * legs[x].dv[j] * (T - legs[x].t[j]) / T;
+            }
+        }
+    } else {
+        double k_rate = 2.0 / 3.0 * c->u_dc / c->L1;
+        for (x = 0; x < 3; x++) {
+            int y = (x + 1) % 3, zz = (x + 2) % 3;
+            double hy = d[y] > d[x] ? 1.0 : (d[y] == d[x] ? 0.5 : 0.0);
+            double hz = d[zz] > d[x] ? 1.0 : (d[zz] == d[x] ? 0.5 : 0.0);
+            double v_f = 0.5 * (hy + hz) + 1.5 * smd_dtc_phase(uc0, x) / c->u_dc;
+            u_mean += leg_dir[x] * smd_pwm_avg_duty_clamp(T, c->t_dead, d[x], i1_abc[x], v_f,
+                                                          k_rate);
+        }
+        averaged_sums(&p->m, k, T, u_mean, G, S);
+    }
+    return u_mean;
+}
+
 void smd_lcl_step(smd_plant *p, const double d_abc[3], double T_ext, double T_brake)
 {
     const smd_plant_config *c = &p->c;
@@ -266,9 +396,12 @@ void smd_lcl_step(smd_plant *p, const double d_abc[3], double T_ext, double T_br
         Sint[m] = ck * T * dexp1((md->lam[m] - I * w_e) * T, md->eT[m] * k.emjwT) + zp * T;
     }
 
-    /* Inverter voltage: dead time by the sign of the inverter-side current. */
+    /* Inverter voltage: dead time by the sign of the inverter-side current,
+     * or with zero-current clamping (lcl_clamp_legs). */
     smd_ab_to_abc_d(p->i1_re, p->i1_im, i1_abc);
-    if (c->pwm_mode == 1) {
+    if (c->dead_time_model == SMD_DT_CLAMP && c->t_dead > 0.0) {
+        u_mean = lcl_clamp_voltage(p, d_abc, &k, E0, z, x[0], leg_dir, i1_abc, G, S);
+    } else if (c->pwm_mode == 1) {
         for (xl = 0; xl < 3; xl++) {
             double t_on, t_off;
             smd_pwm_edges(T, c->t_dead, d_abc[xl], i1_abc[xl], &t_on, &t_off);
@@ -280,27 +413,10 @@ void smd_lcl_step(smd_plant *p, const double d_abc[3], double T_ext, double T_br
         }
     } else {
         /* Switching-cycle average: one step of the mean voltage at t = 0. */
-        double complex h;
         for (xl = 0; xl < 3; xl++) {
             u_mean += leg_dir[xl] * smd_pwm_avg_duty(T, c->t_dead, d_abc[xl], i1_abc[xl]);
         }
-        if (fabs(w_e * T) < SERIES_EPS) {
-            double complex xx = I * w_e * T;
-            h = -T * (1.0 - xx * (0.5 - xx * (1.0 / 6.0 - xx * (1.0 / 24.0))));
-        } else {
-            h = (k.emjwT - 1.0) / (I * w_e);
-        }
-        for (m = 0; m < 3; m++) {
-            double complex d = md->lam[m] - I * w_e, s;
-            G[m] = u_mean * md->gT[m];
-            if (small(d * T)) {
-                double complex y = d * T;
-                s = (T * (1.0 + y * (0.5 + y * (1.0 / 6.0 + y * (1.0 / 24.0)))) + h) / md->lam[m];
-            } else {
-                s = (k.emjwT * md->gT[m] + h) * k.inv_d[m];
-            }
-            S[m] = u_mean * s;
-        }
+        averaged_sums(md, &k, T, u_mean, G, S);
     }
 
     for (m = 0; m < 3; m++) {

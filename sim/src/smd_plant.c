@@ -59,9 +59,6 @@ static int check(const smd_plant_config *c)
     if (c->dead_time_model != SMD_DT_SIGN && c->dead_time_model != SMD_DT_CLAMP) {
         return SMD_PF_DEAD_TIME_MODEL;
     }
-    if (c->dead_time_model == SMD_DT_CLAMP && c->lcl) {
-        return SMD_PF_DEAD_TIME_MODEL; /* not with the filter */
-    }
     if (c->adc_n_oversample < 0 || c->adc_n_oversample > 64) return SMD_PF_ADC_N_OVERSAMPLE;
     return SMD_PF_OK;
 }

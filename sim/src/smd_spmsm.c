@@ -3,6 +3,7 @@
 #include "smdsim/smd_plant.h"
 #include "smd_mech.h"
 #include "smdsim/smd_pwm.h"
+#include "smd_dtc.h"
 
 #include <complex.h>
 #include <math.h>
@@ -69,197 +70,57 @@ static void edge_response(const edge_kernel *k, double t, double *g, double comp
     }
 }
 
-/* ---- dead time with zero-current clamping (carrier PWM) ----
- *
- * Each leg's switches within the period: the lower one on until the rising
- * edge r = (1 - d)T/2, both off for t_dead, the upper one on until the
- * falling edge f = (1 + d)T/2, both off for t_dead, the lower one on (both off
- * on [r, f + t_dead) when r + t_dead >= f). While both are off the diode of
- * the current's direction holds the leg on its rail (i_x > 0: 0, i_x < 0:
- * u_dc), the direction taken from the exact current at the instant the leg
- * opens; if the current reaches zero it stays there and the leg floats at the
- * voltage that holds i_x = 0: with the star's common mode removed,
- * L di_x/dt = v_x - (v_a + v_b + v_c)/3 - R i_x - e_x = 0 at i_x = 0 gives
- * v_x = (v_y + v_z)/2 + 1.5 e_x (two legs open: v_x = v_z + e_x - e_z), clamped
- * to [0, u_dc] (beyond it the rail's diode conducts again). The period is
- * walked event by event (switchings, zero crossings) with the exact current
- * between events (homogeneous + rotating-EMF particular + the constant leg
- * voltages); a zero crossing is predicted linearly from the current and its
- * rate at the last event (R i and the EMF's rotation over the remaining part
- * of a dead time neglected), the floating level is updated at every event
- * (the EMF held in between). The result is a list of leg-voltage steps, each
- * then taken with its exact response as in the sign model. */
+/* ---- dead time with zero-current clamping (carrier PWM): smd_dtc.c ----
+ * The circuit: the phase current through R_s, L_s against the back EMF,
+ * exact between events (homogeneous + rotating-EMF particular + the
+ * constant leg voltages). */
+typedef struct spmsm_dtc {
+    const smd_plant *p;
+    double w_e;
+    double complex ejth0, C, i;
+} spmsm_dtc;
 
-#define DTC_MAX_EVENTS 64  /* events a period before crossings are no longer predicted */
-#define DTC_MAX_STEPS (DTC_MAX_EVENTS + 16) /* voltage steps a leg (one an event at most) */
-
-enum { SW_LOW = 0, SW_UP = 1, SW_OFF = 2 };
-
-typedef struct dtc_leg {
-    int n;                       /* steps */
-    double t[DTC_MAX_STEPS];     /* instants, s */
-    double dv[DTC_MAX_STEPS];    /* voltage changes, fraction of u_dc */
-} dtc_leg;
-
-/* x_k = Re(z a^{-k}) */
-static double phase_of(double complex z, int k)
+static void spmsm_dtc_advance(void *ctx, double t, double tn, const double v[3])
 {
-    if (k == 0) return creal(z);
-    if (k == 1) return A_RE * creal(z) + A_IM * cimag(z);
-    return A_RE * creal(z) - A_IM * cimag(z);
+    spmsm_dtc *s = ctx;
+    const smd_plant_config *c = &s->p->c;
+    const double a = s->p->a, R = c->R_s, udc = c->u_dc, w_e = s->w_e;
+    double complex U = 2.0 / 3.0 * udc * (v[0] + v[1] * (A_RE + I * A_IM) + v[2] * (A_RE - I * A_IM));
+    double h = tn - t, em = expm1(-a * h);
+    double complex e0 = s->ejth0 * cexp(I * w_e * t), e1 = s->ejth0 * cexp(I * w_e * tn);
+    s->i = (s->i - s->C * e0) * (1.0 + em) + s->C * e1 - U * em / R;
 }
 
-/* Floating levels of the open legs with zero current (fl[x] = 1: open at
- * zero current), v in fractions of u_dc, ex the phase EMFs / u_dc; a level
- * outside [0, 1] puts that leg back on the rail's diode (mode). */
-static void dtc_float(const int sw[3], int mode[3], double v[3], const double ex[3])
+static void spmsm_dtc_probe(void *ctx, double t, double i_x[3], double ex[3])
 {
-    int iter;
-    for (iter = 0; iter < 3; iter++) {
-        int fl[3], nf = 0, x, worst = -1;
-        double vn[3], viol = 0.0;
-        for (x = 0; x < 3; x++) {
-            fl[x] = sw[x] == SW_OFF && mode[x] == 0;
-            nf += fl[x];
-        }
-        if (nf == 0) return;
-        for (x = 0; x < 3; x++) {
-            int y = (x + 1) % 3, z = (x + 2) % 3;
-            if (!fl[x]) continue;
-            if (nf == 1) {
-                vn[x] = 0.5 * (v[y] + v[z]) + 1.5 * ex[x];
-            } else if (nf == 2) {
-                int fixed = !fl[y] ? y : z;
-                vn[x] = v[fixed] + ex[x] - ex[fixed];
-            } else {
-                vn[x] = 0.5 + ex[x]; /* no current at all: the common mode is free */
-            }
-        }
-        for (x = 0; x < 3; x++) {
-            double o;
-            if (!fl[x]) continue;
-            o = vn[x] < 0.0 ? -vn[x] : (vn[x] > 1.0 ? vn[x] - 1.0 : 0.0);
-            if (o > viol) {
-                viol = o;
-                worst = x;
-            }
-        }
-        if (worst < 0) {
-            for (x = 0; x < 3; x++) {
-                if (fl[x]) v[x] = vn[x];
-            }
-            return;
-        }
-        /* beyond a rail: that rail's diode conducts (the current leaves zero
-         * in its direction); the others are solved again */
-        mode[worst] = vn[worst] < 0.0 ? 1 : -1;
-        v[worst] = vn[worst] < 0.0 ? 0.0 : 1.0;
+    spmsm_dtc *s = ctx;
+    const smd_plant_config *c = &s->p->c;
+    double complex ejth = s->ejth0 * cexp(I * s->w_e * t);
+    double complex e = I * s->w_e * c->psi_r * ejth; /* back EMF, L di/dt = u - R i - e */
+    int x;
+    for (x = 0; x < 3; x++) {
+        i_x[x] = smd_dtc_phase(s->i, x);
+        ex[x] = smd_dtc_phase(e, x) / c->u_dc;
     }
 }
 
 static void dtc_legs(const smd_plant *p, const double d[3], double T, double w_e,
                      double complex ejth0, double complex C, dtc_leg legs[3])
 {
-    const smd_plant_config *c = &p->c;
-    const double td = c->t_dead, R = c->R_s, L = c->L_s, a = p->a, udc = c->u_dc;
-    double st_t[3][4];
-    int st_s[3][4], st_n[3], st_k[3] = {0, 0, 0};
-    int sw[3] = {SW_LOW, SW_LOW, SW_LOW}, mode[3] = {0, 0, 0};
-    double v[3] = {0.0, 0.0, 0.0}, tz[3] = {INFINITY, INFINITY, INFINITY};
-    double complex i = p->i_re + I * p->i_im;
-    double t = 0.0;
-    int x, events = 0;
-
-    for (x = 0; x < 3; x++) {
-        double r = 0.5 * (1.0 - d[x]) * T, f = 0.5 * (1.0 + d[x]) * T;
-        int n = 0;
-        st_t[x][n] = r;
-        st_s[x][n++] = SW_OFF;
-        if (r + td < f) {
-            st_t[x][n] = r + td;
-            st_s[x][n++] = SW_UP;
-            st_t[x][n] = f;
-            st_s[x][n++] = SW_OFF;
-        }
-        st_t[x][n] = f + td;
-        st_s[x][n++] = SW_LOW;
-        st_n[x] = n;
-        legs[x].n = 0;
-    }
-
-    for (;;) {
-        double tn = T, vold[3], ex[3], vm;
-        double complex U, ejth, e;
-        int kind = -1, who = -1;
-        for (x = 0; x < 3; x++) {
-            if (st_k[x] < st_n[x] && st_t[x][st_k[x]] < tn) {
-                tn = st_t[x][st_k[x]];
-                kind = 0;
-                who = x;
-            }
-        }
-        for (x = 0; x < 3; x++) {
-            if (sw[x] == SW_OFF && mode[x] != 0 && tz[x] < tn) {
-                tn = tz[x];
-                kind = 1;
-                who = x;
-            }
-        }
-        if (kind < 0) break; /* nothing before the period's end */
-        /* the exact current at tn with the leg voltages held since t */
-        U = 2.0 / 3.0 * udc * (v[0] + v[1] * (A_RE + I * A_IM) + v[2] * (A_RE - I * A_IM));
-        if (tn > t) {
-            double h = tn - t, em = expm1(-a * h);
-            double complex e0 = ejth0 * cexp(I * w_e * t), e1 = ejth0 * cexp(I * w_e * tn);
-            i = (i - C * e0) * (1.0 + em) + C * e1 - U * em / R;
-            t = tn;
-        }
-        ejth = ejth0 * cexp(I * w_e * t);
-        e = I * w_e * c->psi_r * ejth; /* back EMF, L di/dt = u - R i - e */
-        for (x = 0; x < 3; x++) {
-            vold[x] = v[x];
-            ex[x] = phase_of(e, x) / udc;
-        }
-        if (kind == 0) {
-            int s = st_s[who][st_k[who]++];
-            sw[who] = s;
-            tz[who] = INFINITY;
-            if (s == SW_LOW) {
-                v[who] = 0.0;
-            } else if (s == SW_UP) {
-                v[who] = 1.0;
-            } else {
-                double ix = phase_of(i, who);
-                mode[who] = ix > 0.0 ? 1 : (ix < 0.0 ? -1 : 0);
-                if (mode[who] != 0) v[who] = mode[who] > 0 ? 0.0 : 1.0;
-            }
-        } else {
-            mode[who] = 0; /* the current has reached zero: the leg opens */
-            tz[who] = INFINITY;
-        }
-        events++;
-        dtc_float(sw, mode, v, ex);
-        for (x = 0; x < 3; x++) {
-            if (v[x] != vold[x] && legs[x].n < DTC_MAX_STEPS) {
-                legs[x].t[legs[x].n] = t;
-                legs[x].dv[legs[x].n++] = v[x] - vold[x];
-            }
-        }
-        /* the next zero crossing of each leg on a diode, linear from now */
-        vm = (v[0] + v[1] + v[2]) / 3.0;
-        for (x = 0; x < 3; x++) {
-            tz[x] = INFINITY;
-            if (sw[x] == SW_OFF && mode[x] != 0 && events < DTC_MAX_EVENTS) {
-                double ix = phase_of(i, x);
-                double rate = (udc * (v[x] - vm) - R * ix - ex[x] * udc) / L;
-                if (mode[x] > 0 && rate < 0.0) {
-                    tz[x] = t + (ix > 0.0 ? ix : 0.0) / -rate;
-                } else if (mode[x] < 0 && rate > 0.0) {
-                    tz[x] = t + (ix < 0.0 ? -ix : 0.0) / rate;
-                }
-            }
-        }
-    }
+    spmsm_dtc s;
+    dtc_circuit circ;
+    s.p = p;
+    s.w_e = w_e;
+    s.ejth0 = ejth0;
+    s.C = C;
+    s.i = p->i_re + I * p->i_im;
+    circ.R = p->c.R_s;
+    circ.L = p->c.L_s;
+    circ.u_dc = p->c.u_dc;
+    circ.ctx = &s;
+    circ.advance = spmsm_dtc_advance;
+    circ.probe = spmsm_dtc_probe;
+    smd_dtc_legs(&circ, d, T, p->c.t_dead, legs);
 }
 
 /* The leg voltages of the period with zero-current clamping (carrier:
@@ -329,7 +190,7 @@ static void clamp_step(const smd_plant *p, const double d_abc[3], double complex
             int y = (x + 1) % 3, z = (x + 2) % 3;
             double hy = d[y] > d[x] ? 1.0 : (d[y] == d[x] ? 0.5 : 0.0);
             double hz = d[z] > d[x] ? 1.0 : (d[z] == d[x] ? 0.5 : 0.0);
-            double v_f = 0.5 * (hy + hz) + 1.5 * phase_of(e, x) / c->u_dc;
+            double v_f = 0.5 * (hy + hz) + 1.5 * smd_dtc_phase(e, x) / c->u_dc;
             double de = smd_pwm_avg_duty_clamp(T, c->t_dead, d[x], i_abc[x], v_f, k_rate);
             *i1 += leg_dir[x] * de * T * creal(phi1(a * T)) / L;
             *i_int += leg_dir[x] * de * conj(ejth0) * step_weighted_integral(a, R, w_e, T);

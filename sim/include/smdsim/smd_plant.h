@@ -34,7 +34,9 @@ typedef enum smd_dead_time_model {
     SMD_DT_SIGN = 0,  /* the diode by the sign of the current at the period start */
     SMD_DT_CLAMP = 1  /* zero-current clamping: the diode by the current at each commanded
                        * edge; a current that reaches zero within the dead time stays there
-                       * and the open leg floats (carrier PWM, the machine without filter) */
+                       * and the open leg floats at the voltage that holds it there
+                       * (the machine's phase, or behind the LCL filter the
+                       * inverter-side current against the capacitor voltage) */
 } smd_dead_time_model;
 
 /* Everything the plant needs (true values), SI units. */
@@ -55,7 +57,7 @@ typedef struct smd_plant_config {
     double u_dc;       /* DC-link voltage, V */
     double T_sw;       /* carrier period = sampling period, s */
     int pwm_mode;      /* smd_pwm_mode */
-    int dead_time_model; /* smd_dead_time_model (SMD_DT_CLAMP: not with the LCL filter) */
+    int dead_time_model; /* smd_dead_time_model */
     double t_dead;     /* dead time, s (diode by the dead_time_model) */
     /* ADC: the motor-current channels, and the inverter-side ones (LCL) */
     double adc_gain[3];      /* per-phase gain (1 = exact) */
@@ -155,8 +157,8 @@ typedef enum smd_plant_field_code {
     SMD_PF_MODES = 29,            /* "R_s/L1/L2o/L_s/C1 (repeated or unstable filter modes)"
                                    * (smd_lcl_setup) @scenario(motor.R_s, motor.L_s,
                                    * lcl.L1, lcl.L2o, lcl.C1) */
-    SMD_PF_DEAD_TIME_MODEL = 30,  /* "dead_time_model" (clamp: without the filter only)
-                                   * @scenario(inverter.dead_time_model, lcl) */
+    SMD_PF_DEAD_TIME_MODEL = 30,  /* "dead_time_model" (sign or clamp)
+                                   * @scenario(inverter.dead_time_model) */
     SMD_PF_ADC_N_OVERSAMPLE = 31, /* "adc_n_oversample" @scenario(adc.n_oversample) */
     SMD_PF_N                      /* the number of codes */
 } smd_plant_field_code;

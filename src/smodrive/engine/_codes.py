@@ -146,7 +146,7 @@ PLANT_FIELDS: dict[int, tuple[str, ...]] = {
         'motor.n_p', 'motor.R_s', 'motor.L_s', 'lcl.L2o', 'lcl.C1',
     ),
     29: ('motor.R_s', 'motor.L_s', 'lcl.L1', 'lcl.L2o', 'lcl.C1'),  # SMD_PF_MODES
-    30: ('inverter.dead_time_model', 'lcl'),  # SMD_PF_DEAD_TIME_MODEL
+    30: ('inverter.dead_time_model',),  # SMD_PF_DEAD_TIME_MODEL
     31: ('adc.n_oversample',),  # SMD_PF_ADC_N_OVERSAMPLE
 }
 

@@ -1,0 +1,175 @@
+/* Dead time with zero-current clamping (carrier PWM), smd_dtc.h.
+ *
+ * Each leg's switches within the period: the lower one on until the rising
+ * edge r = (1 - d)T/2, both off for t_dead, the upper one on until the
+ * falling edge f = (1 + d)T/2, both off for t_dead, the lower one on (both off
+ * on [r, f + t_dead) when r + t_dead >= f). While both are off the diode of
+ * the current's direction holds the leg on its rail (i_x > 0: 0, i_x < 0:
+ * u_dc), the direction taken from the exact current at the instant the leg
+ * opens; if the current reaches zero it stays there and the leg floats at the
+ * voltage that holds i_x = 0: with the star's common mode removed,
+ * L di_x/dt = v_x - (v_a + v_b + v_c)/3 - R i_x - e_x = 0 at i_x = 0 gives
+ * v_x = (v_y + v_z)/2 + 1.5 e_x (two legs open: v_x = v_z + e_x - e_z), clamped
+ * to [0, u_dc] (beyond it the rail's diode conducts again). The period is
+ * walked event by event (switchings, zero crossings) with the circuit's exact
+ * state between events (its advance); a zero crossing is predicted linearly
+ * from the current and its rate at the last event (R i and the change of e
+ * over the remaining part of a dead time neglected), the floating level is
+ * updated at every event (e held in between). The result is a list of
+ * leg-voltage steps, each then taken with its exact response by the plant. */
+#include "smd_dtc.h"
+
+#include <math.h>
+
+static const double A_RE = -0.5;
+static const double A_IM = 0.86602540378443864676;
+
+enum { SW_LOW = 0, SW_UP = 1, SW_OFF = 2 };
+
+double smd_dtc_phase(double complex z, int k)
+{
+    if (k == 0) return creal(z);
+    if (k == 1) return A_RE * creal(z) + A_IM * cimag(z);
+    return A_RE * creal(z) - A_IM * cimag(z);
+}
+
+/* Floating levels of the open legs with zero current (fl[x] = 1: open at
+ * zero current), v in fractions of u_dc, ex / u_dc; a level outside [0, 1]
+ * puts that leg back on the rail's diode (mode). */
+static void dtc_float(const int sw[3], int mode[3], double v[3], const double ex[3])
+{
+    int iter;
+    for (iter = 0; iter < 3; iter++) {
+        int fl[3], nf = 0, x, worst = -1;
+        double vn[3], viol = 0.0;
+        for (x = 0; x < 3; x++) {
+            fl[x] = sw[x] == SW_OFF && mode[x] == 0;
+            nf += fl[x];
+        }
+        if (nf == 0) return;
+        for (x = 0; x < 3; x++) {
+            int y = (x + 1) % 3, z = (x + 2) % 3;
+            if (!fl[x]) continue;
+            if (nf == 1) {
+                vn[x] = 0.5 * (v[y] + v[z]) + 1.5 * ex[x];
+            } else if (nf == 2) {
+                int fixed = !fl[y] ? y : z;
+                vn[x] = v[fixed] + ex[x] - ex[fixed];
+            } else {
+                vn[x] = 0.5 + ex[x]; /* no current at all: the common mode is free */
+            }
+        }
+        for (x = 0; x < 3; x++) {
+            double o;
+            if (!fl[x]) continue;
+            o = vn[x] < 0.0 ? -vn[x] : (vn[x] > 1.0 ? vn[x] - 1.0 : 0.0);
+            if (o > viol) {
+                viol = o;
+                worst = x;
+            }
+        }
+        if (worst < 0) {
+            for (x = 0; x < 3; x++) {
+                if (fl[x]) v[x] = vn[x];
+            }
+            return;
+        }
+        /* beyond a rail: that rail's diode conducts (the current leaves zero
+         * in its direction); the others are solved again */
+        mode[worst] = vn[worst] < 0.0 ? 1 : -1;
+        v[worst] = vn[worst] < 0.0 ? 0.0 : 1.0;
+    }
+}
+
+void smd_dtc_legs(const dtc_circuit *c, const double d[3], double T, double td,
+                  dtc_leg legs[3])
+{
+    const double R = c->R, L = c->L, udc = c->u_dc;
+    double st_t[3][4];
+    int st_s[3][4], st_n[3], st_k[3] = {0, 0, 0};
+    int sw[3] = {SW_LOW, SW_LOW, SW_LOW}, mode[3] = {0, 0, 0};
+    double v[3] = {0.0, 0.0, 0.0}, tz[3] = {INFINITY, INFINITY, INFINITY};
+    double t = 0.0;
+    int x, events = 0;
+
+    for (x = 0; x < 3; x++) {
+        double r = 0.5 * (1.0 - d[x]) * T, f = 0.5 * (1.0 + d[x]) * T;
+        int n = 0;
+        st_t[x][n] = r;
+        st_s[x][n++] = SW_OFF;
+        if (r + td < f) {
+            st_t[x][n] = r + td;
+            st_s[x][n++] = SW_UP;
+            st_t[x][n] = f;
+            st_s[x][n++] = SW_OFF;
+        }
+        st_t[x][n] = f + td;
+        st_s[x][n++] = SW_LOW;
+        st_n[x] = n;
+        legs[x].n = 0;
+    }
+
+    for (;;) {
+        double tn = T, vold[3], ex[3], ix[3], vm;
+        int kind = -1, who = -1;
+        for (x = 0; x < 3; x++) {
+            if (st_k[x] < st_n[x] && st_t[x][st_k[x]] < tn) {
+                tn = st_t[x][st_k[x]];
+                kind = 0;
+                who = x;
+            }
+        }
+        for (x = 0; x < 3; x++) {
+            if (sw[x] == SW_OFF && mode[x] != 0 && tz[x] < tn) {
+                tn = tz[x];
+                kind = 1;
+                who = x;
+            }
+        }
+        if (kind < 0) break; /* nothing before the period's end */
+        /* the exact state at tn with the leg voltages held since t */
+        if (tn > t) {
+            c->advance(c->ctx, t, tn, v);
+            t = tn;
+        }
+        c->probe(c->ctx, t, ix, ex);
+        for (x = 0; x < 3; x++) vold[x] = v[x];
+        if (kind == 0) {
+            int s = st_s[who][st_k[who]++];
+            sw[who] = s;
+            tz[who] = INFINITY;
+            if (s == SW_LOW) {
+                v[who] = 0.0;
+            } else if (s == SW_UP) {
+                v[who] = 1.0;
+            } else {
+                mode[who] = ix[who] > 0.0 ? 1 : (ix[who] < 0.0 ? -1 : 0);
+                if (mode[who] != 0) v[who] = mode[who] > 0 ? 0.0 : 1.0;
+            }
+        } else {
+            mode[who] = 0; /* the current has reached zero: the leg opens */
+            tz[who] = INFINITY;
+        }
+        events++;
+        dtc_float(sw, mode, v, ex);
+        for (x = 0; x < 3; x++) {
+            if (v[x] != vold[x] && legs[x].n < DTC_MAX_STEPS) {
+                legs[x].t[legs[x].n] = t;
+                legs[x].dv[legs[x].n++] = v[x] - vold[x];
+            }
+        }
+        /* the next zero crossing of each leg on a diode, linear from now */
+        vm = (v[0] + v[1] + v[2]) / 3.0;
+        for (x = 0; x < 3; x++) {
+            tz[x] = INFINITY;
+            if (sw[x] == SW_OFF && mode[x] != 0 && events < DTC_MAX_EVENTS) {
+                double rate = (udc * (v[x] - vm) - R * ix[x] - ex[x] * udc) / L;
+                if (mode[x] > 0 && rate < 0.0) {
+                    tz[x] = t + (ix[x] > 0.0 ? ix[x] : 0.0) / -rate;
+                } else if (mode[x] < 0 && rate > 0.0) {
+                    tz[x] = t + (ix[x] < 0.0 ? -ix[x] : 0.0) / rate;
+                }
+            }
+        }
+    }
+}
