@@ -435,7 +435,7 @@ static void ls_check(const void *t, const smd_real d[3])
 static smd_status psi_step(void *t, smd_real ia, smd_real ib, smd_real u_dc, smd_real d[3])
 {
     psi_t *x = (psi_t *)t;
-    return smd_ident_psi_step(&x->p, &x->s, ia, ib, u_dc, d);
+    return smd_ident_psi_step(&x->p, &x->s, ia, ib, ia, ib, u_dc, d);
 }
 static void psi_reset(void *t) { smd_ident_psi_reset(&((psi_t *)t)->s); }
 static void psi_check(const void *t, const smd_real d[3])

@@ -181,7 +181,7 @@ def test_averaged_mode_clamp_loss():
 # ------------------------------------------- (2) brute-force reference --
 
 def _reference(i0: complex, theta0: float, w_e: float, duties, T, td, u_dc, R, L, psi,
-               h_max=10e-9):
+               h_max=10e-9, off=False):
     """The star-connected three-phase circuit with explicit switches and
     diodes, stepped at <= h_max (exactly between switching instants for
     constant leg voltages; the EMF at each step's middle). A leg with both
@@ -191,7 +191,8 @@ def _reference(i0: complex, theta0: float, w_e: float, duties, T, td, u_dc, R, L
     the other two phases carry i_y = -i_z, 2 L di_y/dt = v_y - v_z - 2 R i_y -
     (e_y - e_z); the open leg's terminal voltage, v_n + e_x with
     v_n = (v_y + v_z - e_y - e_z)/2, returns it to a diode when it leaves
-    [0, u_dc]. Returns i (alpha-beta) at the end of each period."""
+    [0, u_dc]. off: every switch open in every period (the duties unused).
+    Returns i (alpha-beta) at the end of each period."""
     a = R / L
     i = np.array([_phase(i0, k) for k in range(3)])
     is_open = [False, False, False]
@@ -206,8 +207,8 @@ def _reference(i0: complex, theta0: float, w_e: float, duties, T, td, u_dc, R, L
         marks = sorted(m for m in marks if 0.0 <= m <= T)
         for t0, t1 in zip(marks[:-1], marks[1:]):
             tm = 0.5 * (t0 + t1)
-            up = [r[x] + td <= tm < f[x] for x in range(3)]
-            low = [tm < r[x] or tm >= f[x] + td for x in range(3)]
+            up = [r[x] + td <= tm < f[x] and not off for x in range(3)]
+            low = [(tm < r[x] or tm >= f[x] + td) and not off for x in range(3)]
             for x in range(3):
                 if up[x] or low[x]:
                     is_open[x] = False
@@ -349,16 +350,6 @@ def test_agrees_with_brute_force_star_circuit(w_rpm, i_amp):
 
 # ------------------------------------------------------ (3) in the drive --
 
-def test_clamp_rejected_with_the_lcl_filter():
-    from smodrive.scenarios import yao2022
-
-    s = yao2022.BASE
-    s = s.replace(inverter=dataclasses.replace(s.inverter, dead_time_model="clamp",
-                                               t_dead=1e-7))
-    with pytest.raises(ParameterError, match="dead_time_model"):
-        simulate(s.replace(duration=1e-3))
-
-
 def test_fig9_runs_with_clamp_and_stays_close_at_speed():
     """The yang2018 Fig. 9 drive with clamping: the run completes, and in the
     first 0.2 s (currents far from zero most of each electrical period)
@@ -399,3 +390,72 @@ def test_toml_round_trip_of_both_options():
     assert 'dead_time_model = "clamp"' in text and "n_oversample = 4" in text
     back = scenario_from_dict(tomllib.loads(text))
     assert back.inverter.dead_time_model == "clamp" and back.adc.n_oversample == 4
+
+
+@pytest.mark.parametrize("w_M", [100.0, 250.0])
+def test_switches_off_against_brute_force(w_M):
+    """Every switch open (the plant's `off`, a drive's pwm_off), from 3 A,
+    against the brute-force star circuit over 10 periods. At 100 rad/s the
+    EMF's line peak (277 V) stays below u_dc = 540 V: the current returns
+    to the DC link through the diodes and then stays zero (the legs float);
+    at 250 rad/s it reaches 693 V, beyond u_dc: the bridge rectifies and a
+    braking current flows whatever the drive wants (the reason a drive
+    switching off at speed still brakes).
+
+    Tolerance 2e-4 A: with the switches off the floating levels and the
+    crossings' linear predictions are refreshed every h = T/48 = 2.1 us
+    (the diodes may now conduct for most of a period, where the current is
+    not linear); each leaves about |d^2 i/dt^2| h^2 / 2 = (w_e |e| / L_s)
+    h^2 / 2 = (1000 rad/s * 400 V / 23 mH) (2.1 us)^2 / 2 = 4e-5 A, a few of
+    them adding up (measured: 4e-5 A rectifying, 6e-6 A floating). The
+    floating levels held over whole periods instead (as in a dead time)
+    left 2.3 mA at 100 rad/s, and the crossings predicted once a period
+    1.6 mA at 250 rad/s (measured): the check fails on both."""
+    s = _scenario()
+    m = s.motor
+    T, u_dc = s.T_sp, s.inverter.u_dc
+    w_e = m.n_p * w_M
+    theta0 = 0.3
+    i0 = 3.0 * cmath.exp(1j * (theta0 + 1.9))
+    duties = [(0.5, 0.5, 0.5)] * 10
+    ref = _reference(i0, theta0, w_e, duties, T, s.inverter.t_dead, u_dc, m.R_s, m.L_s,
+                     m.psi_r, off=True)
+    if w_M < 150:
+        assert np.max(np.abs(ref[3:])) < 1e-6  # gone, and nothing flows after
+    else:
+        assert np.min(np.abs(ref[3:])) > 0.3  # the bridge rectifies
+    for model in ("clamp", "sign"):
+        p = Plant(_scenario(model, w_M0=w_M, theta_r0=theta0), J=1e4, B=0.0,
+                  i_d0=(i0 * cmath.exp(-1j * theta0)).real,
+                  i_q0=(i0 * cmath.exp(-1j * theta0)).imag)
+        p._head.off = 1
+        got = []
+        for d in duties:
+            p.step(d)
+            got.append(p.i_s)
+        err = np.max(np.abs(np.array(got) - ref))
+        assert err < 2e-4, (model, err)
+
+
+def test_pwm_off_safe_state_opens_the_switches():
+    """yang2018's drive at 75 r/min under load trips at once (its
+    overcurrent trip set at 5 A, below the load's current). With
+    safe_state = "pwm_off" the plant opens every switch: the current returns
+    through the diodes (L_s i / (2/3 u_dc) = 0.3 ms from 5 A) and stays
+    below 1 mA, the EMF's line peak (22 V) far below u_dc. With
+    "zero_vector" the terminals are shorted: the EMF (12.6 V) drives
+    e / |R_s + j w L_s| = 5.3 A around the short, which brakes the rotor
+    (more than 1 A from 2 to 3 ms, as the rotor stops: the check that can
+    fail). Before the plant modelled pwm_off, both ran as the zero vector."""
+    from smodrive.engine import simulate
+    from smodrive.scenarios import yang2018_setup as Y
+
+    got = {}
+    for safe in ("zero_vector", "pwm_off"):
+        s = Y.fig56_scenario("trip", "robust").with_controller(i_trip=5.0, safe_state=safe)
+        r = simulate(s.replace(duration=0.02))
+        assert r.faults.first != 0 and r.faults.t_first == 0.0, safe
+        i = np.abs(r["i_alpha"] + 1j * r["i_beta"])
+        got[safe] = i[(r.t >= 2e-3) & (r.t <= (0.02 if safe == "pwm_off" else 3e-3))]
+    assert np.max(got["pwm_off"]) < 1e-3, np.max(got["pwm_off"])
+    assert np.min(got["zero_vector"]) > 1.0, np.min(got["zero_vector"])

@@ -597,7 +597,8 @@ smd_status smd_ident_psi_init(smd_ident_psi_params *p, const smd_ident_psi_confi
     p->n_hold = (int)(c->t_hold / c->T_sp + SMD_R(0.5));
     p->n_coast = (int)(c->t_coast / c->T_sp + SMD_R(0.5));
     p->L1 = c->L1;
-    p->L1C1 = c->L1 > SMD_R(0.0) ? c->L1 * c->C1 : SMD_R(0.0);
+    p->C1 = c->L1 > SMD_R(0.0) ? c->C1 : SMD_R(0.0);
+    p->a_cap = c->w_cc * c->T_sp;
     p->L2 = c->L1 > SMD_R(0.0) ? c->L2o + c->L_s : c->L_s;
     p->share_max = c->share_max;
     p->w_gov = SMD_R(0.2) * c->w1;
@@ -615,7 +616,8 @@ void smd_ident_psi_reset(smd_ident_psi_state *s)
     s->outcome = SMD_IDENT_RUNNING;
     s->theta_f = SMD_R(0.0);
     s->w_f = SMD_R(0.0);
-    s->x_i = s->u_ab = s->u_prev = s->u_applied = z;
+    s->x_i = s->u_ab = s->u_prev = s->u_applied = s->i_cap = s->i_prev = z;
+    s->pwm_off = 0;
     s->n = 0;
     s->acc_e = s->acc_n = s->acc_w = SMD_R(0.0);
     s->e1 = s->e2 = s->w1m = s->w2m = SMD_R(0.0);
@@ -629,6 +631,7 @@ void smd_ident_psi_reset(smd_ident_psi_state *s)
 static smd_status psi_stop(smd_ident_psi_state *s, int outcome, smd_real d_abc[3])
 {
     s->phase = SMD_IDENT_PSI_FAILED;
+    s->pwm_off = 0;
     s->outcome = outcome;
     zero_vector(d_abc, &s->u_applied);
     return SMD_ERR_FAULT;
@@ -642,17 +645,21 @@ static void psi_next_phase(smd_ident_psi_state *s, int phase)
 }
 
 smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state *s,
-                              smd_real i_a, smd_real i_b, smd_real u_dc, smd_real d_abc[3])
+                              smd_real i_a, smd_real i_b, smd_real i1_a, smd_real i1_b,
+                              smd_real u_dc, smd_real d_abc[3])
 {
     const smd_real T = p->T_sp;
     const smd_cplx i_ab = smd_ab2_to_ab(i_a, i_b);
-    smd_cplx i_ref, i_dq, err, u_dq, r;
+    smd_cplx i_ref, i_dq, i1_dq, err, u_dq, r;
     int bad;
     if (s->phase == SMD_IDENT_PSI_DONE || s->phase == SMD_IDENT_PSI_FAILED) {
         zero_vector(d_abc, &s->u_applied);
         return s->phase == SMD_IDENT_PSI_DONE ? SMD_OK : SMD_ERR_FAULT;
     }
     bad = input_fault(i_a, i_b, u_dc, SMD_R(3.0) * p->i_spin);
+    if (!bad && p->L1 > SMD_R(0.0)) {
+        bad = input_fault(i1_a, i1_b, u_dc, SMD_R(3.0) * p->i_spin);
+    }
     if (bad) {
         return psi_stop(s, bad, d_abc);
     }
@@ -668,25 +675,34 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
             psi_next_phase(s, s->phase + 1);
         }
     }
-    i_ref = s->phase == SMD_IDENT_PSI_COAST ? smd_c(SMD_R(0.0), SMD_R(0.0))
-                                            : smd_c(SMD_R(0.0), p->i_spin);
     r = smd_cexpj(s->theta_f);
     i_dq = smd_cmul(i_ab, smd_cconj(r));
+    i1_dq = i_dq;
+    if (p->L1 > SMD_R(0.0)) {
+        /* the capacitor's current i_1 - i, low-passed at w_cc */
+        i1_dq = smd_cmul(smd_ab2_to_ab(i1_a, i1_b), smd_cconj(r));
+        s->i_cap = smd_cadd(s->i_cap, smd_cscale(smd_csub(smd_csub(i1_dq, i_dq), s->i_cap),
+                                                 p->a_cap));
+    }
+    /* coasting, i = 0; behind a filter, i = -i_cap, so that i_1 = 0 (the header) */
+    i_ref = s->phase == SMD_IDENT_PSI_COAST ? smd_cscale(s->i_cap, SMD_R(-1.0))
+                                            : smd_c(SMD_R(0.0), p->i_spin);
     err = smd_csub(i_ref, i_dq);
     u_dq = smd_cadd(smd_cadd(smd_cscale(err, p->k_p), s->x_i),
                     smd_cj(smd_cscale(i_ref, s->w_f * p->L_s)));
     s->x_i = smd_cadd(s->x_i, smd_cscale(err, p->k_i * T));
     if (s->phase != SMD_IDENT_PSI_COAST) {
         /* e = u - (R + j w L) i - the inverter's drop along the current;
-         * behind a filter, through the capacitor's voltage (the header) */
+         * behind a filter, the drop along i_1 and through the capacitor's
+         * voltage (the header) */
         const smd_real ia = smd_cabs(i_dq), w = s->w_f + s->w_c;
+        const smd_real ia1 = p->L1 > SMD_R(0.0) ? smd_cabs(i1_dq) : ia;
         smd_cplx v = u_dq, e;
-        if (ia > SMD_R(0.0)) {
-            v = smd_csub(v, smd_cscale(i_dq, p->u_drop / ia));
+        if (ia1 > SMD_R(0.0)) {
+            v = smd_csub(v, smd_cscale(i1_dq, p->u_drop / ia1));
         }
         if (p->L1 > SMD_R(0.0)) {
-            v = smd_cscale(smd_csub(v, smd_cj(smd_cscale(i_dq, w * p->L1))),
-                           SMD_R(1.0) / (SMD_R(1.0) - w * w * p->L1C1));
+            v = smd_csub(v, smd_cj(smd_cscale(i1_dq, w * p->L1)));
         }
         e = smd_csub(v, smd_cmul(smd_c(p->R_s, w * p->L2), i_dq));
         if (s->w_f >= p->w_gov && ia > SMD_R(0.0) && smd_cabs(e) > SMD_R(0.0)) {
@@ -750,7 +766,22 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
         if (s->n > 1) {
             s->w_f += SMD_R(0.05) * (turn / T - s->w_f);
         }
-        if (10 * s->n > p->n_coast) {
+        if (p->L1 > SMD_R(0.0)) {
+            /* behind a filter: the PI holds i_1 near 0 for a tenth of the
+             * coast, then every switch opens; from a fifth on, the motor's
+             * current is the capacitor's, i = -j w C1 u_c, its magnitude and
+             * turn measured (the header) */
+            const smd_cplx ri = smd_cmul(i_ab, smd_cconj(s->i_prev));
+            s->i_prev = i_ab;
+            if (10 * s->n > p->n_coast) {
+                s->pwm_off = 1;
+            }
+            if (5 * s->n > p->n_coast) {
+                s->acc_e += smd_cabs(i_ab);
+                s->acc_w += SMD_ATAN2(ri.im, ri.re);
+                s->acc_n += SMD_R(1.0);
+            }
+        } else if (10 * s->n > p->n_coast) {
             s->acc_e += smd_cabs(s->u_ab);
             /* (signed: a mean of absolute turns would grow with the
              * noise the current loop puts on the voltage) */
@@ -759,7 +790,14 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
         }
         if (s->n >= p->n_coast) {
             const smd_real w = SMD_FABS(s->acc_w) / (s->acc_n * T);
-            s->psi_coast = (s->acc_e / s->acc_n) / (w * (SMD_R(1.0) - w * w * p->L1C1));
+            /* behind a filter, |u_c| = |i| / (w C1) and e = u_c (1 - w^2 C1 L2
+             * + j w R_s C1) (the header) */
+            const smd_real k_re = SMD_R(1.0) - w * w * p->C1 * p->L2, k_im = w * p->R_s * p->C1;
+            s->psi_coast = p->L1 > SMD_R(0.0)
+                               ? (s->acc_e / s->acc_n) * SMD_SQRT(k_re * k_re + k_im * k_im) /
+                                     (w * w * p->C1)
+                               : (s->acc_e / s->acc_n) / w;
+            s->pwm_off = 0;
             s->psi1 = s->e1 / s->w1m;
             s->psi2 = s->e2 / s->w2m;
             s->psi_slope = (s->e2 - s->e1) / (s->w2m - s->w1m);
@@ -775,6 +813,10 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
         }
     }
     s->u_prev = s->u_ab;
+    if (s->pwm_off) {
+        zero_vector(d_abc, &s->u_applied); /* (the duties if the switches stay on) */
+        return SMD_OK;
+    }
     {
         const smd_real w = s->w_f + s->w_c;
         s->u_ab = smd_cmul(u_dq, smd_cexpj(s->theta_f + SMD_R(1.5) * w * T));

@@ -608,7 +608,7 @@ static void blk_ident_psi(smd_writer *w, rng *g, int n)
         ia = edge(g, k, n, abc[0] + urand(g, SMD_R(-0.05), SMD_R(0.05)));
         ib = abc[1] + urand(g, SMD_R(-0.05), SMD_R(0.05));
         smd_mark_begin(SMD_BLK_IDENT_PSI);
-        st = smd_ident_psi_step(&p, &s, ia, ib, udc, d);
+        st = smd_ident_psi_step(&p, &s, ia, ib, ia, ib, udc, d);
         smd_mark_end();
         wr_i32(w, (int)st);
         wr_i32(w, s.phase);

@@ -35,8 +35,11 @@ double smd_dtc_phase(double complex z, int k)
 
 /* Floating levels of the open legs with zero current (fl[x] = 1: open at
  * zero current), v in fractions of u_dc, ex / u_dc; a level outside [0, 1]
- * puts that leg back on the rail's diode (mode). */
-static void dtc_float(const int sw[3], int mode[3], double v[3], const double ex[3])
+ * puts that leg back on the rail's diode (mode). kc != 0 (a period with the
+ * switches off, refreshed every h): the level also returns the current's
+ * drift ix to zero within h, kc = (R - L/h) / u_dc. */
+static void dtc_float(const int sw[3], int mode[3], double v[3], const double ex[3],
+                      const double ix[3], double kc)
 {
     int iter;
     for (iter = 0; iter < 3; iter++) {
@@ -52,11 +55,14 @@ static void dtc_float(const int sw[3], int mode[3], double v[3], const double ex
             if (!fl[x]) continue;
             if (nf == 1) {
                 vn[x] = 0.5 * (v[y] + v[z]) + 1.5 * ex[x];
+                if (kc != 0.0) vn[x] += 1.5 * kc * ix[x];
             } else if (nf == 2) {
                 int fixed = !fl[y] ? y : z;
                 vn[x] = v[fixed] + ex[x] - ex[fixed];
+                if (kc != 0.0) vn[x] += kc * (ix[x] - ix[fixed]);
             } else {
                 vn[x] = 0.5 + ex[x]; /* no current at all: the common mode is free */
+                if (kc != 0.0) vn[x] += kc * ix[x];
             }
         }
         for (x = 0; x < 3; x++) {
@@ -81,7 +87,7 @@ static void dtc_float(const int sw[3], int mode[3], double v[3], const double ex
     }
 }
 
-void smd_dtc_legs(const dtc_circuit *c, const double d[3], double T, double td,
+void smd_dtc_legs(const dtc_circuit *c, const double d[3], double T, double td, int off,
                   dtc_leg legs[3])
 {
     const double R = c->R, L = c->L, udc = c->u_dc;
@@ -90,11 +96,21 @@ void smd_dtc_legs(const dtc_circuit *c, const double d[3], double T, double td,
     int sw[3] = {SW_LOW, SW_LOW, SW_LOW}, mode[3] = {0, 0, 0};
     double v[3] = {0.0, 0.0, 0.0}, tz[3] = {INFINITY, INFINITY, INFINITY};
     double t = 0.0;
+    /* switches off: the floating levels and the crossings' predictions
+     * refreshed every h (the voltage they follow turns; held a whole period,
+     * a floating current would drift off zero, and a diode's current, which
+     * may now flow for most of the period, is not linear) */
+    const double h = T / 48.0, kc = off ? (R - L / h) / udc : 0.0;
     int x, events = 0;
 
     for (x = 0; x < 3; x++) {
         double r = 0.5 * (1.0 - d[x]) * T, f = 0.5 * (1.0 + d[x]) * T;
         int n = 0;
+        if (off) {
+            st_n[x] = 0; /* (every leg opens at once: the first event below) */
+            legs[x].n = 0;
+            continue;
+        }
         st_t[x][n] = r;
         st_s[x][n++] = SW_OFF;
         if (r + td < f) {
@@ -111,7 +127,7 @@ void smd_dtc_legs(const dtc_circuit *c, const double d[3], double T, double td,
 
     for (;;) {
         double tn = T, vold[3], ex[3], ix[3], vm;
-        int kind = -1, who = -1;
+        int kind = off && events == 0 && t == 0.0 ? 3 : -1, who = -1;
         for (x = 0; x < 3; x++) {
             if (st_k[x] < st_n[x] && st_t[x][st_k[x]] < tn) {
                 tn = st_t[x][st_k[x]];
@@ -125,6 +141,13 @@ void smd_dtc_legs(const dtc_circuit *c, const double d[3], double T, double td,
                 kind = 1;
                 who = x;
             }
+        }
+        if (kind == 3) {
+            tn = 0.0; /* every switch opens at the period's start */
+        } else if (off && t + h < tn) {
+            tn = t + h;
+            kind = 2; /* a refresh */
+            who = -1;
         }
         if (kind < 0) break; /* nothing before the period's end */
         /* the exact state at tn with the leg voltages held since t */
@@ -144,14 +167,23 @@ void smd_dtc_legs(const dtc_circuit *c, const double d[3], double T, double td,
                 v[who] = 1.0;
             } else {
                 mode[who] = ix[who] > 0.0 ? 1 : (ix[who] < 0.0 ? -1 : 0);
+                if (off && c->open[who]) mode[who] = 0; /* it was floating: it still is */
                 if (mode[who] != 0) v[who] = mode[who] > 0 ? 0.0 : 1.0;
             }
-        } else {
+        } else if (kind == 1) {
             mode[who] = 0; /* the current has reached zero: the leg opens */
             tz[who] = INFINITY;
+        } else if (kind == 3) {
+            /* all at once (one by one, the first would float against legs
+             * still low); a leg floating at the last period's end still is */
+            for (x = 0; x < 3; x++) {
+                sw[x] = SW_OFF;
+                mode[x] = c->open[x] ? 0 : (ix[x] > 0.0 ? 1 : (ix[x] < 0.0 ? -1 : 0));
+                if (mode[x] != 0) v[x] = mode[x] > 0 ? 0.0 : 1.0;
+            }
         }
-        events++;
-        dtc_float(sw, mode, v, ex);
+        if (kind != 2) events++; /* (a refresh is no event) */
+        dtc_float(sw, mode, v, ex, ix, kc);
         for (x = 0; x < 3; x++) {
             if (v[x] != vold[x] && legs[x].n < DTC_MAX_STEPS) {
                 legs[x].t[legs[x].n] = t;
@@ -171,5 +203,8 @@ void smd_dtc_legs(const dtc_circuit *c, const double d[3], double T, double td,
                 }
             }
         }
+    }
+    for (x = 0; x < 3; x++) {
+        c->open[x] = off && sw[x] == SW_OFF && mode[x] == 0;
     }
 }

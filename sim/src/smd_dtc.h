@@ -21,6 +21,10 @@ typedef struct dtc_leg {
  * voltage the leg works against (back EMF or capacitor voltage) / u_dc. */
 typedef struct dtc_circuit {
     double R, L, u_dc;
+    /* the legs floating at zero current: in, at the start of a period with
+     * the switches off (they stay so; the others take a diode by their
+     * current's sign); out, at its end (0 after a switching period) */
+    int *open;
     void *ctx;
     /* the state from t0 to t1 > t0 with the leg voltages v (fractions of u_dc) held */
     void (*advance)(void *ctx, double t0, double t1, const double v[3]);
@@ -33,8 +37,9 @@ double smd_dtc_phase(double complex z, int k);
 
 /* The legs' voltage steps over one period of duties d (clamped to [0, 1]),
  * period T, dead time t_dead, the state at t = 0 in the circuit's context
- * (left at the last event). */
-void smd_dtc_legs(const dtc_circuit *c, const double d[3], double T, double t_dead,
+ * (left at the last event); off: every switch open the whole period (the
+ * legs on their diodes or floating; d and t_dead unused). */
+void smd_dtc_legs(const dtc_circuit *c, const double d[3], double T, double t_dead, int off,
                   dtc_leg legs[3]);
 
 #endif

@@ -89,6 +89,8 @@ int smd_engine_init(smd_engine *e, const smd_plant_config *plant, const smd_driv
         e->d_abc[1] = (double)d[1];
         e->d_abc[2] = (double)d[2];
     }
+    e->pwm_off = 0;
+    e->plant.off = 0;
     e->k = 0;
     e->seg[0] = e->seg[1] = e->seg[2] = e->seg[3] = e->seg[4] = e->seg[5] = 0;
     e->R_s0 = plant->R_s;
@@ -165,6 +167,9 @@ static inline void engine_apply(smd_engine *e, const engine_sample *x, const smd
         d_now[j] = e->d_abc[j];
         e->d_abc[j] = (double)out->d_abc[j];
     }
+    /* (pwm_off as the duties: from the next period on) */
+    e->plant.off = e->pwm_off;
+    e->pwm_off = out->pwm_off != 0;
     if (r != 0) {
         const smd_plant *pl = &e->plant;
         double c = cos(pl->theta_r), s = sin(pl->theta_r);
@@ -251,7 +256,7 @@ long smd_engine_run(smd_engine *e, long n, double *log, long stride)
  * test a step through its context (its params and state); the step returns
  * 1 once the test ended. With log != 0 every stride-th sample writes t, the
  * true alpha current and the test's applied alpha voltage. */
-typedef int (*ident_step)(void *ctx, const smd_drive_in *in, smd_real d_abc[3], smd_status *st);
+typedef int (*ident_step)(void *ctx, const smd_drive_in *in, smd_drive_out *out, smd_status *st);
 
 static long run_ident(smd_engine *e, ident_step step, void *ctx, const smd_cplx *u_applied,
                       long n, double *log, long stride)
@@ -265,9 +270,9 @@ static long run_ident(smd_engine *e, ident_step step, void *ctx, const smd_cplx 
         smd_status st;
         int ended;
         engine_inputs(e, &x, &in);
-        ended = step(ctx, &in, out.d_abc, &st);
-        out.fault = 0u;
         out.pwm_off = 0;
+        ended = step(ctx, &in, &out, &st);
+        out.fault = 0u;
         if (log != 0 && (j % stride) == 0) {
             double *r = log + 3 * rows;
             r[0] = x.t;
@@ -287,24 +292,25 @@ typedef struct rs_ctx { const smd_ident_rs_params *p; smd_ident_rs_state *s; } r
 typedef struct ls_ctx { const smd_ident_ls_params *p; smd_ident_ls_state *s; } ls_ctx;
 typedef struct psi_ctx { const smd_ident_psi_params *p; smd_ident_psi_state *s; } psi_ctx;
 
-static int rs_step(void *ctx, const smd_drive_in *in, smd_real d[3], smd_status *st)
+static int rs_step(void *ctx, const smd_drive_in *in, smd_drive_out *out, smd_status *st)
 {
     rs_ctx *c = (rs_ctx *)ctx;
-    *st = smd_ident_rs_step(c->p, c->s, in->i_a, in->i_b, in->u_dc, d);
+    *st = smd_ident_rs_step(c->p, c->s, in->i_a, in->i_b, in->u_dc, out->d_abc);
     return c->s->phase == SMD_IDENT_DONE || c->s->phase == SMD_IDENT_FAILED;
 }
 
-static int ls_step(void *ctx, const smd_drive_in *in, smd_real d[3], smd_status *st)
+static int ls_step(void *ctx, const smd_drive_in *in, smd_drive_out *out, smd_status *st)
 {
     ls_ctx *c = (ls_ctx *)ctx;
-    *st = smd_ident_ls_step(c->p, c->s, in->i_a, in->i_b, in->u_dc, d);
+    *st = smd_ident_ls_step(c->p, c->s, in->i_a, in->i_b, in->u_dc, out->d_abc);
     return c->s->phase == SMD_IDENT_LS_DONE || c->s->phase == SMD_IDENT_LS_FAILED;
 }
 
-static int psi_step(void *ctx, const smd_drive_in *in, smd_real d[3], smd_status *st)
+static int psi_step(void *ctx, const smd_drive_in *in, smd_drive_out *out, smd_status *st)
 {
     psi_ctx *c = (psi_ctx *)ctx;
-    *st = smd_ident_psi_step(c->p, c->s, in->i_a, in->i_b, in->u_dc, d);
+    *st = smd_ident_psi_step(c->p, c->s, in->i_a, in->i_b, in->i1_a, in->i1_b, in->u_dc, out->d_abc);
+    out->pwm_off = c->s->pwm_off;
     return c->s->phase == SMD_IDENT_PSI_DONE || c->s->phase == SMD_IDENT_PSI_FAILED;
 }
 

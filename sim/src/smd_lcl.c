@@ -298,7 +298,7 @@ static void lcl_dtc_probe(void *ctx, double t, double i_x[3], double ex[3])
 #if defined(__GNUC__)
 __attribute__((noinline))
 #endif
-static double complex lcl_clamp_voltage(const smd_plant *p, const double d_abc[3],
+static double complex lcl_clamp_voltage(smd_plant *p, const double d_abc[3],
                                         const lcl_kernel *k, double complex E0,
                                         const double complex z0[3], double complex uc0,
                                         const double complex leg_dir[3],
@@ -311,7 +311,7 @@ static double complex lcl_clamp_voltage(const smd_plant *p, const double d_abc[3
     double d[3];
     int x, j, m;
     for (x = 0; x < 3; x++) d[x] = smd_pwm_clamp(d_abc[x]);
-    if (c->pwm_mode == SMD_PWM_CARRIER) {
+    if (c->pwm_mode == SMD_PWM_CARRIER || p->off) {
         dtc_leg legs[3];
         lcl_dtc s;
         dtc_circuit circ;
@@ -324,9 +324,10 @@ static double complex lcl_clamp_voltage(const smd_plant *p, const double d_abc[3
         circ.L = c->L1;
         circ.u_dc = c->u_dc;
         circ.ctx = &s;
+        circ.open = p->leg_open;
         circ.advance = lcl_dtc_advance;
         circ.probe = lcl_dtc_probe;
-        smd_dtc_legs(&circ, d, T, c->t_dead, legs);
+        smd_dtc_legs(&circ, d, T, c->t_dead, p->off, legs);
         for (x = 0; x < 3; x++) {
             for (j = 0; j < legs[x].n; j++) {
                 edge(&p->m, k, legs[x].t[j], legs[x].dv[j] * leg_dir[x], G, S);
@@ -399,7 +400,7 @@ void smd_lcl_step(smd_plant *p, const double d_abc[3], double T_ext, double T_br
     /* Inverter voltage: dead time by the sign of the inverter-side current,
      * or with zero-current clamping (lcl_clamp_legs). */
     smd_ab_to_abc_d(p->i1_re, p->i1_im, i1_abc);
-    if (c->dead_time_model == SMD_DT_CLAMP && c->t_dead > 0.0) {
+    if (p->off || (c->dead_time_model == SMD_DT_CLAMP && c->t_dead > 0.0)) {
         u_mean = lcl_clamp_voltage(p, d_abc, &k, E0, z, x[0], leg_dir, i1_abc, G, S);
     } else if (c->pwm_mode == 1) {
         for (xl = 0; xl < 3; xl++) {

@@ -89,6 +89,8 @@ int smd_plant_init(smd_plant *p, const smd_plant_config *c)
         p->i1_re = p->i_re;
         p->i1_im = p->i_im;
     }
+    p->off = 0;
+    p->leg_open[0] = p->leg_open[1] = p->leg_open[2] = 0;
     p->solver = c->lcl ? 2 : (c->dead_time_model == SMD_DT_CLAMP && c->t_dead > 0.0) ? 1 : 0;
     p->w_M = c->w_M0;
     p->T_e_mean = 0.0;
@@ -123,7 +125,7 @@ void smd_plant_step(smd_plant *p, const double d_abc[3], double T_ext, double T_
     if (p->solver == 2) {
         smd_lcl_step(p, d_abc, T_ext, T_brake);
     } else {
-        if (p->solver == 0) {
+        if (p->solver == 0 && !p->off) {
             smd_spmsm_step(p, d_abc, T_ext, T_brake);
         } else {
             smd_spmsm_step_clamp(p, d_abc, T_ext, T_brake);

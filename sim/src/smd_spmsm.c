@@ -104,7 +104,7 @@ static void spmsm_dtc_probe(void *ctx, double t, double i_x[3], double ex[3])
     }
 }
 
-static void dtc_legs(const smd_plant *p, const double d[3], double T, double w_e,
+static void dtc_legs(smd_plant *p, const double d[3], double T, double w_e,
                      double complex ejth0, double complex C, dtc_leg legs[3])
 {
     spmsm_dtc s;
@@ -118,9 +118,10 @@ static void dtc_legs(const smd_plant *p, const double d[3], double T, double w_e
     circ.L = p->c.L_s;
     circ.u_dc = p->c.u_dc;
     circ.ctx = &s;
+    circ.open = p->leg_open;
     circ.advance = spmsm_dtc_advance;
     circ.probe = spmsm_dtc_probe;
-    smd_dtc_legs(&circ, d, T, p->c.t_dead, legs);
+    smd_dtc_legs(&circ, d, T, p->c.t_dead, p->off, legs);
 }
 
 /* The leg voltages of the period with zero-current clamping (carrier:
@@ -137,7 +138,7 @@ typedef struct period_sums {
 #if defined(__GNUC__)
 __attribute__((noinline))
 #endif
-static void clamp_step(const smd_plant *p, const double d_abc[3], double complex ejth0,
+static void clamp_step(smd_plant *p, const double d_abc[3], double complex ejth0,
                        double w_e, double complex C, const edge_kernel *ek,
                        const double complex leg_dir[3], const double i_abc[3], period_sums *sums)
 {
@@ -147,7 +148,7 @@ static void clamp_step(const smd_plant *p, const double d_abc[3], double complex
     double d[3];
     int x, k;
     for (x = 0; x < 3; x++) d[x] = smd_pwm_clamp(d_abc[x]);
-    if (c->pwm_mode == SMD_PWM_CARRIER) {
+    if (c->pwm_mode == SMD_PWM_CARRIER || p->off) {
         dtc_leg legs[3];
         dtc_legs(p, d, T, w_e, ejth0, C, legs);
         for (x = 0; x < 3; x++) {

@@ -136,6 +136,7 @@ typedef struct smd_engine {
     smd_drive_state ctrl_s;
     smd_profiles prof;
     double d_abc[3];     /* duties applied during the current period */
+    int pwm_off;         /* ... and the drive's pwm_off with them (smd_plant.off) */
     long k;              /* samples done */
     int seg[6];          /* last segment of each profile (time only grows) */
     double R_s0;         /* the plant's configured R_s (R_s_scale multiplies it) */

@@ -103,12 +103,16 @@ typedef struct smd_plant {
     double T_e_mean;      /* mean electromagnetic torque over the last period, N m */
     double T_L_mean;      /* mean load torque over the last period (viscous B w excluded), N m */
     double u_re, u_im;    /* mean applied inverter voltage over the last period, V */
+    int off;              /* 1: every switch open over the next period (the drive's pwm_off):
+                           * the legs on their diodes, or floating at zero current (the
+                           * clamping model's walk, whatever dead_time_model) */
     /* --- private --- */
     double a;             /* R_s / (L2o + L_s), 1/s */
     double L2;            /* L2o + L_s, H */
     smd_lcl_modes m;      /* LCL only */
     smd_rng rng;          /* ADC noise generator */
     int solver;           /* 0: smd_spmsm_step, 1: smd_spmsm_step_clamp, 2: smd_lcl_step */
+    int leg_open[3];      /* with the switches off: the legs floating at the last period's end */
 } smd_plant;
 
 /* The codes of smd_plant_init: 0 or the first bad field, in the order it

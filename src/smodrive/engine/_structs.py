@@ -415,9 +415,9 @@ class IdentPsiParams(ct.Structure):
     _fields_ = [
         ("T_sp", real), ("R_s", real), ("L_s", real), ("u_drop", real), ("i_spin", real),
         ("w1", real), ("w2", real), ("a_spin", real), ("k_p", real), ("k_i", real), ("L1", real),
-        ("L1C1", real), ("L2", real), ("w_damp", real), ("a_hp", real), ("share_max", real),
-        ("w_gov", real), ("a_share", real), ("k_g", real), ("n_hold", ct.c_int),
-        ("n_coast", ct.c_int), ("svm", SvmParams),
+        ("C1", real), ("L2", real), ("a_cap", real), ("w_damp", real), ("a_hp", real),
+        ("share_max", real), ("w_gov", real), ("a_share", real), ("k_g", real),
+        ("n_hold", ct.c_int), ("n_coast", ct.c_int), ("svm", SvmParams),
     ]
 
 
@@ -428,10 +428,10 @@ class IdentPsiState(ct.Structure):
     _fields_ = [
         ("phase", ct.c_int), ("outcome", ct.c_int), ("theta_f", real), ("w_f", real), ("x_i", Cplx),
         ("u_ab", Cplx), ("u_prev", Cplx), ("n", ct.c_int), ("acc_e", real), ("acc_n", real),
-        ("acc_w", real), ("phi_lpf", real), ("w_c", real), ("share", real), ("g", real),
-        ("gov_on", ct.c_int), ("e1", real), ("e2", real), ("w1m", real), ("w2m", real),
-        ("psi", real), ("psi1", real), ("psi2", real), ("psi_coast", real), ("psi_slope", real),
-        ("u_applied", Cplx), ("samples", ct.c_int),
+        ("acc_w", real), ("phi_lpf", real), ("w_c", real), ("share", real), ("i_cap", Cplx),
+        ("i_prev", Cplx), ("pwm_off", ct.c_int), ("g", real), ("gov_on", ct.c_int), ("e1", real),
+        ("e2", real), ("w1m", real), ("w2m", real), ("psi", real), ("psi1", real), ("psi2", real),
+        ("psi_coast", real), ("psi_slope", real), ("u_applied", Cplx), ("samples", ct.c_int),
     ]
 
 
@@ -482,7 +482,7 @@ class PlantHead(ct.Structure):
         ("c", PlantConfig), ("i_re", ct.c_double), ("i_im", ct.c_double), ("i1_re", ct.c_double),
         ("i1_im", ct.c_double), ("uc_re", ct.c_double), ("uc_im", ct.c_double),
         ("theta_r", ct.c_double), ("w_M", ct.c_double), ("T_e_mean", ct.c_double),
-        ("T_L_mean", ct.c_double), ("u_re", ct.c_double), ("u_im", ct.c_double),
+        ("T_L_mean", ct.c_double), ("u_re", ct.c_double), ("u_im", ct.c_double), ("off", ct.c_int),
     ]
 
 

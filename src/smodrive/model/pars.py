@@ -267,7 +267,8 @@ class ControllerCfg(_Validated):
     u_dc_max_ratio: float = num(1.5, 0.0, 100.0, "",
                                 "overvoltage trip, multiple of the inverter's u_dc (0: off)")
     safe_state: str = choice("zero_vector", ("zero_vector", "pwm_off"),
-                             "what a fault applies (the plant models both as the zero vector)")
+                             "what a fault applies: the zero vector (the terminals shorted) or every "
+                             "switch off (the legs on their diodes)")
     t_lock: float = num(0.02, 0.0, 100.0, "s",
                         "loss of lock after this long implausible (sensorless; 0: off)")
     lock_ratio: float = num(3.0, 1.0, 1e3, "", "EMF plausibility band [1/r, r] of |w| psi",
