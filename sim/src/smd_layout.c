@@ -565,6 +565,7 @@ static const smd_layout_row ROWS[] = {
     F(smd_plant, m, "smd_lcl_modes"),
     F(smd_plant, rng, "smd_rng"),
     F(smd_plant, solver, "int"),
+    F(smd_plant, leg_open, "int"),
 };
 
 int smd_layout_rows(void) { return (int)(sizeof(ROWS) / sizeof(ROWS[0])); }

@@ -268,7 +268,9 @@ def commission(s: Scenario, i_test: float | None = None, mechanics: bool = True
     if lq is not None and lq.ok:
         psi = identify_psi(s, rs, 0.5 * (ld.L + lq.L), max(rs.i_levels), eng)
         if psi.ok and mechanics:
-            mech = identify_mech(s, rs.R_s, 0.5 * (ld.L + lq.L), psi.psi)
+            mech = identify_mech(s, rs.R_s, 0.5 * (ld.L + lq.L), psi.psi,
+                                 t_dead_comp=rs.t_dead(s.T_sp, s.inverter.u_dc),
+                                 u_0=max(rs.u_0, 0.0))
     return Commissioning(rs, ld, lq, psi, mech)
 
 
@@ -338,6 +340,12 @@ T_BIN = 0.02
 T_COAST_MECH = 0.4
 
 
+#: step 4's handover (assumed): no lower than where the EMF is K_DROP times the inverter drop's
+#: fundamental, and then reached by the forced start within T_START
+K_DROP = 1.0
+T_START = 1.2
+
+
 @dataclass(frozen=True)
 class MechResult:
     """J and B as step 4 measured them."""
@@ -364,10 +372,18 @@ def mech_speeds(sd: Scenario) -> tuple[float, float]:
     return w1, min(w_n, w1 + 0.4 * w_n)
 
 
-def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float) -> Scenario:
+def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float,
+                  t_dead_comp: float | None = None, u_0: float = 0.0) -> Scenario:
     """Step 4's run: the sensorless drive (robust DBPC, SMDO, I/f start) on
     the bench, designed from the measured R_s, L_s, psi_r and a guessed
-    inertia, on the reference of the test (:func:`mech_speeds`)."""
+    inertia, on the reference of the test (:func:`mech_speeds`);
+    `t_dead_comp`: the dead time step 1's drop gives (None: the scenario's
+    own setting); `u_0`: that drop, V: the forced start hands over no lower
+    than where the EMF is twice the drop's fundamental, (3/pi) u_0 (below,
+    what the compensation misses of the drop misleads the observer: yao2022's
+    motor behind its filter at 1.3 us of dead time lost its rotor right
+    after a handover at 5 kr/min, where the EMF is 0.63 V against 2.1 V of
+    drop), at most half the rated speed."""
     m = s.motor
     w_n = m.w_M_N
     t2 = T_STEP + T_RAMP + T_HOLD_MECH + T_COAST_MECH
@@ -379,18 +395,28 @@ def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float) -> Scenario
         # behind an LCL filter: yao2022's drive (current PI with active damping, the
         # sliding-mode observer and PLL), the filter's data sheet values as they are
         parts = (dict(current="robust_dbpc", position="smdo_emf") if s.lcl is None else
-                 dict(current="pi", position="lcl_smo_pll"))
-        return sd.with_controller(**parts, start="if",
-                                  R_s_hat=R_s, L_s_hat=L_s, psi_r_hat=psi_r,
-                                  J_hat=J_GUESS_T * m.T_N / w_n, a_M_ref=(w2 - w1) / T_RAMP,
-                                  speed_bw=SPEED_BW_MECH)
+                 dict(current="pi", position="lcl_smo_pll", decouple="auto"))
+        if t_dead_comp is not None:
+            parts["t_dead_comp"] = min(t_dead_comp, 0.25 * s.T_sp)
+        sd = sd.with_controller(**parts, start="if",
+                                R_s_hat=R_s, L_s_hat=L_s, psi_r_hat=psi_r,
+                                J_hat=J_GUESS_T * m.T_N / w_n, a_M_ref=(w2 - w1) / T_RAMP,
+                                speed_bw=SPEED_BW_MECH)
+        c = sd.controller
+        w_drop = K_DROP * 3.0 / math.pi * u_0 / (psi_r * m.n_p) if psi_r > 0.0 else 0.0
+        if w_drop > c.w_M_handover:
+            w_h = min(w_drop, 0.5 * w_n)
+            sd = sd.with_controller(w_M_handover=w_h,
+                                    a_M_start=max(c.a_M_start, w_h / T_START))
+        return sd
 
     sd = design(0.4 * w_n, 0.8 * w_n)
     w1, w2 = mech_speeds(sd)
     return sd if (w1, w2) == (0.4 * w_n, 0.8 * w_n) else design(w1, w2)
 
 
-def identify_mech(s: Scenario, R_s: float, L_s: float, psi_r: float) -> MechResult:
+def identify_mech(s: Scenario, R_s: float, L_s: float, psi_r: float,
+                  t_dead_comp: float | None = None, u_0: float = 0.0) -> MechResult:
     """Step 4: the drive itself (the firmware code) runs the core's test
     (``smd_ident_mech``, smodrive/smd_ident.h), which gives it the speed
     reference (:func:`mech_speeds`: a speed, a ramp to the second, a hold)
@@ -408,7 +434,7 @@ def identify_mech(s: Scenario, R_s: float, L_s: float, psi_r: float) -> MechResu
     load.k_fan) its K w|w| is fitted on the ramp too, and no coast. The
     drive's own supervision stays on: a run that ends in a fault is named; a
     drive that never leaves its forced start is "not_settled"."""
-    sd = mech_scenario(s, R_s, L_s, psi_r)
+    sd = mech_scenario(s, R_s, L_s, psi_r, t_dead_comp, u_0)
     w1, w2 = mech_speeds(sd)
     # (with a fan the coast's deceleration is mostly the fan's, where B and K lean on each
     # other: yao2022's K came out -41 % from a 0.4 s coast, -3 % from the ramp alone)
