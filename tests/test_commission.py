@@ -231,7 +231,7 @@ def test_the_drive_designed_from_the_identified_motor(motor):
     (start, steps, rated load, reversal: smodrive.scenarios.trials): it
     reaches the end, and its RMS angle error over the sensorless phase is
     within 10 % of the drive designed from the true values (measured: within
-    2.5 %; yao2022's 1.34 against 1.42 deg)."""
+    2.5 %; yao2022's 1.35 against 1.42 deg)."""
     import warnings
 
     from smodrive.engine import simulate
