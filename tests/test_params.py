@@ -474,6 +474,21 @@ def instances(draw, cls):
     return cls(**kw)
 
 
+def test_a_denormal_flux_is_no_traceback():
+    """Found by Hypothesis: psi_r = 5e-324 Wb scaled the SMDO's rho to 0.0,
+    and deriving rho divided by it (ZeroDivisionError out of Scenario()).
+    Such a motor now builds or is refused by name."""
+    m = MotorPars(R_s=870.0, L_s=8.6, psi_r=5e-324, n_p=1, J=3035.0, B=0.0, P_N=0.0,
+                  w_M_N=5190.0)
+    try:
+        s = Scenario(motor=m, T_sp=0.41,
+                     controller=ControllerCfg(current="robust_dbpc", lambda_min=1.0))
+    except ParameterError as e:
+        assert "rho" in str(e) or "psi_r" in str(e), e
+    else:
+        assert s.controller.rho >= 0.0
+
+
 def test_the_return_to_if_and_handover_rules():
     """The three cross-field rules the strategy above keeps, each refused
     with its field named: a return to I/f (w_M_if_enter > 0) with the

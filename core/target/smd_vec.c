@@ -582,6 +582,9 @@ static void blk_ident_psi(smd_writer *w, rng *g, int n)
     smd_ident_psi_state s;
     smd_cplx i = smd_c(SMD_R(0.0), SMD_R(0.0)), u_now = i;
     const smd_real udc = SMD_R(540.0);
+    /* an even seed: behind an LCL filter (the inverter's current the
+     * motor's plus a capacitor's, from the applied voltage) */
+    const int lcl = (int)(g->x % 2u) == 0;
     int k;
     c.T_sp = SMD_R(1e-4);
     c.R_s = SMD_R(2.25);
@@ -595,23 +598,38 @@ static void blk_ident_psi(smd_writer *w, rng *g, int n)
     c.t_coast = SMD_R(0.02);
     c.w_cc = SMD_R(1500.0);
     c.L1 = c.C1 = c.L2o = SMD_R(0.0); /* no filter */
+    if (lcl) {
+        c.L1 = SMD_R(2e-3);
+        c.C1 = SMD_R(5e-6);
+        c.L2o = SMD_R(1e-3);
+    }
     c.w_damp = SMD_R(125.7);
     c.share_max = SMD_R(0.7);
     wr_i32(w, (int)smd_ident_psi_init(&p, &c));
     smd_ident_psi_reset(&s);
     for (k = 0; k < n; k++) {
-        smd_real d[3], ia, ib, abc[3];
+        smd_real d[3], ia, ib, i1a = SMD_R(0.0), i1b = SMD_R(0.0), abc[3];
         smd_status st;
         const smd_real th_r = s.theta_f - SMD_R(0.349);
         const smd_cplx e = smd_cscale(smd_cj(smd_cexpj(th_r)), s.w_f * SMD_R(0.4));
         smd_ab_to_abc(i, abc);
         ia = edge(g, k, n, abc[0] + urand(g, SMD_R(-0.05), SMD_R(0.05)));
         ib = abc[1] + urand(g, SMD_R(-0.05), SMD_R(0.05));
+        if (lcl) {
+            const smd_cplx i1 = smd_cadd(i, smd_cscale(smd_cj(u_now), s.w_f * c.C1));
+            smd_ab_to_abc(i1, abc);
+            i1a = abc[0] + urand(g, SMD_R(-0.05), SMD_R(0.05));
+            i1b = abc[1] + urand(g, SMD_R(-0.05), SMD_R(0.05));
+        } else {
+            i1a = ia;
+            i1b = ib;
+        }
         smd_mark_begin(SMD_BLK_IDENT_PSI);
-        st = smd_ident_psi_step(&p, &s, ia, ib, ia, ib, udc, d);
+        st = smd_ident_psi_step(&p, &s, ia, ib, i1a, i1b, udc, d);
         smd_mark_end();
         wr_i32(w, (int)st);
         wr_i32(w, s.phase);
+        wr_i32(w, s.pwm_off);
         wr_reals(w, d, 3);
         stator_euler(&i, u_now, e, SMD_R(14.4));
         u_now = s.u_applied;

@@ -262,7 +262,9 @@ def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any =
             # at half of it: a stator faster than that is named by the check)
             need = min(RHO_POLE * m.R_s / m.L_s, 1.0 / T_sp)
             lam = get("lambda_min")
-            if lam > 0.0 and c.l + lam / v < need:
+            # (v > 0: a flux of 5e-324 Wb scales rho to 0.0, which divided here: issue 23's
+            # Hypothesis run, a ZeroDivisionError out of Scenario())
+            if lam > 0.0 and v > 0.0 and c.l + lam / v < need:
                 v, why = lam / (need - c.l), (f"{why}, limited so that l + lambda_min / rho is "
                                              f"{RHO_POLE:g} R_s / L_s (the SMDO's error loop "
                                              "faster than the stator)")
