@@ -585,6 +585,11 @@ static void blk_ident_psi(smd_writer *w, rng *g, int n)
     /* an even seed: behind an LCL filter (the inverter's current the
      * motor's plus a capacitor's, from the applied voltage) */
     const int lcl = (int)(g->x % 2u) == 0;
+    /* (behind the filter a rotor of its own, which keeps the frame's speed
+     * from the coast on: the rotor tied to the frame, as without one, runs
+     * away with a frame that follows its voltage, and the coast would end
+     * before its switches open) */
+    smd_real th_rotor = SMD_R(0.0), w_rotor = SMD_R(0.0);
     int k;
     c.T_sp = SMD_R(1e-4);
     c.R_s = SMD_R(2.25);
@@ -610,8 +615,19 @@ static void blk_ident_psi(smd_writer *w, rng *g, int n)
     for (k = 0; k < n; k++) {
         smd_real d[3], ia, ib, i1a = SMD_R(0.0), i1b = SMD_R(0.0), abc[3];
         smd_status st;
-        const smd_real th_r = s.theta_f - SMD_R(0.349);
-        const smd_cplx e = smd_cscale(smd_cj(smd_cexpj(th_r)), s.w_f * SMD_R(0.4));
+        smd_real th_r = s.theta_f - SMD_R(0.349), w_r = s.w_f;
+        smd_cplx e;
+        if (lcl) {
+            if (s.phase < SMD_IDENT_PSI_COAST) {
+                w_rotor = s.w_f;
+                th_rotor = th_r;
+            } else {
+                th_rotor = smd_wrap_pi(th_rotor + w_rotor * c.T_sp);
+            }
+            th_r = th_rotor;
+            w_r = w_rotor;
+        }
+        e = smd_cscale(smd_cj(smd_cexpj(th_r)), w_r * SMD_R(0.4));
         smd_ab_to_abc(i, abc);
         ia = edge(g, k, n, abc[0] + urand(g, SMD_R(-0.05), SMD_R(0.05)));
         ib = abc[1] + urand(g, SMD_R(-0.05), SMD_R(0.05));
@@ -631,7 +647,12 @@ static void blk_ident_psi(smd_writer *w, rng *g, int n)
         wr_i32(w, s.phase);
         wr_i32(w, s.pwm_off);
         wr_reals(w, d, 3);
-        stator_euler(&i, u_now, e, SMD_R(14.4));
+        if (lcl && s.pwm_off) {
+            /* every switch open: the capacitor's current, -j w C1 e */
+            i = smd_cscale(smd_cj(e), -w_r * c.C1);
+        } else {
+            stator_euler(&i, u_now, e, SMD_R(14.4));
+        }
         u_now = s.u_applied;
     }
     wr_real(w, s.psi);
