@@ -428,7 +428,7 @@ def test_switches_off_against_brute_force(w_M):
         p = Plant(_scenario(model, w_M0=w_M, theta_r0=theta0), J=1e4, B=0.0,
                   i_d0=(i0 * cmath.exp(-1j * theta0)).real,
                   i_q0=(i0 * cmath.exp(-1j * theta0)).imag)
-        p._head.off = 1
+        p.pwm_off = True
         got = []
         for d in duties:
             p.step(d)

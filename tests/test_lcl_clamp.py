@@ -280,7 +280,7 @@ def test_switches_off_against_brute_force(n_rpm):
     assert abs(ref[-1][1]) < 1e-3 and abs(ref[-1][2]) > 0.5  # i_1 gone, the ringing on
     for model in ("clamp", "sign"):  # (the switches off take the walk under either)
         p = _plant(model, 1e-6, w_M, theta0, uc0, i0, i0)
-        p._head.off = 1
+        p.pwm_off = True
         e = np.zeros(3)
         for d, (uc, i1, i2) in zip(duties, ref):
             p.step(d)

@@ -112,6 +112,17 @@ class Plant:
         return complex(self._head.u_re, self._head.u_im)
 
     @property
+    def pwm_off(self) -> bool:
+        """Every switch open over the next periods (a drive's pwm_off): the
+        legs on their diodes, or floating at zero current; the duties given
+        to :meth:`step` are then unused."""
+        return bool(self._head.off)
+
+    @pwm_off.setter
+    def pwm_off(self, on: bool) -> None:
+        self._head.off = 1 if on else 0
+
+    @property
     def eigenvalues(self) -> np.ndarray:
         """Eigenvalues of the filter-machine matrix A, 1/s ([0] real, [1:] the
         resonant pair); zeros without the filter."""
