@@ -6,7 +6,8 @@
  * helpers (smd_pwm_clamp, smd_pwm_edges, smd_pwm_avg_duty, smd_rng_*,
  * smd_adc_convert, smd_adc_sample3, smd_ab_to_abc_d), on a configuration and
  * an input sequence decoded from the input (fuzz.h, fuzz_sim.h):
- *   op % 6 == 0  one period on raw duties and load torques
+ *   op % 6 == 0  one period on raw duties and load torques, every switch
+ *                open (smd_plant.off, the event walk) when op & 16
  *   op % 6 == 1  1 + u8 periods of sinusoidal duties (modulation m, angle
  *                delta to the rotor) through smd_plant_run_open
  *   op % 6 == 2  ADC samples (both channel sets, or i_1 NULL), true phase
@@ -100,7 +101,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             d[2] = fz_real(&f, 0.0, 1.0);
             T_ext = fz_real(&f, -10.0, 10.0);
             T_brake = fz_real(&f, 0.0, 10.0);
+            p->off = (op & 16) ? 1 : 0;
             smd_plant_step(p, d, T_ext, T_brake);
+            p->off = 0;
             steps++;
             break;
         }
