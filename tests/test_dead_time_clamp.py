@@ -443,10 +443,11 @@ def test_pwm_off_safe_state_opens_the_switches():
     safe_state = "pwm_off" the plant opens every switch: the current returns
     through the diodes (L_s i / (2/3 u_dc) = 0.3 ms from 5 A) and stays
     below 1 mA, the EMF's line peak (22 V) far below u_dc. With
-    "zero_vector" the terminals are shorted: the EMF (12.6 V) drives
-    e / |R_s + j w L_s| = 5.3 A around the short, which brakes the rotor
-    (more than 1 A from 2 to 3 ms, as the rotor stops: the check that can
-    fail). Before the plant modelled pwm_off, both ran as the zero vector."""
+    "zero_vector" the terminals are shorted: the current decays only through
+    R_s (L_s / R_s = 10 ms), the EMF driving more around the short (more than
+    1 A from 2 to 3 ms, as the load's brake stops the rotor: the check that
+    can fail). Before the plant modelled pwm_off, both ran as the zero
+    vector."""
     from smodrive.engine import simulate
     from smodrive.scenarios import yang2018_setup as Y
 
