@@ -245,7 +245,7 @@ static void averaged_sums(const smd_lcl_modes *md, const lcl_kernel *k, double T
     }
 }
 
-/* ---- dead time with zero-current clamping: smd_dtc.c ----
+/* ---- dead time with zero-current clamping: smd_dtc.h ----
  * The circuit: the inverter-side current i_1 through L1 against the
  * capacitor voltage u_c (no resistance in L1), the filter's modal state exact
  * between events: dz_k/dt = lambda_k z_k + beta_k U + phi_k E0 e^{j w t}. */

@@ -70,7 +70,7 @@ static void edge_response(const edge_kernel *k, double t, double *g, double comp
     }
 }
 
-/* ---- dead time with zero-current clamping (carrier PWM): smd_dtc.c ----
+/* ---- dead time with zero-current clamping (carrier PWM): smd_dtc.h ----
  * The circuit: the phase current through R_s, L_s against the back EMF,
  * exact between events (homogeneous + rotating-EMF particular + the
  * constant leg voltages). */
