@@ -256,7 +256,7 @@ typedef struct lcl_dtc {
     double u_dc;
 } lcl_dtc;
 
-static void lcl_dtc_advance(void *ctx, double t0, double t1, const double v[3])
+static inline void lcl_dtc_advance(void *ctx, double t0, double t1, const double v[3])
 {
     lcl_dtc *s = ctx;
     const smd_lcl_modes *md = s->md;
@@ -273,7 +273,7 @@ static void lcl_dtc_advance(void *ctx, double t0, double t1, const double v[3])
     }
 }
 
-static void lcl_dtc_probe(void *ctx, double t, double i_x[3], double ex[3])
+static inline void lcl_dtc_probe(void *ctx, double t, double i_x[3], double ex[3])
 {
     lcl_dtc *s = ctx;
     const smd_lcl_modes *md = s->md;
@@ -327,7 +327,11 @@ static double complex lcl_clamp_voltage(smd_plant *p, const double d_abc[3],
         circ.open = p->leg_open;
         circ.advance = lcl_dtc_advance;
         circ.probe = lcl_dtc_probe;
-        smd_dtc_legs(&circ, d, T, c->t_dead, p->off, legs);
+        if (p->off) { /* (two copies of the walk, each with off a constant) */
+            smd_dtc_legs(&circ, d, T, c->t_dead, 1, legs);
+        } else {
+            smd_dtc_legs(&circ, d, T, c->t_dead, 0, legs);
+        }
         for (x = 0; x < 3; x++) {
             for (j = 0; j < legs[x].n; j++) {
                 edge(&p->m, k, legs[x].t[j], legs[x].dv[j] * leg_dir[x], G, S);

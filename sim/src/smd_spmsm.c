@@ -80,7 +80,7 @@ typedef struct spmsm_dtc {
     double complex ejth0, C, i;
 } spmsm_dtc;
 
-static void spmsm_dtc_advance(void *ctx, double t, double tn, const double v[3])
+static inline void spmsm_dtc_advance(void *ctx, double t, double tn, const double v[3])
 {
     spmsm_dtc *s = ctx;
     const smd_plant_config *c = &s->p->c;
@@ -91,7 +91,7 @@ static void spmsm_dtc_advance(void *ctx, double t, double tn, const double v[3])
     s->i = (s->i - s->C * e0) * (1.0 + em) + s->C * e1 - U * em / R;
 }
 
-static void spmsm_dtc_probe(void *ctx, double t, double i_x[3], double ex[3])
+static inline void spmsm_dtc_probe(void *ctx, double t, double i_x[3], double ex[3])
 {
     spmsm_dtc *s = ctx;
     const smd_plant_config *c = &s->p->c;
@@ -121,7 +121,11 @@ static void dtc_legs(smd_plant *p, const double d[3], double T, double w_e,
     circ.open = p->leg_open;
     circ.advance = spmsm_dtc_advance;
     circ.probe = spmsm_dtc_probe;
-    smd_dtc_legs(&circ, d, T, p->c.t_dead, p->off, legs);
+    if (p->off) { /* (two copies of the walk, each with off a constant) */
+        smd_dtc_legs(&circ, d, T, p->c.t_dead, 1, legs);
+    } else {
+        smd_dtc_legs(&circ, d, T, p->c.t_dead, 0, legs);
+    }
 }
 
 /* The leg voltages of the period with zero-current clamping (carrier:
