@@ -16,6 +16,7 @@ import math
 
 import numpy as np
 import pytest
+from switch_states import switch_pieces
 
 from smodrive.engine.plant import Plant
 from smodrive.scenarios import yao2022
@@ -50,16 +51,7 @@ def _reference(uc0, i10, i20, theta0, w_e, duties, T, td, u_dc, R, L1, L2, C1, p
     out = []
     t_abs = 0.0
     for d in duties:
-        r = [(1 - dx) * T / 2 for dx in d]
-        f = [(1 + dx) * T / 2 for dx in d]
-        marks = {0.0, T}
-        for x in range(3):
-            marks |= {r[x], r[x] + td, f[x], f[x] + td}
-        marks = sorted(m for m in marks if 0.0 <= m <= T)
-        for t0, t1 in zip(marks[:-1], marks[1:]):
-            tm = 0.5 * (t0 + t1)
-            up = [r[x] + td <= tm < f[x] and not off for x in range(3)]
-            low = [(tm < r[x] or tm >= f[x] + td) and not off for x in range(3)]
+        for t0, t1, up, low in switch_pieces(d, T, td, off):
             for x in range(3):
                 if up[x] or low[x]:
                     is_open[x] = False
