@@ -131,7 +131,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         case 3: check_leg(&f); break;
         case 4: check_adc(&f, &rng); break;
-        default: fz_use((double)smd_plant_field(fz_int(&f, -1, 31))[0]); break;
+        default: fz_use((double)smd_plant_field(fz_int(&f, -1, SMD_PF_N))[0]); break;
         }
         fz_use(p->i_re + p->i_im + p->i1_re + p->i1_im + p->uc_re + p->uc_im + p->theta_r +
                p->w_M + p->T_e_mean + p->T_L_mean + p->u_re + p->u_im);

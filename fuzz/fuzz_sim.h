@@ -39,6 +39,7 @@ static inline void fz_plant_config(fz *f, smd_plant_config *c)
     c->adc_noise = fz_real(f, 0.0, 1.0);
     c->adc_bits = fz_int(f, 0, 24);
     c->adc_n_oversample = fz_int(f, 0, 64);
+    c->adc_sensors = fz_int(f, 0, 3);
     c->adc_full_scale = fz_real(f, 0.0, 1000.0);
     c->seed = fz_u32(f);
     c->w_brake_eps = fz_real(f, 0.0, 10.0);

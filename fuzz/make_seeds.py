@@ -316,6 +316,7 @@ def put_plant(w: W, c) -> None:
     w.f64(c.adc_noise)
     w.int(int(c.adc_bits), 0, 24)
     w.int(int(c.adc_n_oversample), 0, 64)
+    w.int(int(c.adc_sensors), 0, 3)
     w.f64(c.adc_full_scale)
     w.u32(int(c.seed))
     for f in PLANT_TAIL:
@@ -345,7 +346,7 @@ def plant_seeds(cat, sim) -> None:
         w.u8(2).u8(2 + 8).u8(2 + 16)
         w.u8(3).f64(s.T_sp).f64(s.inverter.t_dead).f64(0.7).f64(-3.0)
         w.u8(4).f64(5.0).f64(1.0).f64(0.01).f64(0.02).int(12, 0, 24).f64(30.0)
-        w.u8(5).int(29, -1, 31)
+        w.u8(5).int(29, -1, 33)
         write("fuzz_plant", name.replace(".", "-"), w.bytes())
     # zero-current clamping and ADC oversampling near standstill, small current
     s = cat["yang2018.base"]()

@@ -278,7 +278,7 @@ def test_check_fails_on_a_header_change_not_regenerated(tmp_path):
     ("sim/include/smdsim/smd_engine.h", "    SMD_LOG_N\n",
      "    SMD_LOG_NEW,\n    SMD_LOG_N\n", "SMD_LOG_NEW has no @log"),
     ("sim/include/smdsim/smd_plant.h", "    SMD_PF_N ",
-     "    SMD_PF_NEW = 32, /* @scenario(motor.R_s) */\n    SMD_PF_N ", 'SMD_PF_NEW has no "name"'),
+     "    SMD_PF_NEW = 33, /* @scenario(motor.R_s) */\n    SMD_PF_N ", 'SMD_PF_NEW has no "name"'),
     ("core/include/smodrive/smd_lcl_smo.h", "@design(K_y)", "", "smd_lcl_model.Ky has no @design"),
 ])
 def test_a_declaration_without_its_annotation_stops_the_generator(header, old, new, what,
@@ -456,7 +456,8 @@ def test_each_plant_field_code_is_the_one_smd_plant_init_returns():
                   "uc_d0/uc_q0": (lcl, "uc_d0", nan, None),
                   "i1_d0/i1_q0": (lcl, "i1_q0", -2e5, None),
                   "dead_time_model": (lcl, "dead_time_model", 2, None),
-                  "adc_n_oversample": (plain, "adc_n_oversample", 65, None)})
+                  "adc_n_oversample": (plain, "adc_n_oversample", 65, None),
+                  "adc_sensors": (plain, "adc_sensors", 1, None)})
     buf = (ct.c_double * (F.lib.smd_sizeof_plant() // 8 + 1))()
     assert F.lib.smd_plant_init(buf, ct.byref(plain)) == _codes.SMD_PF_OK
     assert F.lib.smd_plant_init(buf, ct.byref(lcl)) == _codes.SMD_PF_OK

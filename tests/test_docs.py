@@ -28,7 +28,7 @@ from click.testing import CliRunner
 
 from smodrive import model as params
 from smodrive.model.fields import _Validated
-from smodrive.engine import _ffi
+from smodrive.engine import _codes, _ffi
 from smodrive.cli import main as cli_main
 from smodrive.model import YANG2018_MODES, ParameterError, Scenario
 from smodrive.scenario_io import SECTIONS, scenario_from_dict
@@ -243,7 +243,7 @@ def test_plant_field_codes_match_the_library():
             break
         assert f"\n| {code} | `{name}`" in table, (code, name)
         codes += 1
-    assert codes == 31
+    assert codes == _codes.SMD_PF_N - 1
     assert _ffi.lib.smd_plant_field(codes).decode() in TEXT
 
 

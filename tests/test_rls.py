@@ -17,14 +17,17 @@ ohm: 13 % of R_s on the 600 V motor for a 1 us error). The operating point:
 half rated speed and torque, position from the encoder (yang2018's robust
 DBPC with its sensor), the square wave at 40 % of rated current.
 
-Not met: the 600 V, 10 kW motor. Its dead-time compensation leaves, with
-zero-current clamping, a voltage along the current that the d-axis fit
-reads as resistance: up to 2.9 % of R_s over the 10 draws (4.6 % with the
-square wave at 30 %), where R_s i_inj is 1/6 of the 2 us drop. Its test
-holds the measured 3 % (a regression guard, not the issue's criterion);
-fitting the drop as a third parameter needs a square wave of two
-amplitudes (at one amplitude |i| is the same on both halves, and the drop's
-d component is then proportional to i_d)."""
+The drive reads three current sensors (AdcCfg.sensors = 3). With two, the
+sensors' unequal gains turn the measured current by phi = -(g_b - g_a) /
+(2 sqrt 3) (smd_abc_to_ab2's note), and the stator equation's w L_s i term,
+taken from the turned current, leaves phi w L_s i_d on the d axis: R_s off by
+phi w L_s / R_s, which no fit at one speed can tell from a resistance. On
+the 600 V motor at half speed w L_s / R_s = 9.4, and the draws' 0.8 % of
+mismatch took R_s 2.2 % off (test_two_sensors_turn_the_current_into_R_s
+checks the prediction); with three sensors the gains' mean is a real
+factor, within 0.5 %.
+
+"""
 
 from __future__ import annotations
 
@@ -41,9 +44,6 @@ from smodrive.model import LoadCfg, ParameterError, Profile
 from smodrive.scenario_io import load_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
-#: the tolerance each motor is held to: the issue's 2 %, and the measured 3 % where it is
-#: not met (the module's note)
-TOLS = {"industrial 600 V 10 kW": 0.03}
 MOTORS = {"yang2018 Table I": ROOT / "scenarios/motors/yang2018_table1.toml",
           "servo 48 V 200 W": ROOT / "scenarios/motors/servo_48v_200w.toml",
           "industrial 600 V 10 kW": ROOT / "scenarios/motors/industrial_600v_10kw.toml",
@@ -53,16 +53,21 @@ RISE = 1.4
 TOL = 0.02
 
 
-def tracked(s0, seed: int, rng, i_inj_rel: float = 0.4, **ctl):
-    """One draw of the issue's conditions on motor scenario `s0`, the drive's
-    dead-time compensation from commissioning's step 1; the run's times,
-    R_s and psi_r estimates."""
+def tracked(s0, seed: int, rng, i_inj_rel: float = 0.4, sensors: int = 3, gains_only=False,
+            duration: float = 4.0, speed: float = 0.5, **ctl):
+    """One draw of the issue's conditions on motor scenario `s0` (or, with
+    `gains_only`, of its sensor gains alone), the drive's dead-time
+    compensation from commissioning's step 1; the run's times, R_s and psi_r
+    estimates, and the scenario."""
     m = s0.motor
-    plant = sensor_errors(s0, seed, rng)
+    plant = sensor_errors(s0, seed, rng, sensors)
+    if gains_only:
+        plant = plant.replace(adc=dataclasses.replace(plant.adc, offset=(0.0,) * 3),
+                              inverter=dataclasses.replace(plant.inverter, t_dead=0.0))
     rs = identify_rs(plant)
     assert rs.ok, rs
-    s = plant.replace(T_sp=100e-6, duration=4.0, log_stride=10, warm_start=True,
-                      w_M0=0.5 * m.w_M_N, w_M_ref=Profile((0.0,), (0.5 * m.w_M_N,)),
+    s = plant.replace(T_sp=100e-6, duration=duration, log_stride=10, warm_start=True,
+                      w_M0=speed * m.w_M_N, w_M_ref=Profile((0.0,), (speed * m.w_M_N,)),
                       R_s_scale=Profile((0.0, 1.0, 1.5), (1.0, 1.0, RISE)),
                       load=LoadCfg(T_ext=Profile((0.0,), (0.5 * m.T_N,))))
     s = s.with_controller(current="robust_dbpc", position="encoder", start="handover",
@@ -70,7 +75,7 @@ def tracked(s0, seed: int, rng, i_inj_rel: float = 0.4, **ctl):
                           rls_i_inj=i_inj_rel * m.T_N / m.k_t, **ctl)
     r = simulate(s)
     assert r.status == 0 and r.faults.t_first is None
-    return r["t"], r["R_s_rls"], r["psi_r_rls"]
+    return r["t"], r["R_s_rls"], r["psi_r_rls"], s
 
 
 @pytest.mark.parametrize("name", list(MOTORS))
@@ -78,9 +83,9 @@ def test_a_40_percent_rise_of_R_s_within_2_percent_in_under_2_s(name):
     s0 = load_scenario(MOTORS[name])
     m = s0.motor
     rng = np.random.default_rng(2026)
-    tol = TOLS.get(name, TOL)
+    tol = TOL
     for seed in range(1, 11):
-        t, R, psi = tracked(s0, seed, rng)
+        t, R, psi, _ = tracked(s0, seed, rng)
         before = (t >= 0.8) & (t < 1.0)
         after = t >= 3.0
         assert np.all(np.abs(R[before] / m.R_s - 1.0) <= tol), (seed, R[before][-1])
@@ -96,9 +101,42 @@ def test_without_its_square_wave_R_s_is_not_tracked():
     above). A fit that did not check its standard error returned -3 ohm
     here: R_s from the noise."""
     s0 = load_scenario(MOTORS["yang2018 Table I"])
-    _, R, _ = tracked(s0, 1, np.random.default_rng(1), i_inj_rel=1e-4)
+    _, R, _, _ = tracked(s0, 1, np.random.default_rng(1), i_inj_rel=1e-4)
     assert R[-1] == pytest.approx(s0.controller.R_s_hat or s0.motor.R_s, rel=1e-6)
     assert abs(R[-1] / (RISE * s0.motor.R_s) - 1.0) > 0.25
+
+
+@pytest.mark.parametrize("sensors", [2, 3])
+def test_two_sensors_turn_the_current_into_R_s(sensors):
+    """The sensors' gains alone (no offset, no dead time), the 600 V motor
+    at 0.9 of rated speed, where w L_s / R_s = 17: with two sensors the
+    measured current is turned by phi = -(g_b - g_a) / (2 sqrt 3) and scaled by
+    1 + g_a + (g_b - g_a) / 2, so R_s reads (1 + phi w L_s / R_s) / (1 + g_a +
+    (g_b - g_a) / 2) of itself (the module's note); with three, 1 / (1 + mean
+    g). Each of 10 draws' mean over the last 0.2 s within 0.5 % of its
+    prediction: the bias is what is predicted; the noise left in a 0.2 s
+    mean of the forgetting's 0.3 s fit is a few 0.1 % (measured: 0.13 % at
+    worst with three sensors, 0.41 % with two, whose reconstructed phase c
+    carries the noise of both readings; no gain error is left out of the
+    predictions, the rest is the discretisation of the tracker's model).
+    The draws' predictions with two sensors range over -4 % .. +1.7 %: a
+    tracker that did not read the turn (predicted 0 turn) misses by up to
+    3.9 %, and three sensors read as two by up to 4 %."""
+    s0 = load_scenario(MOTORS["industrial 600 V 10 kW"])
+    m = s0.motor
+    rng = np.random.default_rng(2026)
+    for seed in range(1, 11):
+        t, R, _, s = tracked(s0, seed, rng, sensors=sensors, gains_only=True, duration=1.0,
+                             speed=0.9)
+        g = np.array(s.adc.gain) - 1.0
+        if sensors == 2:
+            phi = -(g[1] - g[0]) / (2.0 * np.sqrt(3.0))
+            w = 0.9 * m.w_M_N * m.n_p
+            pred = (1.0 + phi * w * m.L_s / m.R_s) / (1.0 + g[0] + (g[1] - g[0]) / 2.0)
+        else:
+            pred = 1.0 / (1.0 + g.mean())
+        got = np.mean(R[t >= 0.8]) / m.R_s
+        assert got == pytest.approx(pred, abs=0.005), seed
 
 
 def test_the_plants_resistance_follows_its_profile():

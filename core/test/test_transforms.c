@@ -48,6 +48,44 @@ static void test_clarke_balanced_set(void)
     }
 }
 
+/* Three sensors: smd_abc_to_ab2 gives the two inputs whose two-phase Clarke
+ * is the three-phase one (zero sequence rejected), and per-phase gains
+ * then leave the vector's positive sequence unturned, where two sensors
+ * turn it by -(g_b - g_a) / (2 sqrt 3). The positive sequence is the mean of
+ * x_ab e^{-j phi} / A over a turn of phi (200 points: the negative sequence,
+ * e^{-j 2 phi}, sums to zero exactly up to the roundings, 8 eps). With
+ * g_b - g_a = 0.01 the two-sensor turn is 2.9e-3 rad: a swap of the two paths,
+ * or a sign error, misses by that, 10^4 times the tolerance. */
+static void test_three_sensors(void)
+{
+    const double g[3] = {-0.004, 0.006, 0.003};
+    const double d = g[1] - g[0];
+    double complex p2 = 0.0, p3 = 0.0;
+    int n;
+    for (n = 0; n < 200; n++) {
+        double phi = 2.0 * PI_D * n / 200.0;
+        smd_real x[3], xa, xb;
+        int k;
+        for (k = 0; k < 3; k++) {
+            x[k] = R((1.0 + g[k]) * 10.0 * cos(phi - 2.0 * PI_D * k / 3.0) + 3.0);
+        }
+        smd_abc_to_ab2(x, &xa, &xb);
+        CHECK_CPLX(smd_ab2_to_ab(xa, xb), (double complex)smd_abc_to_ab(x).re +
+                   JD * (double)smd_abc_to_ab(x).im, 16 * SMDT_EPS * 13.0);
+        CHECK_CLOSE((double)xa + (double)xb + (double)(-xa - xb), 0.0, 4 * SMDT_EPS * 13.0);
+        {
+            smd_cplx v2 = smd_ab2_to_ab(x[0] - R(3.0), x[1] - R(3.0));
+            smd_cplx v3 = smd_ab2_to_ab(xa, xb);
+            p2 += ((double)v2.re + JD * (double)v2.im) * cexp(-JD * phi) / 2000.0;
+            p3 += ((double)v3.re + JD * (double)v3.im) * cexp(-JD * phi) / 2000.0;
+        }
+    }
+    CHECK_CLOSE(cimag(p3), 0.0, 8 * SMDT_EPS);
+    CHECK_CLOSE(creal(p3), 1.0 + (g[0] + g[1] + g[2]) / 3.0, 8 * SMDT_EPS);
+    CHECK_CLOSE(cimag(p2), -d / (2.0 * sqrt(3.0)), 8 * SMDT_EPS);
+    CHECK_CLOSE(creal(p2), 1.0 + g[0] + d / 2.0, 8 * SMDT_EPS);
+}
+
 /* ab -> abc: known values, zero sum and the round trip back to ab. */
 static void test_inverse_clarke(void)
 {
@@ -139,6 +177,7 @@ int main(void)
 {
     RUN_TEST(test_clarke_known_values);
     RUN_TEST(test_clarke_balanced_set);
+    RUN_TEST(test_three_sensors);
     RUN_TEST(test_inverse_clarke);
     RUN_TEST(test_park);
     RUN_TEST(test_table_interp);

@@ -109,6 +109,20 @@ long smd_engine_fault(const smd_engine *e, unsigned *first, unsigned *now)
     return e->first_fault_k;
 }
 
+/* A channel set's readings as the drive's two inputs: two sensors, a and b
+ * (the drive takes c = -a - b); three, their zero sequence removed
+ * (smd_abc_to_ab2). */
+static inline void in_currents(int sensors, const double meas[3], smd_real *x_a, smd_real *x_b)
+{
+    if (sensors == 3) {
+        const smd_real abc[3] = {(smd_real)meas[0], (smd_real)meas[1], (smd_real)meas[2]};
+        smd_abc_to_ab2(abc, x_a, x_b);
+    } else {
+        *x_a = (smd_real)meas[0];
+        *x_b = (smd_real)meas[1];
+    }
+}
+
 /* The sample's inputs at t_k (step 1): measurements, references and the
  * profile values the plant needs over [t_k, t_k+1). */
 typedef smd_engine_sample engine_sample;
@@ -130,14 +144,12 @@ static inline void engine_inputs(smd_engine *e, engine_sample *x, smd_drive_in *
     }
     if (e->plant.c.lcl) {
         smd_plant_sample(&e->plant, x->i_meas, i1_meas);
-        in->i1_a = (smd_real)i1_meas[0];
-        in->i1_b = (smd_real)i1_meas[1];
+        in_currents(e->plant.c.adc_sensors, i1_meas, &in->i1_a, &in->i1_b);
     } else {
         smd_plant_sample(&e->plant, x->i_meas, 0);
         in->i1_a = in->i1_b = SMD_R(0.0);
     }
-    in->i_a = (smd_real)x->i_meas[0];
-    in->i_b = (smd_real)x->i_meas[1];
+    in_currents(e->plant.c.adc_sensors, x->i_meas, &in->i_a, &in->i_b);
     in->theta_enc = (smd_real)e->plant.theta_r;
     in->w_enc = (smd_real)(e->plant.c.n_p * e->plant.w_M);
     in->u_dc = (smd_real)e->plant.c.u_dc;

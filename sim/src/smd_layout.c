@@ -312,6 +312,7 @@ static const smd_layout_row ROWS[] = {
     F(smd_plant_config, adc_noise, "double"),
     F(smd_plant_config, adc_bits, "int"),
     F(smd_plant_config, adc_n_oversample, "int"),
+    F(smd_plant_config, adc_sensors, "int"),
     F(smd_plant_config, adc_full_scale, "double"),
     F(smd_plant_config, seed, "uint64_t"),
     F(smd_plant_config, w_brake_eps, "double"),

@@ -60,6 +60,8 @@ static int check(const smd_plant_config *c)
         return SMD_PF_DEAD_TIME_MODEL;
     }
     if (c->adc_n_oversample < 0 || c->adc_n_oversample > 64) return SMD_PF_ADC_N_OVERSAMPLE;
+    if (c->adc_sensors != 0 && c->adc_sensors != 2 && c->adc_sensors != 3)
+        return SMD_PF_ADC_SENSORS;
     return SMD_PF_OK;
 }
 

@@ -34,4 +34,5 @@ static const char *FIELDS[SMD_PF_N] = {
     [SMD_PF_MODES] = "R_s/L1/L2o/L_s/C1 (repeated or unstable filter modes)",
     [SMD_PF_DEAD_TIME_MODEL] = "dead_time_model",
     [SMD_PF_ADC_N_OVERSAMPLE] = "adc_n_oversample",
+    [SMD_PF_ADC_SENSORS] = "adc_sensors",
 };

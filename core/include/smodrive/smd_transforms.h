@@ -17,6 +17,16 @@ smd_cplx smd_abc_to_ab(const smd_real x_abc[3]);
 /* Two measured phases a, b to x_ab, assuming a + b + c = 0. */
 smd_cplx smd_ab2_to_ab(smd_real x_a, smd_real x_b);
 
+/* Three measured phases to the two inputs the drive takes (smd_drive_in's
+ * i_a, i_b, which assume a + b + c = 0): the readings' zero sequence
+ * removed, x_a = a - m, x_b = b - m with m = (a + b + c) / 3, so that
+ * smd_ab2_to_ab(x_a, x_b) = smd_abc_to_ab(x_abc). With two sensors, per-
+ * phase gains 1 + g_a, 1 + g_b turn the measured vector by about
+ * -(g_b - g_a) / (2 sqrt 3) rad; with three, the gains' mean is a real
+ * factor and the rest a negative sequence: the vector is not turned
+ * (docs/commissioning.md, "The tracker and the current sensors"). */
+void smd_abc_to_ab2(const smd_real x_abc[3], smd_real *x_a, smd_real *x_b);
+
 /* Stationary vector to phase quantities (no zero sequence). */
 void smd_ab_to_abc(smd_cplx x_ab, smd_real x_abc[3]);
 

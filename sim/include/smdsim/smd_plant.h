@@ -67,6 +67,9 @@ typedef struct smd_plant_config {
     double adc_noise;        /* white-noise standard deviation (every channel), A */
     int adc_bits;            /* 0: no quantisation */
     int adc_n_oversample;    /* conversions averaged a sample, 1..64 (0 is taken as 1) */
+    int adc_sensors;         /* current sensors a channel set: 2 (a, b; c = -a - b) or 3
+                              * (the engine removes the zero sequence, smd_abc_to_ab2);
+                              * 0 is taken as 2 */
     double adc_full_scale;   /* +- range, A */
     uint64_t seed;           /* noise generator seed */
     /* load */
@@ -164,6 +167,7 @@ typedef enum smd_plant_field_code {
     SMD_PF_DEAD_TIME_MODEL = 30,  /* "dead_time_model" (sign or clamp)
                                    * @scenario(inverter.dead_time_model) */
     SMD_PF_ADC_N_OVERSAMPLE = 31, /* "adc_n_oversample" @scenario(adc.n_oversample) */
+    SMD_PF_ADC_SENSORS = 32,      /* "adc_sensors" (2 or 3) @scenario(adc.sensors) */
     SMD_PF_N                      /* the number of codes */
 } smd_plant_field_code;
 

@@ -95,7 +95,8 @@ SMD_PF_I1_DQ0 = 28
 SMD_PF_MODES = 29
 SMD_PF_DEAD_TIME_MODEL = 30
 SMD_PF_ADC_N_OVERSAMPLE = 31
-SMD_PF_N = 32
+SMD_PF_ADC_SENSORS = 32
+SMD_PF_N = 33
 #: plant field code -> the C field name smd_plant_field gives
 PLANT_FIELD_NAMES: dict[int, str] = {
     0: 'ok', 1: 'R_s', 2: 'L_s', 3: 'psi_r', 4: 'n_p', 5: 'J', 6: 'B', 7: 'lcl', 8: 'L1', 9: 'L2o',
@@ -104,7 +105,7 @@ PLANT_FIELD_NAMES: dict[int, str] = {
     21: 'adc_full_scale', 22: 'w_brake_eps', 23: 'k_fan', 24: 'w_M0', 25: 'theta_r0',
     26: 'i_d0/i_q0', 27: 'uc_d0/uc_q0', 28: 'i1_d0/i1_q0',
     29: 'R_s/L1/L2o/L_s/C1 (repeated or unstable filter modes)', 30: 'dead_time_model',
-    31: 'adc_n_oversample',
+    31: 'adc_n_oversample', 32: 'adc_sensors',
 }
 #: plant field code -> the scenario fields behind it
 PLANT_FIELDS: dict[int, tuple[str, ...]] = {
@@ -148,6 +149,7 @@ PLANT_FIELDS: dict[int, tuple[str, ...]] = {
     29: ('motor.R_s', 'motor.L_s', 'lcl.L1', 'lcl.L2o', 'lcl.C1'),  # SMD_PF_MODES
     30: ('inverter.dead_time_model',),  # SMD_PF_DEAD_TIME_MODEL
     31: ('adc.n_oversample',),  # SMD_PF_ADC_N_OVERSAMPLE
+    32: ('adc.sensors',),  # SMD_PF_ADC_SENSORS
 }
 
 # the drive's statuses (smd_status)

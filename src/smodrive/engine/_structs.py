@@ -293,10 +293,11 @@ class PlantConfig(ct.Structure):
         ("adc_gain", ct.c_double * 3), ("adc_offset", ct.c_double * 3),
         ("adc_gain_i1", ct.c_double * 3), ("adc_offset_i1", ct.c_double * 3),
         ("adc_noise", ct.c_double), ("adc_bits", ct.c_int), ("adc_n_oversample", ct.c_int),
-        ("adc_full_scale", ct.c_double), ("seed", ct.c_uint64), ("w_brake_eps", ct.c_double),
-        ("k_fan", ct.c_double), ("w_M0", ct.c_double), ("theta_r0", ct.c_double),
-        ("i_d0", ct.c_double), ("i_q0", ct.c_double), ("uc_d0", ct.c_double),
-        ("uc_q0", ct.c_double), ("i1_d0", ct.c_double), ("i1_q0", ct.c_double),
+        ("adc_sensors", ct.c_int), ("adc_full_scale", ct.c_double), ("seed", ct.c_uint64),
+        ("w_brake_eps", ct.c_double), ("k_fan", ct.c_double), ("w_M0", ct.c_double),
+        ("theta_r0", ct.c_double), ("i_d0", ct.c_double), ("i_q0", ct.c_double),
+        ("uc_d0", ct.c_double), ("uc_q0", ct.c_double), ("i1_d0", ct.c_double),
+        ("i1_q0", ct.c_double),
     ]
 
 

@@ -61,6 +61,7 @@ def plant_config(s: Scenario) -> _ffi.PlantConfig:
     c.adc_noise = adc.noise
     c.adc_bits = adc.bits
     c.adc_n_oversample = adc.n_oversample
+    c.adc_sensors = adc.sensors
     c.adc_full_scale = adc.full_scale
     c.seed = adc.seed
     c.w_brake_eps = s.load.w_brake_eps

@@ -149,6 +149,10 @@ class AdcCfg(_Validated):
     n_oversample: int = num(1, 1, 64, "",
                             "conversions averaged a sample (oversampling burst at the carrier "
                             "peak, its duration neglected) (assumed)", integer=True)
+    sensors: int = num(2, 2, 3, "", "current sensors a channel set: 2 (phases a and b, "
+                       "c = -a - b) or 3 (the drive takes the three with their zero sequence "
+                       "removed: unequal gains then do not turn the measured current)",
+                       integer=True)
     # record of the values derived from the motor (not a parameter): (name, value, rule)
     derived: tuple = field(default=(), compare=False, repr=False, metadata={"internal": True})
 
