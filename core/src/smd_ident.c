@@ -622,6 +622,8 @@ void smd_ident_psi_reset(smd_ident_psi_state *s)
     s->acc_e = s->acc_n = s->acc_w = SMD_R(0.0);
     s->e1 = s->e2 = s->w1m = s->w2m = SMD_R(0.0);
     s->psi = s->psi1 = s->psi2 = s->psi_coast = s->psi_slope = SMD_R(0.0);
+    s->w_coast = SMD_R(0.0);
+    s->acc_sh = s->acc_a = s->acc_r = s->share_ramp = s->a_ramp = SMD_R(0.0);
     s->phi_lpf = s->w_c = s->share = SMD_R(0.0);
     s->g = SMD_R(1.0);
     s->gov_on = 0;
@@ -726,6 +728,11 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
                 s->w_c = SMD_R(-0.5) * s->w_f;
             }
             s->share += p->a_share * (share - s->share);
+            if (s->phase == SMD_IDENT_PSI_RAMP2) {
+                s->acc_sh += s->share;
+                s->acc_a += s->g * p->a_spin;
+                s->acc_r += SMD_R(1.0);
+            }
             if (s->share > p->share_max) {
                 s->g -= p->k_g * T * (s->share - p->share_max);
                 if (s->g < SMD_R(0.01)) {
@@ -802,7 +809,11 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
             s->psi2 = s->e2 / s->w2m;
             s->psi_slope = (s->e2 - s->e1) / (s->w2m - s->w1m);
             s->psi = s->psi2;
-            s->outcome = (isfinite(s->psi) && s->psi > SMD_R(0.0) && isfinite(s->psi_coast) &&
+            s->w_coast = w;
+            s->share_ramp = s->acc_r > SMD_R(0.0) ? s->acc_sh / s->acc_r : SMD_R(0.0);
+            s->a_ramp = s->acc_r > SMD_R(0.0) ? s->acc_a / s->acc_r : SMD_R(0.0);
+            s->outcome = !(SMD_FABS(w / s->w2m - SMD_R(1.0)) <= SMD_R(0.5)) ? SMD_IDENT_SLIPPED
+                         : (isfinite(s->psi) && s->psi > SMD_R(0.0) && isfinite(s->psi_coast) &&
                           SMD_FABS(s->psi_coast / s->psi - SMD_R(1.0)) <= SMD_R(0.05) &&
                           SMD_FABS(s->psi1 / s->psi - SMD_R(1.0)) <= SMD_R(0.05))
                              ? SMD_IDENT_OK

@@ -105,8 +105,12 @@ def identified_toml(name: str, s, c) -> str:
               help="with --from-log: the inductance, H, when the log has no rotor angle")
 @click.option("--u-dc", "u_dc", type=float, default=None,
               help="with --from-log: the DC-link voltage, V, when the log has no u_dc column")
+@click.option("--slow", type=click.FloatRange(1.0, 100.0), default=1.0, show_default=True,
+              help="run the spin and the inertia test this many times slower, for a load "
+                   "this much heavier than the defaults allow (a spin that ends 'slipped')")
 def identify(scenario: str | None, out: Path | None, i_test: float | None,
-             from_log: Path | None, L_s: float | None, u_dc: float | None) -> None:
+             from_log: Path | None, L_s: float | None, u_dc: float | None,
+             slow: float) -> None:
     """Measure the motor of SCENARIO as a drive would, before it runs: the
     stator resistance and the inverter's voltage drop (a DC staircase on the
     alpha axis, a least-squares line), then the inductance on the d and q
@@ -127,7 +131,7 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
         s = resolve_scenario(scenario)
     for w in caught:
         click.secho(f"warning: {w.message}", fg="yellow", err=True)
-    c = commission(s, i_test)
+    c = commission(s, i_test, slow=slow)
     r = c.rs
     err = 100.0 * (r.R_s / s.motor.R_s - 1.0)
     click.echo(f"{scenario}: commissioning, {c.t:.2f} s")
@@ -151,6 +155,10 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
                    f"({100.0 * (p.psi / s.motor.psi_r - 1.0):+.2f} %); at half speed, "
                    f"{p.psi1:.5g} at a quarter, {p.psi_coast:.5g} coasting, {p.t:.2f} s: "
                    f"{p.outcome}")
+        if p.outcome == "slipped":
+            click.echo(f"  the rotor did not follow the spin: a load heavier than the ramp "
+                       f"allows; run again with --slow 10 (the spin and the inertia test ten "
+                       f"times slower)")
     if c.mech is not None:
         x = c.mech
         if x.ok:

@@ -35,7 +35,7 @@ from .model.scenario import Scenario
 
 #: the test's outcomes (smd_ident_outcome)
 OUTCOMES = {0: "ok", 1: "running", 2: "no_current", 3: "overcurrent", 4: "not_settled",
-            5: "poor_fit", 6: "bad_input"}
+            5: "poor_fit", 6: "bad_input", 7: "slipped"}
 #: what each outcome means, for a user
 OUTCOME_TEXT = {
     "ok": "the fit is good (R^2 >= 0.999)",
@@ -46,6 +46,10 @@ OUTCOME_TEXT = {
     "not_settled": "a level's current did not settle within t_level_max",
     "poor_fit": "the levels are not on a line (R^2 < 0.999): the values are not to be trusted",
     "bad_input": "a measured current or the DC-link voltage was not finite",
+    "slipped": "the rotor did not follow the spin (coasting, it turned at under half the "
+               "frame's speed): a load heavier than the ramp allows, or a rotor that does not "
+               "turn; a heavy load needs a slower sequence (commission(slow=...), identify "
+               "--slow)",
 }
 #: the test's defaults (assumed: windows of 20 ms, a level waits 2 s at most, 10 levels)
 T_WIN = 0.02
@@ -252,11 +256,16 @@ class Commissioning:
                                if x is not None)
 
 
-def commission(s: Scenario, i_test: float | None = None, mechanics: bool = True
-               ) -> Commissioning:
+def commission(s: Scenario, i_test: float | None = None, mechanics: bool = True,
+               slow: float = 1.0) -> Commissioning:
     """R_s and the drop (step 1), L_d and L_q (step 2) at half the test
     current, psi_r (step 3) on one plant from standstill; then, with
-    `mechanics`, J and B (step 4) by the drive designed from them."""
+    `mechanics`, J and B (step 4) by the drive designed from them. `slow`
+    (>= 1) runs the spin (step 3) and the drive's start and ramp (step 4)
+    that many times slower, for a load that much heavier than the defaults
+    allow (a step 3 that ends "slipped" says so)."""
+    if not (math.isfinite(slow) and 1.0 <= slow <= 100.0):
+        raise ParameterError(f"slow = {slow!r} is outside its valid range [1, 100]")
     eng = _engine(s)
     rs = identify_rs(s, i_test, eng)
     if not rs.ok:
@@ -266,11 +275,11 @@ def commission(s: Scenario, i_test: float | None = None, mechanics: bool = True
     lq = identify_ls(s, rs, "q", i_bias, eng) if ld.ok else None
     psi = mech = None
     if lq is not None and lq.ok:
-        psi = identify_psi(s, rs, 0.5 * (ld.L + lq.L), K_SPIN * max(rs.i_levels), eng)
+        psi = identify_psi(s, rs, 0.5 * (ld.L + lq.L), K_SPIN * max(rs.i_levels), eng, slow)
         if psi.ok and mechanics:
             mech = identify_mech(s, rs.R_s, 0.5 * (ld.L + lq.L), psi.psi,
                                  t_dead_comp=rs.t_dead(s.T_sp, s.inverter.u_dc),
-                                 u_0=max(rs.u_0, 0.0))
+                                 u_0=max(rs.u_0, 0.0), slow=slow, J_spin=psi.J_spin)
     return Commissioning(rs, ld, lq, psi, mech)
 
 
@@ -301,19 +310,23 @@ class PsiResult:
     psi_coast: float    # Wb, coasting
     outcome: str
     t: float            # s
+    w_coast: float = math.nan  # rad/s: the rotor's electrical speed coasting (the frame's: w2)
+    J_spin: float = math.nan   # kg m^2: the inertia the second ramp saw (friction and load in)
 
     @property
     def ok(self) -> bool:
         return self.outcome == "ok"
 
 
-def identify_psi(s: Scenario, rs: RsResult, L_s: float, i_spin: float, engine: Engine
-                 ) -> PsiResult:
-    """Step 3 on the R_s, drop and L_s measured before, where `engine` is."""
+def identify_psi(s: Scenario, rs: RsResult, L_s: float, i_spin: float, engine: Engine,
+                 slow: float = 1.0) -> PsiResult:
+    """Step 3 on the R_s, drop and L_s measured before, where `engine` is;
+    its ramps `slow` times slower than T_SPIN."""
     w_n = s.motor.n_p * s.motor.w_M_N  # the nameplate's rated speed, electrical
     cfg = _ffi.IdentPsiConfig(T_sp=s.T_sp, R_s=max(rs.R_s, 0.0), L_s=L_s, u_0=max(rs.u_0, 0.0),
                               i_spin=i_spin, w1=0.25 * w_n, w2=0.5 * w_n,
-                              a_spin=0.5 * w_n / T_SPIN, t_hold=T_HOLD, t_coast=T_COAST,
+                              a_spin=0.5 * w_n / (T_SPIN * slow), t_hold=T_HOLD,
+                              t_coast=T_COAST,
                               w_cc=math.pi / (20.0 * s.T_sp), share_max=SHARE_MAX, w_damp=W_DAMP,
                               **({} if s.lcl is None else
                                  {"L1": s.lcl.L1, "C1": s.lcl.C1, "L2o": s.lcl.L2o}))
@@ -323,10 +336,22 @@ def identify_psi(s: Scenario, rs: RsResult, L_s: float, i_spin: float, engine: E
         raise ParameterError(f"the flux test refused its settings (smd_status {rc})")
     _ffi.lib.smd_ident_psi_reset(ct.byref(st))
     n = int(_ffi.lib.smd_engine_run_ident_psi(engine._buf, ct.byref(p), ct.byref(st),
-                                              int(round(T_MAX / s.T_sp))))
+                                              int(round(T_MAX * slow / s.T_sp))))
     return PsiResult(psi=float(st.psi), psi1=float(st.psi1), psi2=float(st.psi2),
-                     psi_slope=float(st.psi_slope), psi_coast=float(st.psi_coast), outcome=OUTCOMES.get(int(st.outcome), "?"),
-                     t=n * s.T_sp)
+                     psi_slope=float(st.psi_slope), psi_coast=float(st.psi_coast),
+                     outcome=OUTCOMES.get(int(st.outcome), "?"), t=n * s.T_sp,
+                     w_coast=float(st.w_coast), J_spin=spin_inertia(s, st, i_spin))
+
+
+def spin_inertia(s: Scenario, st, i_spin: float) -> float:
+    """The inertia step 3's second ramp saw, kg m^2: the torque the rotor
+    took, 1.5 n_p psi i_spin times its mean share, over the frame's mean
+    acceleration, mechanical (smd_ident.h); a friction's and a load's torque
+    count as inertia (an upper estimate), nan without a governed ramp."""
+    n_p = s.motor.n_p
+    if not (st.a_ramp > 0.0 and st.share_ramp > 0.0 and st.psi > 0.0):
+        return math.nan
+    return float(1.5 * n_p * n_p * st.psi * i_spin * st.share_ramp / st.a_ramp)
 
 
 #: step 4's defaults (assumed): the drive's speed loop tuned for a guessed inertia, a rotor
@@ -348,6 +373,9 @@ T_COAST_MECH = 0.4
 #: fundamental, and then reached by the forced start within T_START
 K_DROP = 1.0
 T_START = 1.2
+#: ... and its acceleration asks at most this share of the start current's torque of the
+#: inertia the drive is designed for (the guess, or step 3's where heavier)
+K_START_TORQUE = 0.5
 
 
 @dataclass(frozen=True)
@@ -377,7 +405,8 @@ def mech_speeds(sd: Scenario) -> tuple[float, float]:
 
 
 def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float,
-                  t_dead_comp: float | None = None, u_0: float = 0.0) -> Scenario:
+                  t_dead_comp: float | None = None, u_0: float = 0.0,
+                  slow: float = 1.0, J_spin: float = math.nan) -> Scenario:
     """Step 4's run: the sensorless drive (robust DBPC, SMDO, I/f start) on
     the bench, designed from the measured R_s, L_s, psi_r and a guessed
     inertia, on the reference of the test (:func:`mech_speeds`);
@@ -387,14 +416,20 @@ def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float,
     what the compensation misses of the drop misleads the observer: yao2022's
     motor behind its filter at 1.3 us of dead time lost its rotor right
     after a handover at 5 kr/min, where the EMF is 0.63 V against 2.1 V of
-    drop), at most half the rated speed."""
+    drop), at most half the rated speed. `slow`: the start, the settling
+    (T_STEP), the ramp (T_RAMP) and the guessed inertia that many times
+    longer and heavier (a heavy load; the holds and the coast stay).
+    `J_spin`: the inertia step 3's spin saw; the drive is designed for it
+    where it is above the guess (a heavy load: the start's acceleration, the
+    speed loop and the supervision's times follow the inertia)."""
     m = s.motor
     w_n = m.w_M_N
-    t2 = T_STEP + T_RAMP + T_HOLD_MECH + T_COAST_MECH
+    t_step, t_ramp = T_STEP * slow, T_RAMP * slow
+    t2 = t_step + t_ramp + T_HOLD_MECH + T_COAST_MECH
 
     def design(w1: float, w2: float) -> Scenario:
         sd = bench(s).replace(duration=t2, warm_start=False, theta_r0=0.0,
-                              w_M_ref=Profile((0.0, 0.0, T_STEP, T_STEP + T_RAMP),
+                              w_M_ref=Profile((0.0, 0.0, t_step, t_step + t_ramp),
                                               (0.0, w1, w1, w2)))
         # behind an LCL filter: yao2022's drive (current PI with active damping, the
         # sliding-mode observer and PLL), the filter's data sheet values as they are
@@ -402,16 +437,39 @@ def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float,
                  dict(current="pi", position="lcl_smo_pll", decouple="auto"))
         if t_dead_comp is not None:
             parts["t_dead_comp"] = min(t_dead_comp, 0.25 * s.T_sp)
+        # the inertia: the one step 3's spin saw, else the guess
+        J_hat = J_GUESS_T * slow * m.T_N / w_n
+        if math.isfinite(J_spin) and J_spin > 0.0:
+            J_hat = J_spin
+        J_known = J_hat
         sd = sd.with_controller(**parts, start="if",
-                                R_s_hat=R_s, L_s_hat=L_s, psi_r_hat=psi_r,
-                                J_hat=J_GUESS_T * m.T_N / w_n, a_M_ref=(w2 - w1) / T_RAMP,
+                                R_s_hat=R_s, L_s_hat=L_s, psi_r_hat=psi_r, J_hat=J_hat,
+                                a_M_ref=(w2 - w1) / t_ramp,
                                 speed_bw=SPEED_BW_MECH)
+        # every value derived from the motor (the start's acceleration and current, the
+        # handover, the supervision's times) from what the drive knows: the measured R_s,
+        # L_s, psi_r and dead time and the guessed inertia, not the plant's (the true J
+        # had set the start's acceleration and the tracking time: a leak of the truth)
+        meas = dataclasses.replace(m, R_s=R_s, L_s=L_s, psi_r=psi_r, J=J_known)
+        inv = (sd.inverter if t_dead_comp is None else
+               dataclasses.replace(sd.inverter, t_dead=min(t_dead_comp, 0.25 * s.T_sp)))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            known = sd.replace(motor=meas, inverter=inv)
+        sd = sd.replace(controller=dataclasses.replace(known.controller, derived=()))
         c = sd.controller
         w_drop = K_DROP * 3.0 / math.pi * u_0 / (psi_r * m.n_p) if psi_r > 0.0 else 0.0
         if w_drop > c.w_M_handover:
             w_h = min(w_drop, 0.5 * w_n)
             sd = sd.with_controller(w_M_handover=w_h,
-                                    a_M_start=max(c.a_M_start, w_h / T_START))
+                                    a_M_start=max(c.a_M_start, w_h / (T_START * slow)))
+            c = sd.controller
+        # the forced start's acceleration within what its current can give the inertia
+        # the drive is designed for (K_START_TORQUE of it; a preset's own value too:
+        # yao2022's 5 kr/min/s asked 2 x its 15 A of yao2022's rotor with 10 x its inertia)
+        a_cap = K_START_TORQUE * 1.5 * m.n_p * psi_r * c.i_start / J_known
+        if psi_r > 0.0 and c.a_M_start > a_cap:
+            sd = sd.with_controller(a_M_start=a_cap)
         return sd
 
     sd = design(0.4 * w_n, 0.8 * w_n)
@@ -420,7 +478,8 @@ def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float,
 
 
 def identify_mech(s: Scenario, R_s: float, L_s: float, psi_r: float,
-                  t_dead_comp: float | None = None, u_0: float = 0.0) -> MechResult:
+                  t_dead_comp: float | None = None, u_0: float = 0.0,
+                  slow: float = 1.0, J_spin: float = math.nan) -> MechResult:
     """Step 4: the drive itself (the firmware code) runs the core's test
     (``smd_ident_mech``, smodrive/smd_ident.h), which gives it the speed
     reference (:func:`mech_speeds`: a speed, a ramp to the second, a hold)
@@ -438,7 +497,7 @@ def identify_mech(s: Scenario, R_s: float, L_s: float, psi_r: float,
     load.k_fan) its K w|w| is fitted on the ramp too, and no coast. The
     drive's own supervision stays on: a run that ends in a fault is named; a
     drive that never leaves its forced start is "not_settled"."""
-    sd = mech_scenario(s, R_s, L_s, psi_r, t_dead_comp, u_0)
+    sd = mech_scenario(s, R_s, L_s, psi_r, t_dead_comp, u_0, slow, J_spin)
     w1, w2 = mech_speeds(sd)
     # (with a fan the coast's deceleration is mostly the fan's, where B and K lean on each
     # other: yao2022's K came out -41 % from a 0.4 s coast, -3 % from the ramp alone)
@@ -446,8 +505,8 @@ def identify_mech(s: Scenario, R_s: float, L_s: float, psi_r: float,
     m = s.motor
     n_p = m.n_p
     cfg = _ffi.IdentMechConfig(T_sp=s.T_sp, k_t=1.5 * n_p * psi_r, n_p=n_p,
-                               w1=w1 * n_p, w2=w2 * n_p, t_step=T_STEP,
-                               t_ramp=T_RAMP, t_hold=T_HOLD_MECH, t_fit=0.5, t_bin=T_BIN,
+                               w1=w1 * n_p, w2=w2 * n_p, t_step=T_STEP * slow,
+                               t_ramp=T_RAMP * slow, t_hold=T_HOLD_MECH, t_fit=0.5, t_bin=T_BIN,
                                w_lpf=sd.controller.w_lpf if s.lcl is None else 0.0,
                                fan=1 if fan else 0, t_coast=0.0 if fan else T_COAST_MECH)
     p, st = _ffi.IdentMechParams(), _ffi.IdentMechState()

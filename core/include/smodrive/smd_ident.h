@@ -58,7 +58,9 @@ typedef enum smd_ident_outcome {
     SMD_IDENT_OVERCURRENT = 3,  /* a phase current beyond 1.5 i_test */
     SMD_IDENT_NOT_SETTLED = 4,  /* a level did not settle within t_level_max */
     SMD_IDENT_POOR_FIT = 5,     /* R^2 below 0.999: the values are given, not trusted */
-    SMD_IDENT_BAD_INPUT = 6     /* a non-finite current or DC-link voltage */
+    SMD_IDENT_BAD_INPUT = 6,    /* a non-finite current or DC-link voltage */
+    SMD_IDENT_SLIPPED = 7       /* step 3: the rotor did not follow the spin (it turns at
+                                 * under half the frame's speed when it coasts) */
 } smd_ident_outcome;
 
 typedef struct smd_ident_rs_config {
@@ -210,7 +212,15 @@ smd_status smd_ident_ls_step(const smd_ident_ls_params *p, smd_ident_ls_state *s
  * (coasting: the PI holds i = 0, so the voltage it applies is the back EMF)
  * and psi_coast = mean |u| / |mean d arg u / dt| over t_coast after 0.1
  * t_coast; it must agree with psi_r within 5 % (outcome POOR_FIT otherwise,
- * all given).
+ * all given). The coast also says whether the rotor followed the frame:
+ * its EMF's turn is the rotor's speed, and off the frame's by more than
+ * half (|w_coast / w2 - 1| > 1/2: a stalled rotor's turn is the noise's)
+ * the rotor slipped (outcome SLIPPED: a load heavier than the ramp allows,
+ * or a rotor that does not turn; the values are given, not trusted). The
+ * second ramp, where the governor reads the rotor, also gives the mean
+ * share of the torque the rotor took and the frame's mean acceleration
+ * (share_ramp, a_ramp): the inertia the spin saw is about 1.5 n_p^2 psi_r
+ * i_spin share_ramp / a_ramp (friction and a load's torque counted in).
  */
 typedef struct smd_ident_psi_config {
     smd_real T_sp;        /* s, (0, 1] */
@@ -290,6 +300,10 @@ typedef struct smd_ident_psi_state {
     smd_real e1, e2;      /* mean |e| at w1, w2, V */
     smd_real w1m, w2m;    /* the frame's mean speed over the same samples, rad/s */
     smd_real psi, psi1, psi2, psi_coast, psi_slope; /* results, Wb */
+    smd_real w_coast;     /* the rotor's electrical speed in the coast, rad/s */
+    smd_real acc_sh, acc_a, acc_r; /* the second ramp: sums of the share, the frame's
+                                    * acceleration and their samples */
+    smd_real share_ramp, a_ramp; /* their means (the header), -, rad/s^2 */
     smd_cplx u_applied;
     int samples;
 } smd_ident_psi_state;
