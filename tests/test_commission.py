@@ -384,7 +384,7 @@ def test_a_rotor_that_slips_in_the_spin_is_named():
 def test_a_heavy_load_commissioned_slowly():
     """The same motor with `slow` = 10 (the spin and step 4's start and ramp
     10 x slower): every step ok, psi_r within 2 %, J within 10 %, the fan's
-    K within 20 % (issue 23's bounds; measured -0.7 %, -2.2 %, -7.4 %), in
+    K within 20 % (issue 23's bounds; measured -0.7 %, -2.2 %, -7.1 %), in
     44 s of motor time (the 10 s bound is for the motors as they are; a
     10 x heavier rotor takes 10 x as long to spin up at the same current)."""
     s = _heavy_yao(10.0)

@@ -373,9 +373,10 @@ T_COAST_MECH = 0.4
 #: fundamental, and then reached by the forced start within T_START
 K_DROP = 1.0
 T_START = 1.2
-#: ... and its acceleration asks at most this share of the start current's torque of the
+#: ... and its acceleration asks at most this share of the start current's torque (the spin
+#: governor's SHARE_MAX) of the
 #: inertia the drive is designed for (the guess, or step 3's where heavier)
-K_START_TORQUE = 0.5
+K_START_TORQUE = 0.7
 
 
 @dataclass(frozen=True)
