@@ -173,6 +173,16 @@ def test_a_bad_tracker_setting_is_named(field, value, why):
         simulate(s.replace(duration=0.01))
 
 
+def test_the_tracker_without_a_position_sensor_is_refused():
+    """With the SMDO's angle the fit reads the SMDO's own R_s (smd_rls.h):
+    a +40 % rise ended 30 % low, with status 0. The tracker now needs the
+    encoder, and says so by name instead of giving a wrong R_s."""
+    s0 = load_scenario(MOTORS["yang2018 Table I"])
+    s = s0.with_controller(position="smdo_emf", start="handover", rls_i_inj=1.0)
+    with pytest.raises(ParameterError, match="rls_i_inj.*encoder"):
+        simulate(s.replace(duration=0.01))
+
+
 def test_a_bad_heating_profile_is_named():
     s0 = load_scenario(MOTORS["yang2018 Table I"])
     with pytest.raises(ParameterError, match="R_s_scale"):

@@ -515,7 +515,9 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
     /* the R_s / psi_r tracker: off at rls_i_inj = 0; its model has no filter */
     p->use_rls = 0;
     if (!smd_in_range(c->rls_i_inj, SMD_R(0.0), SMD_R(1e5)) ||
-        (c->rls_i_inj > SMD_R(0.0) && c->lcl)) {
+        (c->rls_i_inj > SMD_R(0.0) && (c->lcl || c->position != SMD_POS_ENCODER))) {
+        /* (with an observer's angle the angle takes the resistance's change
+         * in, and the fit reads the observer's own R_s: smd_rls.h) */
         return SMD_ERR_RLS;
     }
     if (c->rls_i_inj > SMD_R(0.0)) {

@@ -295,7 +295,8 @@ typedef struct smd_drive_config {
                              @fuzz(0, 5) */
     int restart_window;   /* ... within (about) this many samples (0: no restart)
                              @fuzz(0, 20000) */
-    /* online R_s / psi_r tracker (smd_rls.h; not with the LCL filter) */
+    /* online R_s / psi_r tracker (smd_rls.h; with the encoder only, not with the LCL
+     * filter: SMD_ERR_RLS otherwise) */
     smd_real rls_i_inj;   /* injected d-axis current amplitude, A (0: no tracker)
                              @fuzz(0, 10) */
     smd_real rls_tau;     /* forgetting time constant, s @fuzz(0, 10) */

@@ -43,7 +43,17 @@
  *
  * A sample counts when the drive's angle is the rotor's (valid; the drive
  * passes 0 in the forced phase of an I/f start) and so did the one
- * before. C99, no allocation, single precision by default. */
+ * before. C99, no allocation, single precision by default.
+ *
+ * It needs the rotor's angle (the drive refuses it with another position
+ * source). With the SMDO's angle, a resistance dR above the SMDO's model
+ * puts dR i on the disturbance, whose d part turns the angle estimate by
+ * about dR i_d / (w psi_r); in that frame the fit reads the SMDO's own R_s
+ * (y_d = R_s i_d + dR i_d - dR i_d), and a +40 % rise ended 30 % low. An
+ * integral loop correcting the SMDO's R_s from the angle's step at the
+ * square wave's edges was tried (2026-11-27) and left out: within 2 % on
+ * two motors, it ran away on the 48 V servo (R_s read negative) and lost
+ * the rotor of the hub motor and of Table I's with 40 ms halves. */
 #ifndef SMD_RLS_H
 #define SMD_RLS_H
 

@@ -320,8 +320,9 @@ class ControllerCfg(_Validated):
                            "from rest on I/f after a lost lock or a failed start, at most this "
                            "many within t_restart (0: latch at once)", integer=True)
     t_restart: float = num(2.0, 0.0, 1e3, "s", "the window of the restart count")
-    rls_i_inj: float = num(0.0, 0.0, 1e5, "A", "online R_s / psi_r tracker (smd_rls.h): its "
-                           "d-axis square wave of +-rls_i_inj (0: no tracker) ...")
+    rls_i_inj: float = num(0.0, 0.0, 1e5, "A", "online R_s / psi_r tracker (smd_rls.h; with "
+                           "position = 'encoder'): its d-axis square wave of +-rls_i_inj (0: no "
+                           "tracker) ...")
     rls_tau: float = num(0.3, 0.0, 1e3, "s", "... the time constant of its forgetting ...",
                          lo_open=True)
     rls_t_half: float = num(0.02, 0.0, 1e3, "s", "... the half period of its square wave ...",
