@@ -422,6 +422,57 @@ def test_accuracy_with_sensor_errors_and_dead_time(motor):
         assert abs(c.mech.J / m.J - 1.0) < 0.10 and abs(c.mech.B / m.B - 1.0) < 0.20
 
 
+def test_micro_motor_with_sensor_errors_and_dead_time():
+    """Issue 23's conditions on its 1 ohm / 50 uH / 2 mWb micro motor, 10
+    draws: the gains, offsets and ADC noise as above; the dead time the same
+    0.5-2 % of the period as 0.5-2 us is of the other motors' 100 us, here
+    0.125-0.5 us of its 25 us (40 kHz). R_s within 2 %, L_d and L_q within
+    5 %, psi_r within 2 %, J within 10 %, B within 20 %, every step ok, in
+    10 s (measured: 0.43, 1.9, 0.65, 2.4, 4.7 %, 7.8 s).
+
+    Not met, measured: the issue's 0.5-2 us itself, 2-8 % of this period,
+    which on a 12 V bus is a drop of up to 1.2 V against the 1.26 V of EMF
+    at step 3's second speed: psi_r is named poor_fit on all 10 draws (the
+    holds -1 to -6 %, the coast at zero current +10 to +41 %)."""
+    s0 = CASES["micro 1 ohm, 50 uH (invented)"]
+    rng = np.random.default_rng(2026)
+    for seed in range(1, 11):
+        s = sensor_errors(s0, seed, rng)
+        s = _inverter(s, t_dead=s.inverter.t_dead * s0.T_sp / 100e-6)
+        c = commission(s)
+        m = s.motor
+        assert c.ok and c.psi.ok and c.mech.ok, (seed, c)
+        assert abs(c.rs.R_s / m.R_s - 1.0) < 0.02
+        assert abs(c.ld.L / m.L_s - 1.0) < 0.05 and abs(c.lq.L / m.L_s - 1.0) < 0.05
+        assert abs(c.psi.psi / m.psi_r - 1.0) < 0.02
+        assert abs(c.mech.J / m.J - 1.0) < 0.10 and abs(c.mech.B / m.B - 1.0) < 0.20
+        assert c.t <= 10.0
+
+
+def test_five_microhenry_drone_motor_steps_1_to_3_with_sensor_errors():
+    """Issue 23's 5 uH end of the inductance range: an invented 24 V, 500 W
+    multirotor outrunner (tests/motors/drone_24v_5uh.toml: 25 mohm, 5 uH,
+    0.875 mWb, 7 pole pairs, 15,000 r/min, on a 40 kHz inverter), 10 draws of
+    issue 23's conditions, the dead time as the micro motor's (0.5-2 % of the
+    period). R_s within 2 %, L_d and L_q within 5 %, psi_r within 2 %
+    (measured: 0.46, 1.8, 0.36 %, steps 1-3 in 4.7 s at most).
+
+    Not in this test, measured: step 4 and the usual profile, whose
+    sensorless drive loses its lock on this motor (lost_lock, named; the
+    drive designed from the true values too, 3.0 s into the profile)."""
+    s0 = load_scenario(ROOT / "tests" / "motors" / "drone_24v_5uh.toml")
+    m = s0.motor
+    rng = np.random.default_rng(2026)
+    for seed in range(1, 11):
+        s = sensor_errors(s0, seed, rng)
+        s = _inverter(s, t_dead=s.inverter.t_dead * s0.T_sp / 100e-6)
+        c = commission(s, mechanics=False)
+        assert c.ok and c.psi.ok, (seed, c)
+        assert abs(c.rs.R_s / m.R_s - 1.0) < 0.02
+        assert abs(c.ld.L / m.L_s - 1.0) < 0.05 and abs(c.lq.L / m.L_s - 1.0) < 0.05
+        assert abs(c.psi.psi / m.psi_r - 1.0) < 0.02
+
+
 def test_yao2022_motor_behind_its_lcl_filter():
     """The yao2022 motor (24 uH) behind its LCL filter (L1 54 uH, C1 31.5 uF,
     L2o 27.5 uH): step 2's wave rings the filter, and a first-order fit sees
