@@ -55,12 +55,15 @@ def segment(s: Scenario) -> float:
     return max(0.3, 2.0 * t_ramp + 10.0 / c.speed_bw)
 
 
-def profile_scenario(base: Scenario, seed: int = 1, T_sp: float = 100e-6) -> Scenario:
+def profile_scenario(base: Scenario, seed: int = 1, T_sp: float | None = None) -> Scenario:
     """`base`'s plant (motor, inverter, ADC) under sensorless robust DBPC
-    with an I/f start, on the usual profile, ADC noise seed `seed`. Behind
+    with an I/f start, on the usual profile, ADC noise seed `seed`, sampled
+    at `T_sp` (None: `base`'s own; before 2026-11-27 always 100 us, which ran
+    a 40 kHz motor file at 10 kHz). Behind
     an LCL filter the drive is yao2022's instead (current PI, the
     sliding-mode observer and PLL), with the I/f start and its decoupling
     chosen for the filter (controller.decouple = "auto")."""
+    T_sp = base.T_sp if T_sp is None else T_sp
     s = base.replace(T_sp=T_sp, warm_start=False, w_M0=0.0, theta_r0=0.0,
                      adc=dataclasses.replace(base.adc, seed=seed),
                      load=LoadCfg(), name=f"{base.name}.profile")
@@ -122,13 +125,15 @@ def judge(r: Result) -> Outcome:
 
 
 def random_profile(base: Scenario, rng: np.random.Generator, duration: float = 60.0,
-                   n_changes: int = 20, seed: int = 1, T_sp: float = 100e-6) -> Scenario:
+                   n_changes: int = 20, seed: int = 1, T_sp: float | None = None
+                   ) -> Scenario:
     """`base`'s plant under sensorless robust DBPC with an I/f start, for
     `duration` seconds of random operation within the rated envelope:
     `n_changes` speed steps (uniform in [-w_M_N, w_M_N]) and as many brake
     steps (uniform in [0, T_N]) at random times (a false-trip test: every
     run is one the drive can do)."""
     s = profile_scenario(base, seed, T_sp)
+    T_sp = s.T_sp
     w_n, t_n = s.motor.w_M_N, s.motor.T_N
     ts = np.sort(rng.uniform(0.5, duration, n_changes))
     ws = rng.uniform(-1.0, 1.0, n_changes) * w_n
