@@ -46,12 +46,12 @@ from .pars import ControllerCfg, MotorPars
 REF_MOTOR = MotorPars()
 #: the yang2018 drive's values on it (Sec. IV-C and docs/assumptions.md)
 REFERENCE: dict[str, float] = {
-    "lambda_min": 800.0, "rho": 0.2, "w_M_max": 3000.0 * RPM, "i_max": 15.0,
+    "w_c": 1500.0, "lambda_min": 800.0, "rho": 0.2, "w_M_max": 3000.0 * RPM, "i_max": 15.0,
     "i_start": 10.0, "a_M_start": 3000.0 * RPM, "w_M_handover": 150.0 * RPM, "i_dtc": 0.3,
 }
 #: fields derived from the motor (and the filter and inverter), in the order they are resolved
 DERIVED_FIELDS: tuple[str, ...] = (
-    "L_s_hat", "R_s_hat", "psi_r_hat", "J_hat", "psi_r_pi", "speed_bw", "w_lpf",
+    "w_c", "L_s_hat", "R_s_hat", "psi_r_hat", "J_hat", "psi_r_pi", "speed_bw", "w_lpf",
     "lambda_min", "rho", "w_M_max",
     "i_max", "i_start", "a_M_start", "w_M_if_enter", "w_M_handover", "t_dead_comp", "i_dtc",
     "k_p_i", "k_i_i", "a_M_ref", "t_dwell", "t_chatter", "t_hunt", "w_M_track", "t_track",
@@ -201,7 +201,7 @@ def _uses(c: ControllerCfg, get: Any = None) -> dict[str, str | None]:
         "w_lpf": None if c.position == "smdo_emf" else "position is not smdo_emf",
         "J_hat": None if c.speed_loop else "speed_loop = false",
         "psi_r_pi": None if c.speed_loop else "speed_loop = false",
-        "lambda_min": no_smdo, "rho": no_smdo,
+        "w_c": no_smdo, "lambda_min": no_smdo, "rho": no_smdo,
         "w_M_max": None if c.position == "smdo_emf" else "position is not smdo_emf",
         "i_start": None if if_ else "no I/f (start and w_M_if_enter)",
         "a_M_start": None if if_ else "no I/f (start and w_M_if_enter)",
@@ -228,6 +228,25 @@ def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any =
     r = resolved or {}
     get = lambda n: r.get(n, getattr(c, n))  # noqa: E731
     ref = REF_MOTOR
+    if name == "w_c":
+        # Table I's 1500 rad/s, raised where the SMDO's filter (36) would not be stable
+        # to twice rated speed (the drive's w_M_max): |1 - w_c T + j w T| < 1 with
+        # w = 2 n_p w_M_N / W_MAX_MARGIN needs w_c T >= 1 - sqrt(1 - (w T)^2) (a 7-pole-
+        # pair 15,000 r/min motor at 40 kHz: 7,400 rad/s; with 1500 its angle swung by
+        # 22 deg RMS at 3/4 of rated speed, at status 0)
+        v = REFERENCE["w_c"]
+        q = 2.0 * m.n_p * m.w_M_N * T_sp / W_MAX_MARGIN
+        if q >= 1.0:
+            return 0.5 / T_sp, ("0.5 / T_sp (no w_c keeps the SMDO's filter stable to twice "
+                                "rated speed at this T_sp: w_M_max is limited instead)")
+        need = (1.0 - math.sqrt(1.0 - q * q)) / T_sp
+        if need > v:
+            return need, ("the SMDO's filter (36) stable to twice rated speed "
+                          f"(|1 - w_c T + j 2 w_N T / {W_MAX_MARGIN:g}| = 1), above Table I's "
+                          f"{v:g}")
+        return v, "Table I's 1500 rad/s (its filter (36) stable to twice rated speed)"
+    if c.w_c is None:
+        c = dataclasses.replace(c, w_c=get("w_c"))
     if name in ("L_s_hat", "R_s_hat", "psi_r_hat", "J_hat", "psi_r_pi"):
         src = {"L_s_hat": "L_s", "R_s_hat": "R_s", "psi_r_hat": "psi_r", "J_hat": "J",
                "psi_r_pi": "psi_r"}[name]

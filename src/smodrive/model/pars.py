@@ -192,7 +192,9 @@ class ControllerCfg(_Validated):
                                    "SMDO lambda_min, eq. (37) (None: 800 A/s x (E_N / L_s) / "
                                    "(E_N / L_s of Table I), E_N = n_p w_M_N psi_r)")
     l: float = num(1200.0, 0.0, 1e7, "1/s", "SMDO proportional gain l, eq. (21)", lo_open=True)
-    w_c: float = num(1500.0, 0.0, 1e7, "rad/s", "SMDO filter gain omega_c, eq. (19)", lo_open=True)
+    w_c: float | None = num(None, 0.0, 1e7, "rad/s", "SMDO filter gain omega_c, eq. (19) (None: "
+                            "derived, Table I's 1500 or what keeps the filter stable to twice "
+                            "rated speed)", lo_open=True)
     rho: float | None = num(None, 0.0, 1e3, "A", "SMDO smoothing rho, eq. (39) (None: 0.2 A x "
                             "the same ratio, so lambda_min / rho stays 4000 1/s)", lo_open=True)
     smdo_euler: bool = flag(False, "eq. (36) as printed (forward-Euler rotation)")
