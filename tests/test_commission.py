@@ -324,6 +324,23 @@ def test_inertia_within_10_and_friction_within_20_percent(name):
     assert c.t <= 10.0
 
 
+def test_b_carries_its_standard_error():
+    """Step 4's B with the coast's standard error (the fit quality issue 23
+    asks of each result): small where the coast decelerates the rotor well
+    (Table I: J / B = 6 s against the 0.4 s coast, measured 1.7 %), large
+    where it hardly does (the flywheel with 10 x its inertia, J / B = 250 s:
+    measured 58 %, with B +35 %). The two are held to at most 5 % and at
+    least 25 %: an error of B that is the coast's noise is seen in it (a
+    bias is not: the invented 400 V motor's +31 % has 0.7 %)."""
+    s = CASES["yang2018 Table I"]
+    c = commission(s)
+    assert c.mech.ok and 0.0 < c.mech.B_se < 0.05 * c.mech.B
+    f0 = load_scenario(ROOT / "tests" / "motors" / "flywheel_48v_1kw.toml")
+    f = f0.replace(motor=dataclasses.replace(f0.motor, J=10.0 * f0.motor.J))
+    cf = commission(f, slow=10.0)
+    assert cf.mech.ok and cf.mech.B_se > 0.25 * cf.mech.B
+
+
 def test_inertia_with_a_load_of_ten_times_the_rotor():
     """Issue 23: valid with a load inertia up to 10 x the rotor's. Table I's
     motor with 10 x its inertia (12 x the guessed inertia; step 4's drive is

@@ -905,6 +905,8 @@ void smd_ident_mech_reset(smd_ident_mech_state *s)
     s->cww = s->cwq = s->cqq = s->cwa = s->cqa = SMD_R(0.0);
     s->crows = 0;
     s->B_ramp = SMD_R(0.0);
+    s->caa = SMD_R(0.0);
+    s->B_se = SMD_R(-1.0);
     s->rows = 0;
     s->wait = 0;
     s->n_closed = 0;
@@ -943,6 +945,7 @@ static void mech_bin(const smd_ident_mech_params *p, smd_ident_mech_state *s)
             /* the coast: J a = -(B w + K w |w|), no torque */
             s->cww += w * w;
             s->cwa += w * a;
+            s->caa += a * a;
             if (p->fan) {
                 s->cwq += w * q;
                 s->cqq += q * q;
@@ -1000,6 +1003,15 @@ static void mech_coast(const smd_ident_mech_params *p, smd_ident_mech_state *s)
     s->J = num / den;
     s->B = s->J * beta;
     s->K = s->J * kappa * p->inv_w2;
+    if (!p->fan && s->crows > 1) {
+        /* B's standard error from the coast's line a = -beta w: its residual
+         * over crows - 1 degrees of freedom (the bins' accelerations are
+         * central differences, so neighbours share a bin: an estimate, not
+         * a bound) */
+        const smd_real res = s->caa + SMD_R(2.0) * beta * s->cwa + beta * beta * s->cww;
+        s->B_se = s->J * SMD_SQRT((res > SMD_R(0.0) ? res : SMD_R(0.0)) /
+                                  ((smd_real)(s->crows - 1) * s->cww));
+    }
 }
 
 static void mech_solve(const smd_ident_mech_params *p, smd_ident_mech_state *s)

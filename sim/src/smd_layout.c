@@ -553,6 +553,8 @@ static const smd_layout_row ROWS[] = {
     F(smd_ident_mech_state, cqa, "smd_real"),
     F(smd_ident_mech_state, crows, "int"),
     F(smd_ident_mech_state, B_ramp, "smd_real"),
+    F(smd_ident_mech_state, caa, "smd_real"),
+    F(smd_ident_mech_state, B_se, "smd_real"),
     F(smd_plant, c, "smd_plant_config"),
     F(smd_plant, i_re, "double"),
     F(smd_plant, i_im, "double"),

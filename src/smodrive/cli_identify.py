@@ -63,6 +63,8 @@ def identified_toml(name: str, s, c) -> str:
             motor.update({"J": _g(c.mech.J), "B": _g(c.mech.B)})
             record.update({"J": _g(c.mech.J), "B": _g(c.mech.B), "B_ramp": _g(c.mech.B_ramp),
                            "mech_test_s": _g(c.mech.t)})
+            if math.isfinite(c.mech.B_se):
+                record["B_std_error"] = _g(c.mech.B_se)
             if s.load.k_fan > 0.0:
                 record["k_fan"] = _g(c.mech.K)
     measured = s.replace(motor=dataclasses.replace(s.motor, **motor))
@@ -164,8 +166,9 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
         if x.ok:
             fan = (f"; the fan's K {x.K:.4g} N m s^2 measured, {s.load.k_fan:.4g} true "
                    f"{_rel(x.K, s.load.k_fan)}" if s.load.k_fan > 0.0 else "")
+            se = f" +-{x.B_se:.2g}" if math.isfinite(x.B_se) else ""
             click.echo(f"  J    {x.J:.5g} kg m^2 measured, {s.motor.J:.5g} true "
-                       f"{_rel(x.J, s.motor.J)}; B {x.B:.4g} N m s measured, "
+                       f"{_rel(x.J, s.motor.J)}; B {x.B:.4g}{se} N m s measured, "
                        f"{s.motor.B:.4g} true {_rel(x.B, s.motor.B)}{fan}, {x.t:.2f} s")
         else:
             click.echo(f"  J, B not measured: {x.outcome}")

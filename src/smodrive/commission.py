@@ -388,6 +388,7 @@ class MechResult:
     t: float            # s
     K: float = 0.0      # N m s^2/rad^2: a fan load's K w_M |w_M| (fitted with one)
     B_ramp: float = math.nan  # N m s/rad: B from the ramp alone (the coast's is B)
+    B_se: float = math.nan    # N m s/rad: B's standard error from the coast (nan: no coast)
 
     @property
     def ok(self) -> bool:
@@ -527,7 +528,8 @@ def identify_mech(s: Scenario, R_s: float, L_s: float, psi_r: float,
         return MechResult(math.nan, math.nan, "fault: " + ", ".join(names), t, math.nan)
     if outcome not in ("ok", "poor_fit"):
         return MechResult(math.nan, math.nan, outcome, t, math.nan)
-    return MechResult(float(st.J), float(st.B), outcome, t, float(st.K), float(st.B_ramp))
+    return MechResult(float(st.J), float(st.B), outcome, t, float(st.K), float(st.B_ramp),
+                      float(st.B_se) if st.B_se >= 0.0 else math.nan)
 
 
 #: smd_ident_mech_state.outcome

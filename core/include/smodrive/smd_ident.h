@@ -402,6 +402,8 @@ typedef struct smd_ident_mech_state {
     smd_real cww, cwq, cqq, cwa, cqa; /* the coast's sums (w, q = w |w| / w2, a) */
     int crows;            /* its bins */
     smd_real B_ramp;      /* B from the ramp's equations alone (with a coast: a check) */
+    smd_real caa;         /* the coast's sum of a^2 */
+    smd_real B_se;        /* B's standard error from the coast, N m s / rad (-1: none) */
 } smd_ident_mech_state;
 
 smd_status smd_ident_mech_init(smd_ident_mech_params *p, const smd_ident_mech_config *c);

@@ -472,6 +472,7 @@ class IdentMechState(ct.Structure):
         ("swq", real), ("sqq", real), ("sqt", real), ("rows", ct.c_int), ("wait", ct.c_int),
         ("n_closed", ct.c_int), ("J", real), ("B", real), ("K", real), ("cww", real), ("cwq", real),
         ("cqq", real), ("cwa", real), ("cqa", real), ("crows", ct.c_int), ("B_ramp", real),
+        ("caa", real), ("B_se", real),
     ]
 
 
