@@ -374,8 +374,7 @@ T_COAST_MECH = 0.4
 K_DROP = 1.0
 T_START = 1.2
 #: ... and its acceleration asks at most this share of the start current's torque (the spin
-#: governor's SHARE_MAX) of the
-#: inertia the drive is designed for (the guess, or step 3's where heavier)
+#: governor's SHARE_MAX) of the inertia the drive is designed for (step 3's, else the guess)
 K_START_TORQUE = 0.7
 
 
@@ -410,8 +409,8 @@ def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float,
                   t_dead_comp: float | None = None, u_0: float = 0.0,
                   slow: float = 1.0, J_spin: float = math.nan) -> Scenario:
     """Step 4's run: the sensorless drive (robust DBPC, SMDO, I/f start) on
-    the bench, designed from the measured R_s, L_s, psi_r and a guessed
-    inertia, on the reference of the test (:func:`mech_speeds`);
+    the bench, designed from the measured R_s, L_s, psi_r and inertia (a
+    guessed one without step 3's), on the reference of the test (:func:`mech_speeds`);
     `t_dead_comp`: the dead time step 1's drop gives (None: the scenario's
     own setting); `u_0`: that drop, V: the forced start hands over no lower
     than where the EMF is twice the drop's fundamental, (3/pi) u_0 (below,
@@ -422,8 +421,8 @@ def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float,
     (T_STEP), the ramp (T_RAMP) and the guessed inertia that many times
     longer and heavier (a heavy load; the holds and the coast stay).
     `J_spin`: the inertia step 3's spin saw; the drive is designed for it
-    where it is above the guess (a heavy load: the start's acceleration, the
-    speed loop and the supervision's times follow the inertia)."""
+    (the start's acceleration, the speed loop and the supervision's times
+    follow the inertia; nan: the guess)."""
     m = s.motor
     w_n = m.w_M_N
     t_step, t_ramp = T_STEP * slow, T_RAMP * slow
@@ -443,7 +442,6 @@ def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float,
         J_hat = J_GUESS_T * slow * m.T_N / w_n
         if math.isfinite(J_spin) and J_spin > 0.0:
             J_hat = J_spin
-        J_known = J_hat
         sd = sd.with_controller(**parts, start="if",
                                 R_s_hat=R_s, L_s_hat=L_s, psi_r_hat=psi_r, J_hat=J_hat,
                                 a_M_ref=(w2 - w1) / t_ramp,
@@ -452,7 +450,7 @@ def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float,
         # handover, the supervision's times) from what the drive knows: the measured R_s,
         # L_s, psi_r and dead time and the guessed inertia, not the plant's (the true J
         # had set the start's acceleration and the tracking time: a leak of the truth)
-        meas = dataclasses.replace(m, R_s=R_s, L_s=L_s, psi_r=psi_r, J=J_known)
+        meas = dataclasses.replace(m, R_s=R_s, L_s=L_s, psi_r=psi_r, J=J_hat)
         inv = (sd.inverter if t_dead_comp is None else
                dataclasses.replace(sd.inverter, t_dead=min(t_dead_comp, 0.25 * s.T_sp)))
         with warnings.catch_warnings():
@@ -469,7 +467,7 @@ def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float,
         # the forced start's acceleration within what its current can give the inertia
         # the drive is designed for (K_START_TORQUE of it; a preset's own value too:
         # yao2022's 5 kr/min/s asked 2 x its 15 A of yao2022's rotor with 10 x its inertia)
-        a_cap = K_START_TORQUE * 1.5 * m.n_p * psi_r * c.i_start / J_known
+        a_cap = K_START_TORQUE * 1.5 * m.n_p * psi_r * c.i_start / J_hat
         if psi_r > 0.0 and c.a_M_start > a_cap:
             sd = sd.with_controller(a_M_start=a_cap)
         return sd
