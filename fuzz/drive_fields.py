@@ -70,6 +70,7 @@ DRIVE_FIELDS = (
     ('osc_samples', 'int', (0, 2000)),
     ('restart_max', 'int', (0, 5)),
     ('restart_window', 'int', (0, 20000)),
+    ('supervise_every', 'int', (0, 64)),
     ('rls_i_inj', 'real', (0.0, 10.0)),
     ('rls_tau', 'real', (0.0, 10.0)),
     ('rls_half', 'int', (0, 2000)),

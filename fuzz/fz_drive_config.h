@@ -89,6 +89,7 @@ static inline void fz_drive_config(fz *f, smd_drive_config *c, fz_tables *t)
     c->osc_samples = fz_int(f, 0, 2000);
     c->restart_max = fz_int(f, 0, 5);
     c->restart_window = fz_int(f, 0, 20000);
+    c->supervise_every = fz_int(f, 0, 64);
     c->rls_i_inj = fz_r(f, 0.0, 10.0);
     c->rls_tau = fz_r(f, 0.0, 10.0);
     c->rls_half = fz_int(f, 0, 2000);

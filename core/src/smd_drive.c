@@ -446,6 +446,9 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
     if (c->handover < 0) {
         return SMD_ERR_HANDOVER;
     }
+    if (c->supervise_every < 0 || c->supervise_every > 64) {
+        return SMD_ERR_DECIMATION;
+    }
     if (!smd_in_range(c->t_dead_comp, SMD_R(0.0), SMD_R(0.25) * c->T_sp) ||
         !(smd_in_range(c->i_dtc, SMD_R(0.0), SMD_R(1e5)) && c->i_dtc > SMD_R(0.0))) {
         return SMD_ERR_DEADTIME;
@@ -556,6 +559,21 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
     p->osc_samples = c->osc_samples;
     p->osc_k = c->osc_samples > 0 ? SMD_R(1.0) / (smd_real)c->osc_samples : SMD_R(0.0);
     p->restart_max = c->restart_max;
+    /* the supervision's pieces every sup_n samples: their counts go up by
+     * sup_n, the leaky counts leak sup_n samples' worth and the ripple's
+     * filter takes sup_n samples' step, 1 - (1 - osc_k)^sup_n (sup_n = 1:
+     * the values as before, bit for bit) */
+    p->sup_n = c->supervise_every > 1 ? c->supervise_every : 1;
+    if (p->sup_n > 1) {
+        smd_real q = SMD_R(1.0);
+        int k;
+        for (k = 0; k < p->sup_n; k++) {
+            q *= SMD_R(1.0) - p->osc_k;
+        }
+        p->osc_k = SMD_R(1.0) - q;
+        p->chatter_decay *= (smd_real)p->sup_n;
+        p->hunt_decay *= (smd_real)p->sup_n;
+    }
     p->restart_decay = c->restart_max > 0 && c->restart_window > 0
                            ? (smd_real)c->restart_max / (smd_real)c->restart_window
                            : SMD_R(0.0);
@@ -624,6 +642,7 @@ void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real the
     s->warn = 0u;
     s->restarts = SMD_R(0.0);
     s->jumped = 0;
+    s->sup_k = 0;
     s->u_whole = 0;
     if (p->use_rls) {
         smd_rls_reset(&p->rls, &s->rls);
@@ -714,6 +733,7 @@ static void take_sample(const smd_drive_params *p, smd_drive_state *s, const smd
     x->theta_o = s->theta;
     x->w_o = s->w;
     x->settled = s->phase_samples >= p->dwell;
+    s->i_prev1 = s->i_s_ab; /* (the ripple's measure: supervise) */
     s->i_s_ab = *i_s_ab;
     s->u_ab = s->u_ab_next; /* the voltage computed last time is the one applied now */
     x->w_ref = slew_reference(p, s, in->w_ref, x->T);
@@ -1312,9 +1332,9 @@ static void check_lock(const smd_drive_params *p, smd_drive_state *s)
      * plausible between the slips: issue 21) */
     if (bad) {
         s->lock_count = (s->lock_count < SMD_LOCK_UP * p->lock_samples)
-                            ? s->lock_count + SMD_LOCK_UP : s->lock_count;
+                            ? s->lock_count + SMD_LOCK_UP * p->sup_n : s->lock_count;
     } else if (s->lock_count > 0) {
-        s->lock_count -= 1;
+        s->lock_count = s->lock_count > p->sup_n ? s->lock_count - p->sup_n : 0;
     }
     /* a jump of the angle (check_jump): no rotor moves 45 deg in a sample,
      * so the estimate lost the rotor there, whatever came before (a drive
@@ -1331,13 +1351,13 @@ static void check_lock(const smd_drive_params *p, smd_drive_state *s)
  * the forced phase's length and its EMF, start-up chatter (latched into s->fault) and
  * current oscillation (s->warn). Every criterion reads signals a drive has:
  * its references, its estimates, its measured currents. */
-SMD_COLD static void supervise(const smd_drive_params *p, smd_drive_state *s)
+SMD_COLD static void supervise_criteria(const smd_drive_params *p, smd_drive_state *s)
 {
     const smd_real i_lim = SMD_R(0.999) * p->i_max;
     /* speed tracking: away from the reference with the speed PI at its limit */
     if (p->track_samples > 0 && p->speed_loop && s->phase != SMD_PHASE_FORCED &&
         SMD_FABS(s->w_ref_r - s->w_k) > p->w_track && SMD_FABS(s->i_dq_ref.im) >= i_lim) {
-        if (++s->track_count >= p->track_samples) {
+        if ((s->track_count += p->sup_n) >= p->track_samples) {
             s->fault |= (uint32_t)SMD_FAULT_SPEED_TRACKING;
         }
     } else {
@@ -1372,7 +1392,8 @@ SMD_COLD static void supervise(const smd_drive_params *p, smd_drive_state *s)
         smd_real w_chk;
         if (SMD_FABS(s->w_f) >= p->w_handover) {
             /* at the handover speed and still forced: the source disagrees */
-            if (p->forced_samples > 0 && ++s->forced_count >= p->forced_samples) {
+            if (p->forced_samples > 0 &&
+                (s->forced_count += p->sup_n) >= p->forced_samples) {
                 s->fault |= (uint32_t)SMD_FAULT_FORCED;
             }
         }
@@ -1382,7 +1403,7 @@ SMD_COLD static void supervise(const smd_drive_params *p, smd_drive_state *s)
         if (p->lock_samples > 0 && source_sensorless(p->position) && SMD_FABS(s->w_f) >= w_chk) {
             smd_real e = source_emf(p, s), e_exp = SMD_FABS(s->w_f) * p->psi_r_hat;
             if (e > p->lock_ratio * e_exp || e * p->lock_ratio < e_exp) {
-                if (++s->start_count >= p->lock_samples) {
+                if ((s->start_count += p->sup_n) >= p->lock_samples) {
                     s->fault |= (uint32_t)SMD_FAULT_START;
                 }
             } else {
@@ -1406,6 +1427,11 @@ SMD_COLD static void supervise(const smd_drive_params *p, smd_drive_state *s)
             s->chatter = SMD_R(0.0);
         }
     }
+}
+
+/* The current's ripple (s->warn): the supervision's last piece. */
+SMD_COLD static void supervise_ripple(const smd_drive_params *p, smd_drive_state *s)
+{
     /* oscillation: the filtered difference of the measured current from
      * one sample to the next in the frame turning at the drive's speed (the
      * last current turned by w_k T, e^{jx} to third order: a steady state
@@ -1423,7 +1449,7 @@ SMD_COLD static void supervise(const smd_drive_params *p, smd_drive_state *s)
              * half the sampling rate) beyond lim */
             if (s->osc_ms > SMD_R(4.0) * lim * lim) {
                 if (s->osc_count < p->osc_samples) {
-                    s->osc_count++;
+                    s->osc_count += p->sup_n;
                 }
             } else {
                 s->osc_count = 0;
@@ -1434,8 +1460,14 @@ SMD_COLD static void supervise(const smd_drive_params *p, smd_drive_state *s)
         } else {
             s->osc_n++;
         }
-        s->i_prev1 = s->i_s_ab;
     }
+}
+
+/* Supervision after a good sample, every piece (supervise_every <= 1). */
+static void supervise(const smd_drive_params *p, smd_drive_state *s)
+{
+    supervise_criteria(p, s);
+    supervise_ripple(p, s);
 }
 
 /* An automatic restart (SMD_FAULT_RESTART): instead of latching a lost lock
@@ -1477,12 +1509,49 @@ SMD_COLD static int try_restart(const smd_drive_params *p, smd_drive_state *s)
     return 1;
 }
 
+/* The end of a good sample with the supervision spread (supervise_every >
+ * 1): this sample's piece, sup_k: 0 the loss of lock, 1 the criteria, 2 the
+ * state's finiteness (smd_drive_step), 3 the ripple, 4.. none (at sup_n = 2
+ * or 3, piece i on sup_k = i mod sup_n). An angle jump checks the lock at once. The warnings of an event
+ * (the jump, a restart and its cause) are this sample's; the oscillation's
+ * holds until its piece runs again. */
+static smd_status supervise_piece(const smd_drive_params *p, smd_drive_state *s,
+                                  smd_drive_out *out, smd_status st)
+{
+    const int piece = s->sup_k;
+    s->sup_k = piece + 1 >= p->sup_n ? 0 : piece + 1;
+    if (piece == 0 || s->jumped) {
+        check_lock(p, s);
+    }
+    if (piece == 1) {
+        supervise_criteria(p, s);
+    }
+    if (piece == 3 % p->sup_n) {
+        supervise_ripple(p, s);
+    }
+    s->warn &= (uint32_t)SMD_FAULT_OSCILLATION;
+    if (s->jumped) {
+        s->warn |= (uint32_t)SMD_FAULT_ANGLE_JUMP;
+    }
+    if ((s->restarts > SMD_R(0.0) || (s->fault & (uint32_t)(SMD_FAULT_LOST_LOCK |
+                                                             SMD_FAULT_START))) &&
+        try_restart(p, s)) {
+        s->warn |= (uint32_t)SMD_FAULT_RESTART;
+    }
+    if (s->fault != 0u) {
+        return apply_safe(p, s, out, s->warn);
+    }
+    out->fault = s->warn;
+    return st;
+}
+
 smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
                           smd_drive_out *out)
 {
     smd_real T, theta0, w0, i_q0;
     uint32_t now;
-    smd_drive_in use;
+    const smd_drive_in *use = in;
+    smd_drive_in held;
     smd_status st;
     int k;
     if (p == 0 || s == 0 || in == 0 || out == 0) {
@@ -1498,7 +1567,6 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
     w0 = s->w_k;
     i_q0 = s->i_dq_ref.im;
     now = check_inputs(p, s, in);
-    use = *in;
     out->fault = 0u;
     out->pwm_off = 0;
     if (now == 0u) {
@@ -1507,18 +1575,22 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
         /* a bad sample: run on the last good inputs (the encoder moved on at
          * its speed), so that every block keeps its timeline, and apply the
          * safe state */
-        use = hold_inputs(s, T);
+        held = hold_inputs(s, T);
+        use = &held;
     }
     if (s->fault != 0u || (now != 0u && !s->have_last)) {
         return hold_safe(p, s, out, now);
     }
-    st = control(p, s, &use, out);
+    st = control(p, s, use, out);
     for (k = 0; k < 3; k++) {
         if (!(out->d_abc[k] >= SMD_R(0.0) && out->d_abc[k] <= SMD_R(1.0))) {
             st = SMD_ERR_NONFINITE; /* NaN duties (the dead-time compensation's clamp) */
         }
     }
-    if (st == SMD_ERR_NONFINITE || !state_finite(p, s)) {
+    /* (the state's finiteness: every sample, or its piece's with the
+     * supervision spread, supervise_piece) */
+    if (st == SMD_ERR_NONFINITE ||
+        ((p->sup_n == 1 || s->sup_k == 2 % p->sup_n) && !state_finite(p, s))) {
         /* a computed value was not finite: restart every block from the last
          * good frame, one step on */
         if (!(isfinite(theta0) && isfinite(w0))) {
@@ -1529,10 +1601,13 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
                 isfinite(i_q0) ? clampr(i_q0, p->i_max) : SMD_R(0.0));
         return apply_safe(p, s, out, now | (uint32_t)SMD_FAULT_INTERNAL);
     }
-    s->last_in = use;
+    s->last_in = *use;
     s->have_last = 1;
     if (now != 0u) {
         return apply_safe(p, s, out, now);
+    }
+    if (p->sup_n > 1) {
+        return supervise_piece(p, s, out, st);
     }
     check_lock(p, s);
     supervise(p, s);

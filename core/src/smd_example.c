@@ -35,6 +35,7 @@ void smd_example_drive_config(smd_drive_config *c)
     c->k_i_w = SMD_R(2.0);
     c->i_max = SMD_R(15.0);
     c->speed_decimation = 1;
+    c->supervise_every = 1;
     c->k_theta = SMD_R(0.1);
     c->k_omega = SMD_R(10.0);
     c->k_a = SMD_R(10.0);

@@ -20,7 +20,8 @@ const char *smd_status_str(smd_status s)
     case SMD_ERR_STABILITY: return "gains make the discrete loop unstable";
     case SMD_ERR_WLPF: return "w_lpf: low-pass bandwidth must be in (0, pi/T_sp) rad/s";
     case SMD_ERR_NONFINITE: return "a step produced NaN or Inf; outputs were zeroed";
-    case SMD_ERR_DECIMATION: return "speed_decimation: must be in [1, 1000]";
+    case SMD_ERR_DECIMATION:
+        return "speed_decimation: must be in [1, 1000]; smo.decimation, supervise_every: [0, 64]";
     case SMD_ERR_WHYS: return "w_hys: direction hysteresis must be in [0, 1e5] rad/s";
     case SMD_ERR_WMAX: return "w_max: speed-estimate limit must be in (w_hys, pi/T_sp] rad/s";
     case SMD_ERR_DEADTIME:

@@ -91,6 +91,7 @@ static void smd_rd_smd_drive_config(smd_reader *r, smd_drive_config *x)
     smd_rd_ints(r, (int *)&x->osc_samples, sizeof x->osc_samples / sizeof(int));
     smd_rd_ints(r, (int *)&x->restart_max, sizeof x->restart_max / sizeof(int));
     smd_rd_ints(r, (int *)&x->restart_window, sizeof x->restart_window / sizeof(int));
+    smd_rd_ints(r, (int *)&x->supervise_every, sizeof x->supervise_every / sizeof(int));
     smd_rd_reals(r, (smd_real *)&x->rls_i_inj, sizeof x->rls_i_inj / sizeof(smd_real));
     smd_rd_reals(r, (smd_real *)&x->rls_tau, sizeof x->rls_tau / sizeof(smd_real));
     smd_rd_ints(r, (int *)&x->rls_half, sizeof x->rls_half / sizeof(int));

@@ -255,6 +255,7 @@ static const smd_layout_row ROWS[] = {
     F(smd_drive_config, osc_samples, "int"),
     F(smd_drive_config, restart_max, "int"),
     F(smd_drive_config, restart_window, "int"),
+    F(smd_drive_config, supervise_every, "int"),
     F(smd_drive_config, rls_i_inj, "smd_real"),
     F(smd_drive_config, rls_tau, "smd_real"),
     F(smd_drive_config, rls_half, "int"),

@@ -295,6 +295,12 @@ typedef struct smd_drive_config {
                              @fuzz(0, 5) */
     int restart_window;   /* ... within (about) this many samples (0: no restart)
                              @fuzz(0, 20000) */
+    int supervise_every;  /* the supervision's three pieces (loss of lock, the criteria
+                             above, the state's finiteness) each run once every this many
+                             samples, one piece a sample, their counts kept in samples
+                             (0 and 1: every piece every sample, as before; [0, 64]; an
+                             angle jump, the trips and the duties' finiteness are still
+                             checked every sample) @fuzz(0, 64) */
     /* online R_s / psi_r tracker (smd_rls.h; with the encoder only, not with the LCL
      * filter: SMD_ERR_RLS otherwise) */
     smd_real rls_i_inj;   /* injected d-axis current amplitude, A (0: no tracker)
@@ -352,6 +358,7 @@ typedef struct smd_drive_params {
     smd_real osc_k;       /* 1 / osc_samples (0: off) */
     int dwell, chatter_max, hunt_max, track_samples, forced_samples, osc_samples, restart_max;
     smd_real restart_decay; /* restart_max / restart_window */
+    int sup_n;            /* supervise_every, at least 1 */
     smd_dbpc_params dbpc;
     smd_smdo_params smdo;
     smd_emf_pos_params emf;
@@ -439,6 +446,7 @@ typedef struct smd_drive_state {
     uint32_t warn;        /* warning bits of the last sample (SMD_FAULT_WARNINGS) */
     smd_real restarts;    /* leaky count of automatic restarts */
     int jumped;           /* 1: the source's angle jumped this sample */
+    int sup_k;            /* the supervision's piece due (supervise_every > 1) */
     smd_rls_state rls;    /* the R_s / psi_r tracker */
     int u_whole;          /* tracker: the voltage of the running period, u_ab, is applied
                              whole (not limited, no duty clipped) */

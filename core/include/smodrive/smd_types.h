@@ -144,9 +144,10 @@ typedef enum smd_status {
                                   @scenario(controller.w_lpf, T_sp) */
     SMD_ERR_NONFINITE = 16,    /* a step produced NaN or Inf; outputs were zeroed */
     SMD_ERR_DECIMATION = 17,   /* speed-loop decimation not in [1, 1000], or the LCL
-                                  observer's refresh decimation not in [0, 64]
+                                  observer's refresh decimation or the supervision's
+                                  spread not in [0, 64]
                                   @scenario(controller.speed_decimation,
-                                  controller.smo_decimation) */
+                                  controller.smo_decimation, controller.supervise_every) */
     SMD_ERR_WHYS = 18,         /* direction hysteresis not in [0, 1e5] rad/s
                                   @scenario(controller.w_hys) */
     SMD_ERR_WMAX = 19,         /* speed-estimate limit not in (w_hys, pi/T_sp] rad/s

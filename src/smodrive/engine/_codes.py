@@ -213,7 +213,9 @@ DRIVE_FIELDS: dict[int, tuple[str, ...]] = {
         'controller.k_a',
     ),
     15: ('controller.w_lpf', 'T_sp'),  # SMD_ERR_WLPF
-    17: ('controller.speed_decimation', 'controller.smo_decimation'),  # SMD_ERR_DECIMATION
+    17: (  # SMD_ERR_DECIMATION
+        'controller.speed_decimation', 'controller.smo_decimation', 'controller.supervise_every',
+    ),
     18: ('controller.w_hys',),  # SMD_ERR_WHYS
     19: ('controller.w_M_max', 'controller.w_hys', 'motor.n_p', 'T_sp'),  # SMD_ERR_WMAX
     20: ('controller.t_dead_comp', 'controller.i_dtc', 'T_sp'),  # SMD_ERR_DEADTIME

@@ -245,8 +245,8 @@ class DriveConfig(ct.Structure):
         ("chatter_max", ct.c_int), ("chatter_window", ct.c_int), ("hunt_max", ct.c_int),
         ("hunt_window", ct.c_int), ("track_samples", ct.c_int), ("w_track", real),
         ("forced_samples", ct.c_int), ("osc_i", real), ("osc_rel", real), ("osc_samples", ct.c_int),
-        ("restart_max", ct.c_int), ("restart_window", ct.c_int), ("rls_i_inj", real),
-        ("rls_tau", real), ("rls_half", ct.c_int), ("rls_w_min", real),
+        ("restart_max", ct.c_int), ("restart_window", ct.c_int), ("supervise_every", ct.c_int),
+        ("rls_i_inj", real), ("rls_tau", real), ("rls_half", ct.c_int), ("rls_w_min", real),
     ]
 
 

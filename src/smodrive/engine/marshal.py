@@ -263,6 +263,7 @@ def drive_config(s: Scenario, tables=None) -> _ffi.DriveConfig:
         osc_samples=int(round(k.t_osc / T)) if k.osc_i > 0 else 0,
         restart_max=k.restart_max if (k.start == "if" and k.position == "smdo_emf") else 0,
         restart_window=max(1, int(round(k.t_restart / T))),
+        supervise_every=k.supervise_every,
         rls_i_inj=k.rls_i_inj, rls_tau=k.rls_tau,
         rls_half=max(1, int(round(k.rls_t_half / T))),
         rls_w_min=k.rls_w_M_min * n_p,

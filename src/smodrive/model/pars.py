@@ -250,6 +250,11 @@ class ControllerCfg(_Validated):
                               "band-pass coefficients and delay taps every this many samples "
                               "(1: every sample, as published; more: the fast build's option, "
                               "docs/firmware.md)", integer=True)
+    supervise_every: int = num(1, 1, 64, "", "the supervision's three pieces (loss of lock, "
+                               "the start-up and speed criteria, the state's finiteness) "
+                               "each run every this many samples, one a sample (1: every "
+                               "piece every sample; more: the fast build's option, "
+                               "docs/firmware.md)", integer=True)
     # start
     t_handover: float = num(0.0, 0.0, 1e3, "s", "handover: time run on the encoder first")
     i_start: float | None = num(None, 0.0, 1e5, "A",

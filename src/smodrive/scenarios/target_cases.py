@@ -110,6 +110,10 @@ FAULTS = ", fault injection"
 FAULT_SAMPLES = 480
 
 
+#: the name's tail of the cycle cases with the supervision spread over 4 samples
+SPREAD = ", supervision / 4"
+
+
 def cycle_cases(samples: int = 150):
     """What the cycle table measures: each block on its PRNG inputs (the
     first 100 calls, before the edge values), yao2022 Table VI's three
@@ -141,6 +145,16 @@ def cycle_cases(samples: int = 150):
     modes.append(("drive pi + LCL + lcl_smo_pll (proposed, refresh / 8)", "yao2022",
                   yao2022.steady(100e3).with_controller(position="lcl_smo_pll",
                                                         smo_decimation=8)))
+    # and the supervision's pieces one a sample over 4 (400 us at 10 kHz,
+    # 200 us at 20 kHz: smd_drive.h, supervise_every)
+    modes.append((f"drive robust_dbpc + smdo_emf{SPREAD}", "yang2018",
+                  drive._table1_steady("x").with_controller(current="robust_dbpc",
+                                                            position="smdo_emf",
+                                                            supervise_every=4)))
+    modes.append((f"drive pi + LCL + lcl_smo_pll (proposed, refresh / 8){SPREAD}", "yao2022",
+                  yao2022.steady(100e3).with_controller(position="lcl_smo_pll",
+                                                        smo_decimation=8,
+                                                        supervise_every=4)))
     tables = None
     for name, p, s in modes:
         c = drive_case(name, s, samples)
@@ -152,7 +166,9 @@ def cycle_cases(samples: int = 150):
     # .faults variant), every sample measured: the worst call includes the
     # fault path (held inputs, the safe state, the blocks' recovery)
     for name, p, s in modes:
-        if name in ("drive robust_dbpc + smdo_emf", "drive pi + LCL + lcl_smo_pll (proposed)"):
+        if name in ("drive robust_dbpc + smdo_emf", "drive pi + LCL + lcl_smo_pll (proposed)",
+                    f"drive robust_dbpc + smdo_emf{SPREAD}",
+                    f"drive pi + LCL + lcl_smo_pll (proposed, refresh / 8){SPREAD}"):
             c = variants(drive_case(name, s, FAULT_SAMPLES))[3]
             c = dataclasses.replace(c, name=name + FAULTS)
             cases.append(c)
