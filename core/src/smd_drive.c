@@ -107,7 +107,13 @@ static void source_reset(const smd_drive_params *p, smd_drive_state *s, smd_real
     smd_pll_reset(&s->pos.pll, theta0, w0);
     switch (p->position) {
     case SMD_POS_SMDO_EMF: smd_emf_pos_reset(&s->pos.u.emf, w0); break;
-    case SMD_POS_LCL_SMO_PLL: smd_lcl_smo_reset(&s->pos.u.smo, theta0); break;
+    case SMD_POS_LCL_SMO_PLL:
+        smd_lcl_smo_reset(&s->pos.u.smo, theta0);
+        if (p->smo.decimation >= 4) {
+            /* the decimated refresh's first step: a piece, not the whole */
+            smd_lcl_smo_prime(&p->smo, &s->pos.u.smo, w0);
+        }
+        break;
     case SMD_POS_LCL_LINEAR: smd_linobs_reset(&s->pos.u.lin); break;
     default: break;
     }
@@ -1181,7 +1187,8 @@ static smd_drive_in hold_inputs(const smd_drive_state *s, smd_real T)
 {
     smd_drive_in u = s->last_in;
     smd_real abc[3];
-    smd_cplx r = smd_cexpj(s->w_k * T);
+    /* (one sample's turn: the fast build's series below a radian) */
+    smd_cplx r = smd_cexpj_unit(s->w_k * T);
     u.theta_enc = smd_wrap_pi(u.theta_enc + u.w_enc * T);
     smd_ab_to_abc(smd_cmul(smd_ab2_to_ab(u.i_a, u.i_b), r), abc);
     u.i_a = abc[0];

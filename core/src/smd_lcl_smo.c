@@ -100,35 +100,44 @@ static void mv2(const smd_real M[4], const smd_real x[2], smd_real y[2])
  * *tap between. Returns 0 when the delay does not fit the line. */
 #define SMD_HARM_BP 1
 #define SMD_HARM_TAPS 2
+/* The refresh of one channel (what: SMD_HARM_BP, SMD_HARM_TAPS); 0 (and
+ * tap->ok = 0) when the delay does not fit the line. */
+static int harm_refresh(const smd_lcl_smo_params *p, smd_bandpass *bp, smd_lcl_smo_taps *tap,
+                        smd_real h, smd_real bw, smd_real w_abs, int what)
+{
+    smd_real W = h * w_abs * p->T_sp;
+    smd_real D, f, sw;
+    if (!(W < SMD_R(0.95) * SMD_PI)) {
+        tap->ok = 0;
+        return 0;
+    }
+    D = SMD_TWO_PI / W - SMD_R(1.0);
+    if (!(D < (smd_real)(SMD_LCL_SMO_DELAY - 2)) || D < SMD_R(0.0)) {
+        tap->ok = 0;
+        return 0;
+    }
+    if ((what & SMD_HARM_BP) && smd_bandpass_set(bp, h * w_abs, bw, p->T_sp) != SMD_OK) {
+        tap->ok = 0;
+        return 0;
+    }
+    if (what & SMD_HARM_TAPS) {
+        tap->n = (int)D;
+        f = D - (smd_real)tap->n;
+        sw = SMD_SIN(W);
+        tap->a = SMD_SIN(W * (SMD_R(1.0) - f)) / sw;
+        tap->b = SMD_SIN(W * f) / sw;
+        tap->ok = 1;
+    }
+    return 1;
+}
+
 static smd_cplx harmonic(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, smd_bandpass *bp,
                          smd_lcl_smo_taps *tap, smd_real h, smd_real bw, smd_real w_abs,
                          int what)
 {
     int i0, i1;
-    if (what) {
-        smd_real W = h * w_abs * p->T_sp;
-        smd_real D, f, sw;
-        if (!(W < SMD_R(0.95) * SMD_PI)) {
-            tap->ok = 0;
-            return smd_c(SMD_R(0.0), SMD_R(0.0));
-        }
-        D = SMD_TWO_PI / W - SMD_R(1.0);
-        if (!(D < (smd_real)(SMD_LCL_SMO_DELAY - 2)) || D < SMD_R(0.0)) {
-            tap->ok = 0;
-            return smd_c(SMD_R(0.0), SMD_R(0.0));
-        }
-        if ((what & SMD_HARM_BP) && smd_bandpass_set(bp, h * w_abs, bw, p->T_sp) != SMD_OK) {
-            tap->ok = 0;
-            return smd_c(SMD_R(0.0), SMD_R(0.0));
-        }
-        if (what & SMD_HARM_TAPS) {
-            tap->n = (int)D;
-            f = D - (smd_real)tap->n;
-            sw = SMD_SIN(W);
-            tap->a = SMD_SIN(W * (SMD_R(1.0) - f)) / sw;
-            tap->b = SMD_SIN(W * f) / sw;
-            tap->ok = 1;
-        }
+    if (what && !harm_refresh(p, bp, tap, h, bw, w_abs, what)) {
+        return smd_c(SMD_R(0.0), SMD_R(0.0));
     }
     if (!tap->ok) {
         return smd_c(SMD_R(0.0), SMD_R(0.0));
@@ -140,6 +149,23 @@ static smd_cplx harmonic(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, smd_
     i1 = (int)((unsigned)(i0 - 1 + SMD_LCL_SMO_DELAY) % (unsigned)SMD_LCL_SMO_DELAY);
     return smd_bandpass_step(bp, smd_cadd(smd_cscale(s->v_hist[i0], tap->a),
                                           smd_cscale(s->v_hist[i1], tap->b)));
+}
+
+void smd_lcl_smo_prime(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, smd_real w_hat)
+{
+    const smd_real w_abs = SMD_FABS(w_hat);
+    if (p == 0 || s == 0 || p->table == 0 || !isfinite(w_hat)) {
+        return; /* (the first step refreshes everything, as without it) */
+    }
+    smd_lcl_smo_model(p, w_hat, &s->m);
+    s->m_ok = 1;
+    s->w_m = w_hat;
+    if (p->law == SMD_LCL_SMO_PROPOSED && w_abs > p->w_bp_min) {
+        (void)harm_refresh(p, &s->bp2, &s->taps2, SMD_R(2.0), p->bw_rel2 * w_abs, w_abs,
+                           SMD_HARM_BP | SMD_HARM_TAPS);
+        (void)harm_refresh(p, &s->bp3, &s->taps3, SMD_R(3.0), p->bw_rel3 * w_abs, w_abs,
+                           SMD_HARM_BP | SMD_HARM_TAPS);
+    }
 }
 
 void smd_lcl_smo_reframe(smd_lcl_smo_state *s, smd_real dth)

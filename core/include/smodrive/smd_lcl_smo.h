@@ -128,6 +128,12 @@ typedef struct smd_lcl_smo_state {
 /* T_sp: the sampling period, s, in (0, 1]. */
 smd_status smd_lcl_smo_init(smd_lcl_smo_params *p, smd_real T_sp, const smd_lcl_smo_config *c);
 void smd_lcl_smo_reset(smd_lcl_smo_state *s, smd_real theta0);
+/* The model and the harmonic channels' band-pass coefficients and taps at
+ * w_hat (electrical rad/s), at once: for a reset outside the sampling
+ * interrupt, so that a decimated refresh's first step is not a whole one
+ * (smd_drive_reset calls it with decimation >= 4). Without a table or with a
+ * non-finite w_hat it does nothing, and the first step refreshes all. */
+void smd_lcl_smo_prime(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, smd_real w_hat);
 
 /* Interpolate the model at electrical speed w (clamped to the table). */
 void smd_lcl_smo_model(const smd_lcl_smo_params *p, smd_real w, smd_lcl_model *m);
