@@ -1358,7 +1358,7 @@ static void check_lock(const smd_drive_params *p, smd_drive_state *s)
  * the forced phase's length and its EMF, start-up chatter (latched into s->fault) and
  * current oscillation (s->warn). Every criterion reads signals a drive has:
  * its references, its estimates, its measured currents. */
-SMD_COLD static void supervise_criteria(const smd_drive_params *p, smd_drive_state *s)
+static void supervise_criteria(const smd_drive_params *p, smd_drive_state *s)
 {
     const smd_real i_lim = SMD_R(0.999) * p->i_max;
     /* speed tracking: away from the reference with the speed PI at its limit */
@@ -1437,7 +1437,7 @@ SMD_COLD static void supervise_criteria(const smd_drive_params *p, smd_drive_sta
 }
 
 /* The current's ripple (s->warn): the supervision's last piece. */
-SMD_COLD static void supervise_ripple(const smd_drive_params *p, smd_drive_state *s)
+static void supervise_ripple(const smd_drive_params *p, smd_drive_state *s)
 {
     /* oscillation: the filtered difference of the measured current from
      * one sample to the next in the frame turning at the drive's speed (the
@@ -1470,10 +1470,22 @@ SMD_COLD static void supervise_ripple(const smd_drive_params *p, smd_drive_state
     }
 }
 
-/* Supervision after a good sample, every piece (supervise_every <= 1). */
-static void supervise(const smd_drive_params *p, smd_drive_state *s)
+/* Supervision after a good sample, every piece (supervise_every <= 1), and
+ * its pieces alone (supervise_piece): each out of line, the pieces inlined
+ * in them (one call a sample either way) */
+SMD_COLD static void supervise(const smd_drive_params *p, smd_drive_state *s)
 {
     supervise_criteria(p, s);
+    supervise_ripple(p, s);
+}
+
+SMD_COLD static void supervise_criteria_only(const smd_drive_params *p, smd_drive_state *s)
+{
+    supervise_criteria(p, s);
+}
+
+SMD_COLD static void supervise_ripple_only(const smd_drive_params *p, smd_drive_state *s)
+{
     supervise_ripple(p, s);
 }
 
@@ -1531,10 +1543,10 @@ static smd_status supervise_piece(const smd_drive_params *p, smd_drive_state *s,
         check_lock(p, s);
     }
     if (piece == 1) {
-        supervise_criteria(p, s);
+        supervise_criteria_only(p, s);
     }
     if (piece == 3 % p->sup_n) {
-        supervise_ripple(p, s);
+        supervise_ripple_only(p, s);
     }
     s->warn &= (uint32_t)SMD_FAULT_OSCILLATION;
     if (s->jumped) {

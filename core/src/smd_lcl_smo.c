@@ -102,8 +102,12 @@ static void mv2(const smd_real M[4], const smd_real x[2], smd_real y[2])
 #define SMD_HARM_TAPS 2
 /* The refresh of one channel (what: SMD_HARM_BP, SMD_HARM_TAPS); 0 (and
  * tap->ok = 0) when the delay does not fit the line. */
-static int harm_refresh(const smd_lcl_smo_params *p, smd_bandpass *bp, smd_lcl_smo_taps *tap,
-                        smd_real h, smd_real bw, smd_real w_abs, int what)
+#if defined(__GNUC__)
+__attribute__((always_inline)) /* (in the step as before the prime shared it) */
+#endif
+static inline int harm_refresh(const smd_lcl_smo_params *p, smd_bandpass *bp,
+                               smd_lcl_smo_taps *tap, smd_real h, smd_real bw, smd_real w_abs,
+                               int what)
 {
     smd_real W = h * w_abs * p->T_sp;
     smd_real D, f, sw;
