@@ -1596,6 +1596,9 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
          * safe state */
         held = hold_inputs(s, T);
         use = &held;
+        if (p->position == SMD_POS_LCL_SMO_PLL && p->smo.decimation >= 4) {
+            s->pos.u.smo.defer = 1; /* (its spread refresh waits a sample) */
+        }
     }
     if (s->fault != 0u || (now != 0u && !s->have_last)) {
         return hold_safe(p, s, out, now);

@@ -74,6 +74,7 @@ void smd_lcl_smo_reset(smd_lcl_smo_state *s, smd_real theta0)
     s->age = 0;
     s->w_m = SMD_R(0.0);
     s->m_ok = 0;
+    s->defer = 0;
 }
 
 void smd_lcl_smo_model(const smd_lcl_smo_params *p, smd_real w, smd_lcl_model *m)
@@ -355,13 +356,29 @@ smd_status smd_lcl_smo_step(const smd_lcl_smo_params *p, smd_lcl_smo_state *s, s
                               theta_hat, w_hat);
 }
 
+/* Every estimate finite (a sum of x - x, smd_nf: 0 exactly then), else the
+ * observer reset. */
+static inline smd_status lcl_smo_finite(smd_lcl_smo_state *s, smd_real theta_hat)
+{
+    smd_real fin = smd_nf(s->e_hat[0]) + smd_nf(s->e_hat[1]) + smd_nf(s->x_c[0]) +
+                   smd_nf(s->x_c[1]);
+    int i;
+    for (i = 0; i < 6; i++) {
+        fin += smd_nf(s->x_hat[i]);
+    }
+    if (fin != SMD_R(0.0)) {
+        smd_lcl_smo_reset(s, theta_hat);
+        return SMD_ERR_NONFINITE;
+    }
+    return SMD_OK;
+}
+
 smd_status smd_lcl_smo_step_r(const smd_lcl_smo_params *p, smd_lcl_smo_state *s,
                               smd_cplx i1_ab, smd_cplx i2_ab, smd_cplx u_ab, smd_cplx r,
                               smd_real theta_hat, smd_real w_hat)
 {
     const int age = s->age;
-    int refresh = 0, i;
-    smd_real fin;
+    int refresh = 0;
     if (p->decimation < 4 || !s->m_ok) {
         /* everything at once, every decimation-th sample (every sample: the
          * method as published) */
@@ -371,6 +388,12 @@ smd_status smd_lcl_smo_step_r(const smd_lcl_smo_params *p, smd_lcl_smo_state *s,
             s->m_ok = 1;
             s->w_m = w_hat; /* (a spread refresh's second half uses it) */
         }
+        s->defer = 0;
+        s->age = age + 1 >= p->decimation ? 0 : age + 1;
+    } else if (s->defer) {
+        /* a held sample: the spread refresh waits a sample (its piece would
+         * come on top of the caller's holding), the age stays */
+        s->defer = 0;
     } else {
         /* the model in parts at the speed of the first (2 parts for a
          * decimation of 4-5, 4 from 6 on: a worst call of that share of the
@@ -394,21 +417,12 @@ smd_status smd_lcl_smo_step_r(const smd_lcl_smo_params *p, smd_lcl_smo_state *s,
             const int k = age - parts; /* 0-3: H2's band-pass, H2's taps, H3's, H3's */
             refresh = k < 4 ? ((k & 1) ? SMD_HARM_TAPS : SMD_HARM_BP) << (2 * (k >> 1)) : 0;
         }
+        s->age = age + 1 >= p->decimation ? 0 : age + 1;
     }
-    s->age = age + 1 >= p->decimation ? 0 : age + 1;
     reach(p, s, &s->m, smd_cmul(i1_ab, r), smd_cmul(i2_ab, r), w_hat, refresh);
     predict(&s->m, s, smd_cmul(u_ab, r));
     s->theta_prev = theta_hat;
-    /* every estimate finite: a sum of x - x (smd_nf), 0 exactly then */
-    fin = smd_nf(s->e_hat[0]) + smd_nf(s->e_hat[1]) + smd_nf(s->x_c[0]) + smd_nf(s->x_c[1]);
-    for (i = 0; i < 6; i++) {
-        fin += smd_nf(s->x_hat[i]);
-    }
-    if (fin != SMD_R(0.0)) {
-        smd_lcl_smo_reset(s, theta_hat);
-        return SMD_ERR_NONFINITE;
-    }
-    return SMD_OK;
+    return lcl_smo_finite(s, theta_hat);
 }
 
 smd_real smd_lcl_smo_theta_err(const smd_lcl_smo_state *s, smd_real w_hat)

@@ -997,6 +997,26 @@ static void test_lcl_smo_prime(void)
     smd_lcl_smo_reset(&a, th);
     smd_lcl_smo_prime(&p, &a, R(NAN));
     CHECK_INT(a.m_ok, 0);
+    /* a held sample (defer, smd_drive_step sets it): that step does no
+     * piece of the spread refresh and leaves its age; the next does the
+     * piece the held one would have: the model's second part (its floats
+     * 28-55, at decimation 8), zeroed here to see it recomputed */
+    smd_lcl_smo_reset(&a, th);
+    smd_lcl_smo_prime(&p, &a, w);
+    CHECK_INT(smd_lcl_smo_step(&p, &a, i1, i2, u, th, w), SMD_OK);
+    CHECK_INT(a.age, 1);
+    b = a;
+    for (k = 28; k < 56; k++) {
+        ((smd_real *)&a.m)[k] = R(0.0);
+    }
+    a.defer = 1;
+    CHECK_INT(smd_lcl_smo_step(&p, &a, i1, i2, u, th, w), SMD_OK);
+    CHECK_INT(a.age, 1);
+    CHECK_INT(a.defer, 0);
+    CHECK(((smd_real *)&a.m)[40] == R(0.0));
+    CHECK_INT(smd_lcl_smo_step(&p, &a, i1, i2, u, th, w), SMD_OK);
+    CHECK_INT(a.age, 2);
+    CHECK(memcmp(&a.m, &b.m, sizeof a.m) == 0);
 }
 
 int main(void)

@@ -179,6 +179,7 @@ static const smd_layout_row ROWS[] = {
     F(smd_lcl_smo_state, age, "int"),
     F(smd_lcl_smo_state, w_m, "smd_real"),
     F(smd_lcl_smo_state, m_ok, "int"),
+    F(smd_lcl_smo_state, defer, "int"),
     F(smd_linobs_model, L, "smd_real"),
     F(smd_linobs_model, Theta, "smd_real"),
     F(smd_linobs_model, Ky, "smd_real"),

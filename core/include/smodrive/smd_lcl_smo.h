@@ -123,6 +123,9 @@ typedef struct smd_lcl_smo_state {
     int age;             /* samples since the last refresh began (0: begin now) */
     smd_real w_m;        /* the speed of the refresh under way */
     int m_ok;            /* 0: the next refresh is a whole one (after a reset) */
+    int defer;           /* 1: the next step does no piece of a spread refresh and does
+                            not move it on (a caller's held sample: smd_drive_step);
+                            the step clears it */
 } smd_lcl_smo_state;
 
 /* T_sp: the sampling period, s, in (0, 1]. */

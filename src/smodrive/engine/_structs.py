@@ -186,6 +186,7 @@ class SmoState(ct.Structure):
         ("v_hist", Cplx * SMD_LCL_SMO_DELAY), ("v_head", ct.c_int), ("bp2", Bandpass),
         ("bp3", Bandpass), ("primed", ct.c_int), ("m", LclModel), ("taps2", SmoTaps),
         ("taps3", SmoTaps), ("age", ct.c_int), ("w_m", real), ("m_ok", ct.c_int),
+        ("defer", ct.c_int),
     ]
 
 

@@ -124,7 +124,7 @@ def build(kind: str, math: str = "fmath", out_dir: Path | None = None,
         cmd_tail = ["-nostartfiles", "-T", str(root / "core/target/m4/mps2_an386.ld"),
                     "-Wl,--gc-sections", "-lm", "-lc", "-lgcc"]
     flags += tail_flags
-    h = hashlib.sha256(" ".join([cc, kind, math] + flags + cmd_tail).encode())
+    h = hashlib.sha256(" ".join([cc, kind, math, "core-as-one-unit"] + flags + cmd_tail).encode())
     for f in srcs + headers:
         h.update(f.read_bytes())
     out_dir = Path(out_dir) if out_dir else _cache_dir()
@@ -133,9 +133,19 @@ def build(kind: str, math: str = "fmath", out_dir: Path | None = None,
         return exe
     out_dir.mkdir(parents=True, exist_ok=True)
     tmp = exe.with_suffix(exe.suffix + f".tmp{os.getpid()}")
+    # the core as one translation unit (the runner's own files apart): the
+    # compiler inlines across the core's files as a firmware project's
+    # link-time optimisation would, without moving the runner's cycle
+    # markers (-flto would); the same bits (no contraction: -ffp-contract=off)
+    core = [f for f in srcs if f.parent.name == "src"]
+    unity = tmp.with_name(tmp.name + "_core.c")
+    unity.write_text("".join(f'#include "{f}"\n' for f in core))
     cmd = [cc, *flags, f"-I{root / 'core/include'}", f"-I{root / 'core/target'}",
-           *map(str, srcs), "-o", str(tmp), *cmd_tail]
-    res = subprocess.run(cmd, capture_output=True, text=True)
+           str(unity), *(str(f) for f in srcs if f not in core), "-o", str(tmp), *cmd_tail]
+    try:
+        res = subprocess.run(cmd, capture_output=True, text=True)
+    finally:
+        unity.unlink(missing_ok=True)
     if res.returncode != 0:
         raise TargetError(f"building the {kind} runner failed:\n{res.stderr[-3000:]}")
     os.replace(tmp, exe)
