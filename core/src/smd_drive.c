@@ -1528,6 +1528,26 @@ SMD_COLD static int try_restart(const smd_drive_params *p, smd_drive_state *s)
     return 1;
 }
 
+/* The end of a supervised sample: an automatic restart, and the outputs'
+ * fault word. (try_restart does nothing without a restart to count down or
+ * a lost lock or failed start to restart from: most samples skip the call.)
+ * The sample that latches reports this sample's warnings with it (an angle
+ * jump that declared the lost lock: why). */
+static smd_status end_supervised(const smd_drive_params *p, smd_drive_state *s,
+                                 smd_drive_out *out, smd_status st)
+{
+    if ((s->restarts > SMD_R(0.0) || (s->fault & (uint32_t)(SMD_FAULT_LOST_LOCK |
+                                                             SMD_FAULT_START))) &&
+        try_restart(p, s)) {
+        s->warn |= (uint32_t)SMD_FAULT_RESTART;
+    }
+    if (s->fault != 0u) {
+        return apply_safe(p, s, out, s->warn);
+    }
+    out->fault = s->warn;
+    return st;
+}
+
 /* The end of a good sample with the supervision spread (supervise_every >
  * 1): this sample's piece, sup_k: 0 the loss of lock, 1 the criteria, 2 the
  * state's finiteness (smd_drive_step), 3 the ripple, 4.. none (at sup_n = 2
@@ -1552,16 +1572,7 @@ static smd_status supervise_piece(const smd_drive_params *p, smd_drive_state *s,
     if (s->jumped) {
         s->warn |= (uint32_t)SMD_FAULT_ANGLE_JUMP;
     }
-    if ((s->restarts > SMD_R(0.0) || (s->fault & (uint32_t)(SMD_FAULT_LOST_LOCK |
-                                                             SMD_FAULT_START))) &&
-        try_restart(p, s)) {
-        s->warn |= (uint32_t)SMD_FAULT_RESTART;
-    }
-    if (s->fault != 0u) {
-        return apply_safe(p, s, out, s->warn);
-    }
-    out->fault = s->warn;
-    return st;
+    return end_supervised(p, s, out, st);
 }
 
 smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
@@ -1633,20 +1644,7 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
     }
     check_lock(p, s);
     supervise(p, s);
-    /* (try_restart does nothing without a restart to count down or a lost
-     * lock or failed start to restart from: most samples skip the call) */
-    if ((s->restarts > SMD_R(0.0) || (s->fault & (uint32_t)(SMD_FAULT_LOST_LOCK |
-                                                             SMD_FAULT_START))) &&
-        try_restart(p, s)) {
-        s->warn |= (uint32_t)SMD_FAULT_RESTART;
-    }
-    if (s->fault != 0u) {
-        /* the sample that latches reports this sample's warnings with it
-         * (an angle jump that declared the lost lock: why) */
-        return apply_safe(p, s, out, s->warn);
-    }
-    out->fault = s->warn;
-    return st;
+    return end_supervised(p, s, out, st);
 }
 
 void smd_drive_set_torque_in(smd_drive_state *s, int on)
