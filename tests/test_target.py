@@ -202,6 +202,12 @@ def test_cortex_m4_timings_of_instruction_classes():
     assert c("bne.n", "1234 <x>", 2).cls == "branch"
     assert c("vmul.f32", "s0, s1, s2", 4).cost == (1, 1, 1)
     assert c("sdiv", "r0, r1, r2", 4).cost == (2, 7, 12)
+    # a conditional divide in an IT block (atan2's `ite ls; vdivls; vdivhi`, one
+    # of which passes): 1 cycle failed, 14 passed, nominal between; it was costed
+    # 1 as an unknown mnemonic, 13 cycles short on every atan2 of the fast build
+    assert c("vdivls.f32", "s9, s12, s13", 4).cost == (1, 8, 14)
+    assert c("vdivhi.f32", "s9, s13, s12", 4).cost[2] == 14
+    assert c("vmovle.f32", "s15, #112", 4).cost == (1, 1, 1)  # single-cycle: as before
 
 
 def test_the_flash_cache_model_of_a_synthetic_fetch_stream():

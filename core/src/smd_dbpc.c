@@ -18,6 +18,8 @@ smd_status smd_dbpc_init(smd_dbpc_params *p, smd_real T_sp, smd_real L_s_hat,
     p->L_s_hat = L_s_hat;
     p->R_s_hat = R_s_hat;
     p->psi_r_hat = psi_r_hat;
+    p->L_T = L_s_hat / T_sp;
+    p->T_L = T_sp / L_s_hat;
     return SMD_OK;
 }
 
@@ -34,7 +36,7 @@ smd_cplx smd_dbpc_predict(const smd_dbpc_params *p, smd_cplx i_s_ab, smd_cplx u_
     /* yang2018 eq. (8): back EMF j w psi e^{j theta} */
     smd_cplx e = smd_cj(smd_cscale(smd_cexpj(theta_r), w_r * p->psi_r_hat));
     smd_cplx di = smd_csub(smd_csub(u_s_ab, smd_cscale(i_s_ab, p->R_s_hat)), e);
-    return smd_cadd(i_s_ab, smd_cscale(di, p->T_sp / p->L_s_hat));
+    return smd_cadd(i_s_ab, smd_cscale(di, p->T_L));
 }
 
 smd_cplx smd_dbpc_conventional(const smd_dbpc_params *p, smd_cplx i_s_ab, smd_cplx u_s_ab,
@@ -44,7 +46,7 @@ smd_cplx smd_dbpc_conventional(const smd_dbpc_params *p, smd_cplx i_s_ab, smd_cp
     smd_cplx i_ref_k2 = smd_dbpc_ref_k2(p, i_dq_ref, theta_r, w_r);
     /* yang2018 eq. (9): EMF at theta^k + w^k T_sp */
     smd_cplx e = smd_cj(smd_cscale(smd_cexpj(theta_r + w_r * p->T_sp), w_r * p->psi_r_hat));
-    smd_cplx u = smd_cscale(smd_csub(i_ref_k2, i_k1), p->L_s_hat / p->T_sp);
+    smd_cplx u = smd_cscale(smd_csub(i_ref_k2, i_k1), p->L_T);
     u = smd_cadd(u, smd_cscale(i_k1, p->R_s_hat));
     return smd_cadd(u, e);
 }
@@ -53,7 +55,7 @@ smd_cplx smd_dbpc_robust(const smd_dbpc_params *p, smd_cplx i_s_ab_k1, smd_cplx 
                          smd_cplx i_ref_ab_k2)
 {
     /* yang2018 eq. (42) */
-    smd_cplx u = smd_cscale(smd_csub(i_ref_ab_k2, i_s_ab_k1), p->L_s_hat / p->T_sp);
+    smd_cplx u = smd_cscale(smd_csub(i_ref_ab_k2, i_s_ab_k1), p->L_T);
     u = smd_cadd(u, smd_cscale(i_s_ab_k1, p->R_s_hat));
     return smd_csub(u, u_d_ab_k1);
 }

@@ -475,6 +475,7 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
     p->psi_r_hat = c->psi_r_hat;
     p->dtc_ratio = c->t_dead_comp / c->T_sp;
     p->i_dtc = c->i_dtc;
+    p->inv_i_dtc = SMD_R(1.0) / c->i_dtc;
 
     if (c->current != SMD_CC_PI) {
         st = smd_dbpc_init(&p->dbpc, c->T_sp, c->L_s_hat, c->R_s_hat, c->psi_r_hat);
@@ -570,6 +571,8 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
      * filter takes sup_n samples' step, 1 - (1 - osc_k)^sup_n (sup_n = 1:
      * the values as before, bit for bit) */
     p->sup_n = c->supervise_every > 1 ? c->supervise_every : 1;
+    p->sup_fin = 2 % p->sup_n;
+    p->sup_rip = 3 % p->sup_n;
     if (p->sup_n > 1) {
         smd_real q = SMD_R(1.0);
         int k;
@@ -1075,7 +1078,11 @@ static smd_status modulate(const smd_drive_params *p, smd_drive_state *s, const 
         smd_real i_abc[3];
         smd_cplx i_mid = smd_cmul(s->i_dq_ref, x->ej_15);
         smd_ab_to_abc(i_mid, i_abc);
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+        smd_svm_deadtime_comp_r(out->d_abc, i_abc, p->dtc_ratio, p->inv_i_dtc);
+#else
         smd_svm_deadtime_comp(out->d_abc, i_abc, p->dtc_ratio, p->i_dtc);
+#endif
     }
     return st;
 }
@@ -1565,7 +1572,7 @@ static smd_status supervise_piece(const smd_drive_params *p, smd_drive_state *s,
     if (piece == 1) {
         supervise_criteria_only(p, s);
     }
-    if (piece == 3 % p->sup_n) {
+    if (piece == p->sup_rip) {
         supervise_ripple_only(p, s);
     }
     s->warn &= (uint32_t)SMD_FAULT_OSCILLATION;
@@ -1623,7 +1630,7 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
     /* (the state's finiteness: every sample, or its piece's with the
      * supervision spread, supervise_piece) */
     if (st == SMD_ERR_NONFINITE ||
-        ((p->sup_n == 1 || s->sup_k == 2 % p->sup_n) && !state_finite(p, s))) {
+        ((p->sup_n == 1 || s->sup_k == p->sup_fin) && !state_finite(p, s))) {
         /* a computed value was not finite: restart every block from the last
          * good frame, one step on */
         if (!(isfinite(theta0) && isfinite(w0))) {

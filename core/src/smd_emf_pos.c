@@ -21,6 +21,7 @@ smd_status smd_emf_pos_init(smd_emf_pos_params *p, smd_real T_sp, smd_real w_lpf
     }
     p->w_max = w_max;
     p->T_sp = T_sp;
+    p->inv_T = SMD_R(1.0) / T_sp;
     p->w_lpf = w_lpf;
     p->a_lpf = -SMD_EXPM1(-w_lpf * T_sp);
     p->a_dir = -SMD_EXPM1(SMD_R(-0.125) * w_lpf * T_sp);
@@ -48,7 +49,11 @@ void smd_emf_pos_step(const smd_emf_pos_params *p, smd_emf_pos_state *s, smd_cpl
     }
     if (s->primed) {
         /* eq. (45) on the EMF angle (same increments as theta_r) */
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+        s->w_r_raw = smd_wrap_pi(phi - s->phi_prev) * p->inv_T; /* (no division) */
+#else
         s->w_r_raw = smd_wrap_pi(phi - s->phi_prev) / p->T_sp;
+#endif
         s->w_r_hat += p->a_lpf * (s->w_r_raw - s->w_r_hat);
         /* Limit: a speed estimate beyond the drive's range is noise, and it
          * would feed the rotation of the observer's filter (36). */

@@ -37,6 +37,9 @@ smd_status smd_smdo_init(smd_smdo_params *p, smd_real T_sp, smd_real L_s_hat, sm
     p->w_c = w_c;
     p->rho = rho;
     p->euler = 0;
+    p->L_T = L_s_hat / T_sp;
+    p->T_L = T_sp / L_s_hat;
+    p->inv_L = SMD_R(1.0) / L_s_hat;
     return SMD_OK;
 }
 
@@ -75,11 +78,15 @@ smd_status smd_smdo_step(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i
     smd_real lambda;
 
     /* eq. (38): e_u from the discrete error dynamics (23) */
-    e_u = smd_cscale(smd_csub(e_i, s->e_i_prev), L / T);
+    e_u = smd_cscale(smd_csub(e_i, s->e_i_prev), p->L_T);
     e_u = smd_cadd(e_u, s->u_smo_prev);
     e_u = smd_cadd(e_u, smd_cscale(s->e_i_prev, R));
     /* eq. (37): adaptive switching gain */
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+    lambda = p->lambda_min + smd_cabs(e_u) * p->inv_L; /* (the fast build: no division) */
+#else
     lambda = p->lambda_min + smd_cabs(e_u) / L;
+#endif
     /* eq. (39): smoothed sign */
     sgn = smd_cscale(e_i, SMD_R(1.0) / (smd_cabs(e_i) + p->rho));
     /* eq. (34) */
@@ -87,7 +94,7 @@ smd_status smd_smdo_step(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i
     /* eq. (35), with R_hat (the paper prints R_s; see docs/errata.md) */
     di = smd_cadd(smd_cadd(u_s_ab, s->u_d_hat), u_smo);
     di = smd_csub(di, smd_cscale(s->i_s_hat, R));
-    s->i_s_hat = smd_cadd(s->i_s_hat, smd_cscale(di, T / L));
+    s->i_s_hat = smd_cadd(s->i_s_hat, smd_cscale(di, p->T_L));
     if (p->euler) {
         /* eq. (36) as printed: forward-Euler complex-coefficient filter */
         du = smd_cadd(smd_cscale(smd_cj(s->u_d_hat), w_r), smd_cscale(u_smo, p->w_c));

@@ -103,19 +103,32 @@ void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
     *u_s_ab_applied = u_s_ab_ref;
 }
 
+void smd_svm_deadtime_comp_r(smd_real d_abc[3], const smd_real i_abc[3], smd_real t_ratio,
+                             smd_real inv_i_lin)
+{
+    int k;
+    for (k = 0; k < 3; k++) {
+        smd_real s = i_abc[k] * inv_i_lin, d;
+        if (s > SMD_R(1.0)) {
+            s = SMD_R(1.0);
+        } else if (s < SMD_R(-1.0)) {
+            s = SMD_R(-1.0);
+        }
+        d = d_abc[k] + t_ratio * s;
+        d_abc[k] = d < SMD_R(0.0) ? SMD_R(0.0) : (d > SMD_R(1.0) ? SMD_R(1.0) : d);
+    }
+}
+
 void smd_svm_deadtime_comp(smd_real d_abc[3], const smd_real i_abc[3], smd_real t_ratio,
                            smd_real i_lin)
 {
-    int k;
 #if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
-    const smd_real inv = SMD_R(1.0) / i_lin; /* the fast build: one division, not three */
-#endif
-    for (k = 0; k < 3; k++) {
-#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
-        smd_real s = i_abc[k] * inv;
+    /* the fast build: one division, not three */
+    smd_svm_deadtime_comp_r(d_abc, i_abc, t_ratio, SMD_R(1.0) / i_lin);
 #else
+    int k;
+    for (k = 0; k < 3; k++) {
         smd_real s = i_abc[k] / i_lin;
-#endif
         smd_real d;
         if (s > SMD_R(1.0)) {
             s = SMD_R(1.0);
@@ -125,4 +138,5 @@ void smd_svm_deadtime_comp(smd_real d_abc[3], const smd_real i_abc[3], smd_real 
         d = d_abc[k] + t_ratio * s;
         d_abc[k] = d < SMD_R(0.0) ? SMD_R(0.0) : (d > SMD_R(1.0) ? SMD_R(1.0) : d);
     }
+#endif
 }

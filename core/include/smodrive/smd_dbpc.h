@@ -21,6 +21,8 @@ typedef struct smd_dbpc_params {
     smd_real L_s_hat;   /* estimated stator inductance, H */
     smd_real R_s_hat;   /* estimated stator resistance, ohm */
     smd_real psi_r_hat; /* estimated PM flux, Wb */
+    smd_real L_T, T_L;  /* derived: L_s_hat / T_sp, T_sp / L_s_hat (the same quotients the
+                           step took each sample, once) */
 } smd_dbpc_params;
 
 smd_status smd_dbpc_init(smd_dbpc_params *p, smd_real T_sp, smd_real L_s_hat,

@@ -348,6 +348,7 @@ typedef struct smd_drive_params {
     smd_real i_start, a_start, w_handover;
     smd_real dtc_ratio;   /* t_dead_comp / T_sp */
     smd_real i_dtc;
+    smd_real inv_i_dtc;   /* 1 / i_dtc (the fast build's compensation) */
     smd_real i_trip, u_dc_min, u_dc_max, lock_ratio, w_lock_min, w_if_enter;
     int safe_state, lock_samples;
     smd_real w_src_max;   /* largest |w| the sensorless source can estimate */
@@ -359,6 +360,7 @@ typedef struct smd_drive_params {
     int dwell, chatter_max, hunt_max, track_samples, forced_samples, osc_samples, restart_max;
     smd_real restart_decay; /* restart_max / restart_window */
     int sup_n;            /* supervise_every, at least 1 */
+    int sup_fin, sup_rip; /* the finiteness's and the ripple's pieces: 2, 3 mod sup_n */
     smd_dbpc_params dbpc;
     smd_smdo_params smdo;
     smd_emf_pos_params emf;

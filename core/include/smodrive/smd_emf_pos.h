@@ -28,6 +28,7 @@ typedef struct smd_emf_pos_params {
     smd_real a_dir; /* derived: 1 - exp(-w_lpf T_sp / 8), the direction filter */
     smd_real w_hys; /* sign hysteresis half-band, electrical rad/s, >= 0 */
     smd_real w_max; /* the speed estimate is limited to +-w_max, rad/s */
+    smd_real inv_T; /* derived: 1 / T_sp (the fast build's, for a division) */
 } smd_emf_pos_params;
 
 typedef struct smd_emf_pos_state {

@@ -25,6 +25,9 @@ typedef struct smd_smdo_params {
     smd_real rho;        /* smoothing of sgn(), A, eq. (39) */
     int euler;           /* 1: rotate u_d_hat by (1 + j w T) as printed in eq. (36);
                             0: by e^{j w T}, the exact discrete rotation (default) */
+    smd_real L_T, T_L;   /* derived: L_s_hat / T_sp, T_sp / L_s_hat (the step's quotients,
+                            once) */
+    smd_real inv_L;      /* derived: 1 / L_s_hat (the fast build's, for a division) */
 } smd_smdo_params;
 
 typedef struct smd_smdo_state {

@@ -34,6 +34,10 @@ smd_status smd_svm_init(smd_svm_params *p, int limit, smd_real d_min);
  * reference, to stay clear of sampling noise). Duties are kept in [0, 1]. */
 void smd_svm_deadtime_comp(smd_real d_abc[3], const smd_real i_abc[3], smd_real t_ratio,
                            smd_real i_lin);
+/* The same with 1 / i_lin given (a caller that keeps it: the fast build's
+ * drive), i_x * inv_i_lin in place of i_x / i_lin. */
+void smd_svm_deadtime_comp_r(smd_real d_abc[3], const smd_real i_abc[3], smd_real t_ratio,
+                             smd_real inv_i_lin);
 
 /* Duty ratios d_abc in [d_min, 1 - d_min] realising u_s_ab_ref as closely as
  * the limit allows; *u_s_ab_applied receives the realised vector (the

@@ -34,7 +34,8 @@ class DbpcParams(ct.Structure):
 
     _c_name_ = "smd_dbpc_params"
     _fields_ = [
-        ("T_sp", real), ("L_s_hat", real), ("R_s_hat", real), ("psi_r_hat", real),
+        ("T_sp", real), ("L_s_hat", real), ("R_s_hat", real), ("psi_r_hat", real), ("L_T", real),
+        ("T_L", real),
     ]
 
 
@@ -44,7 +45,8 @@ class SmdoParams(ct.Structure):
     _c_name_ = "smd_smdo_params"
     _fields_ = [
         ("T_sp", real), ("L_s_hat", real), ("R_s_hat", real), ("lambda_min", real), ("l", real),
-        ("w_c", real), ("rho", real), ("euler", ct.c_int),
+        ("w_c", real), ("rho", real), ("euler", ct.c_int), ("L_T", real), ("T_L", real),
+        ("inv_L", real),
     ]
 
 
@@ -91,7 +93,7 @@ class EmfPosParams(ct.Structure):
     _c_name_ = "smd_emf_pos_params"
     _fields_ = [
         ("T_sp", real), ("w_lpf", real), ("a_lpf", real), ("a_dir", real), ("w_hys", real),
-        ("w_max", real),
+        ("w_max", real), ("inv_T", real),
     ]
 
 

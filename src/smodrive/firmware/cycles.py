@@ -85,6 +85,15 @@ def _classify(mnem: str, ops: str, size: int) -> _Insn:
                                              "sub", "cmp", "ldrb", "strb", "it"):
             base = m[:-len(c)]
             break
+    if base == m and m not in _FIXED:
+        # a conditional multi-cycle instruction in an IT block (vdivls, vdivhi: atan2's
+        # ite pair, one of which passes): 1 cycle when its condition fails, the whole
+        # when it passes; which one the trace does not say, so nominal the mean, the
+        # range both ends (it was costed 1, as an unknown instruction)
+        for c in _CONDS:
+            if m.endswith(c) and m[:-len(c)] in _FIXED and _FIXED[m[:-len(c)]][2] > 1:
+                lo, _, hi = _FIXED[m[:-len(c)]]
+                return _Insn(size, "fixed", (1, (1 + hi + 1) // 2, hi), m[:-len(c)])
     if base in ("b", "bl", "bx", "blx", "cbz", "cbnz"):
         return _Insn(size, "branch", (1, 1, 1), base)
     if base in ("pop", "ldm", "ldmia", "ldmfd") and "pc" in ops:
