@@ -1033,7 +1033,18 @@ static smd_cplx current_control(const smd_drive_params *p, smd_drive_state *s,
         return smd_dbpc_conventional(&p->dbpc, *i_s_ab, s->u_ab, s->i_dq_ref, x->theta_k,
                                      x->w_k);
     case SMD_CC_ROBUST_DBPC: {
-        smd_cplx i_ref_k2 = smd_dbpc_ref_k2(&p->dbpc, s->i_dq_ref, x->theta_k, x->w_k);
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+        /* the fast build: e^{j (theta_k + 2 w_k T)} of eq. (7) as the dead-time
+         * compensation's e^{j (theta_k + 1.5 w_k T)} (rotations) turned by
+         * 0.5 w_k T (smd_cexpj_small), not a second argument reduction */
+        const smd_cplx i_ref_k2 =
+            p->dtc_ratio > SMD_R(0.0)
+                ? smd_cmul(s->i_dq_ref,
+                           smd_cmul(x->ej_15, smd_cexpj_small(SMD_R(0.5) * x->w_k * x->T)))
+                : smd_dbpc_ref_k2(&p->dbpc, s->i_dq_ref, x->theta_k, x->w_k);
+#else
+        const smd_cplx i_ref_k2 = smd_dbpc_ref_k2(&p->dbpc, s->i_dq_ref, x->theta_k, x->w_k);
+#endif
         return smd_dbpc_robust(&p->dbpc, s->smdo.i_s_hat, s->smdo.u_d_hat, i_ref_k2);
     }
     default: return current_pi(p, s, i_s_ab, i1_ab, x);
