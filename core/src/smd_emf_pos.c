@@ -50,7 +50,7 @@ void smd_emf_pos_step(const smd_emf_pos_params *p, smd_emf_pos_state *s, smd_cpl
     if (s->primed) {
         /* eq. (45) on the EMF angle (same increments as theta_r) */
 #if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
-        s->w_r_raw = smd_wrap_pi(phi - s->phi_prev) * p->inv_T; /* (no division) */
+        s->w_r_raw = smd_wrap_pi_near(phi - s->phi_prev) * p->inv_T; /* (no division) */
 #else
         s->w_r_raw = smd_wrap_pi(phi - s->phi_prev) / p->T_sp;
 #endif
@@ -83,5 +83,5 @@ void smd_emf_pos_step(const smd_emf_pos_params *p, smd_emf_pos_state *s, smd_cpl
     /* The Euler model (35) identifies the disturbance averaged over
      * [t_k, t_k+1), i.e. at t_k + T_sp/2: step back half a sample so that the
      * angle belongs to the sampling instant (docs/errata.md, yang2018 E4). */
-    s->theta_r_hat = smd_wrap_pi(s->theta_r_hat - SMD_R(0.5) * s->w_r_hat * p->T_sp);
+    s->theta_r_hat = smd_wrap_pi_near(s->theta_r_hat - SMD_R(0.5) * s->w_r_hat * p->T_sp);
 }

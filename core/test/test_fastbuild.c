@@ -85,6 +85,33 @@ static void test_wrap_fast(void)
     CHECK(off_turn < 100);
 }
 
+/* the near wrap (smd_wrap_pi_near, |x| < 3 pi: a difference or a sum of two
+ * wrapped angles): in [-pi, pi) for every x, within an ulp of 2 pi (the
+ * turn's own rounding, 5e-7) of the exact remainder, and the same value as
+ * the exact build's wrap where the turn is not in doubt (|x| away from the
+ * ends of a turn by 1e-5) */
+static void test_wrap_near(void)
+{
+    int k, bad = 0, differ = 0;
+    for (k = 0; k < 1000000; k++) {
+        float x = (float)urand(-3.0 * 3.141592653589793 + 1e-6, 3.0 * 3.141592653589793 - 1e-6);
+        float w = smd_wrap_pi_near(x);
+        double exact = remainder((double)x, 6.283185307179586);
+        double d = fabs((double)w - exact);
+        if (d > 3.0) {
+            d = fabs(d - 6.283185307179586); /* (at the edge: -pi against pi) */
+        }
+        bad += !((double)w >= -3.1415927410125732 && (double)w < 3.1415927410125732 &&
+                 d <= 5e-7);
+        if (fabs(fabs((double)x) - 3.141592653589793) > 1e-5 &&
+            fabs(fabs((double)x) - 3.0 * 3.141592653589793) > 1e-5) {
+            differ += w != smd_wrap_pi(x) && fabs((double)w - (double)smd_wrap_pi(x)) > 1e-6;
+        }
+    }
+    CHECK_INT(bad, 0);
+    CHECK_INT(differ, 0);
+}
+
 /* The fast build's finiteness sum (smd_nfs): a state of finite values
  * passes, one infinite or NaN value among them (either sign, any place)
  * fails, as with the exact build's sum of x - x; an infinity and its
@@ -117,6 +144,7 @@ int main(void)
     RUN_TEST(test_cexpj_small);
     RUN_TEST(test_cexpj_unit);
     RUN_TEST(test_wrap_fast);
+    RUN_TEST(test_wrap_near);
     RUN_TEST(test_finite_sum);
     return smdt_summary("fastbuild");
 }

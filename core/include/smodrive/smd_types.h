@@ -317,6 +317,20 @@ static inline smd_real smd_wrap_pi(smd_real x)
 #endif
 }
 
+/* smd_wrap_pi of an angle within one turn of the range, |x| < 3 pi (a
+ * difference or a sum of two wrapped angles): the fast build adds or takes
+ * one turn by two compares (the floor's k is -1, 0 or 1 there, and x - 2 pi k
+ * the same expression; at the ends the choice may differ in rounding, as the
+ * fast smd_wrap_pi's may); the exact build, smd_wrap_pi. */
+static inline smd_real smd_wrap_pi_near(smd_real x)
+{
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+    return x >= SMD_PI ? x - SMD_TWO_PI : (x < -SMD_PI ? x + SMD_TWO_PI : x);
+#else
+    return smd_wrap_pi(x);
+#endif
+}
+
 /* Range check helper: lo <= x <= hi and finite. */
 static inline bool smd_in_range(smd_real x, smd_real lo, smd_real hi)
 {
