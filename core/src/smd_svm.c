@@ -103,19 +103,25 @@ void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
     *u_s_ab_applied = u_s_ab_ref;
 }
 
+/* One phase of the compensation: its duty moved by t_ratio sat(s), s the
+ * current over i_lin, and kept in [0, 1]. */
+static smd_real dtc_phase(smd_real d, smd_real s, smd_real t_ratio)
+{
+    if (s > SMD_R(1.0)) {
+        s = SMD_R(1.0);
+    } else if (s < SMD_R(-1.0)) {
+        s = SMD_R(-1.0);
+    }
+    d += t_ratio * s;
+    return d < SMD_R(0.0) ? SMD_R(0.0) : (d > SMD_R(1.0) ? SMD_R(1.0) : d);
+}
+
 void smd_svm_deadtime_comp_r(smd_real d_abc[3], const smd_real i_abc[3], smd_real t_ratio,
                              smd_real inv_i_lin)
 {
     int k;
     for (k = 0; k < 3; k++) {
-        smd_real s = i_abc[k] * inv_i_lin, d;
-        if (s > SMD_R(1.0)) {
-            s = SMD_R(1.0);
-        } else if (s < SMD_R(-1.0)) {
-            s = SMD_R(-1.0);
-        }
-        d = d_abc[k] + t_ratio * s;
-        d_abc[k] = d < SMD_R(0.0) ? SMD_R(0.0) : (d > SMD_R(1.0) ? SMD_R(1.0) : d);
+        d_abc[k] = dtc_phase(d_abc[k], i_abc[k] * inv_i_lin, t_ratio);
     }
 }
 
@@ -128,15 +134,7 @@ void smd_svm_deadtime_comp(smd_real d_abc[3], const smd_real i_abc[3], smd_real 
 #else
     int k;
     for (k = 0; k < 3; k++) {
-        smd_real s = i_abc[k] / i_lin;
-        smd_real d;
-        if (s > SMD_R(1.0)) {
-            s = SMD_R(1.0);
-        } else if (s < SMD_R(-1.0)) {
-            s = SMD_R(-1.0);
-        }
-        d = d_abc[k] + t_ratio * s;
-        d_abc[k] = d < SMD_R(0.0) ? SMD_R(0.0) : (d > SMD_R(1.0) ? SMD_R(1.0) : d);
+        d_abc[k] = dtc_phase(d_abc[k], i_abc[k] / i_lin, t_ratio);
     }
 #endif
 }

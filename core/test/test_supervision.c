@@ -578,29 +578,28 @@ static void test_supervise_every_range(void)
     CHECK_INT(smd_drive_init(&p, &c), SMD_ERR_DECIMATION);
 }
 
+/* The criteria, at the supervise_every of g_every. */
+static void run_criteria(void)
+{
+    RUN_TEST(test_speed_tracking);
+    RUN_TEST(test_oscillation);
+    RUN_TEST(test_forced_timeout);
+    RUN_TEST(test_locked_rotor_start);
+    RUN_TEST(test_chatter);
+    RUN_TEST(test_hunting);
+    RUN_TEST(test_injected_angle_error);
+    RUN_TEST(test_restart);
+}
+
 int main(void)
 {
     RUN_TEST(test_null_arguments);
-    RUN_TEST(test_speed_tracking);
-    RUN_TEST(test_oscillation);
-    RUN_TEST(test_forced_timeout);
-    RUN_TEST(test_locked_rotor_start);
-    RUN_TEST(test_chatter);
-    RUN_TEST(test_hunting);
     RUN_TEST(test_start_duties);
-    RUN_TEST(test_injected_angle_error);
-    RUN_TEST(test_restart);
     RUN_TEST(test_settings);
+    run_criteria();
     /* the same criteria with the supervision spread over EVERY samples */
     g_every = EVERY;
-    RUN_TEST(test_speed_tracking);
-    RUN_TEST(test_oscillation);
-    RUN_TEST(test_forced_timeout);
-    RUN_TEST(test_locked_rotor_start);
-    RUN_TEST(test_chatter);
-    RUN_TEST(test_hunting);
-    RUN_TEST(test_injected_angle_error);
-    RUN_TEST(test_restart);
+    run_criteria();
     g_every = 65;
     RUN_TEST(test_supervise_every_range);
     return smdt_summary("test_supervision");
