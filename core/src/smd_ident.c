@@ -622,6 +622,7 @@ void smd_ident_psi_reset(smd_ident_psi_state *s)
     s->acc_e = s->acc_n = s->acc_w = SMD_R(0.0);
     s->e1 = s->e2 = s->w1m = s->w2m = SMD_R(0.0);
     s->psi = s->psi1 = s->psi2 = s->psi_coast = s->psi_slope = SMD_R(0.0);
+    s->shorted = 0;
     s->w_coast = SMD_R(0.0);
     s->acc_sh = s->acc_a = s->acc_r = s->share_ramp = s->a_ramp = SMD_R(0.0);
     s->phi_lpf = s->w_c = s->share = SMD_R(0.0);
@@ -756,8 +757,14 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
                 s->w1m = wm;
                 psi_next_phase(s, SMD_IDENT_PSI_RAMP2);
             } else {
+                const smd_real wl = wm * p->L_s;
                 s->e2 = em;
                 s->w2m = wm;
+                /* the coast shorts the stator where the inverter's drop is more
+                 * than a fifth of the EMF and the short's current, |e2| / |R_s
+                 * + j w L_s|, within the spin's (the header) */
+                s->shorted = p->L1 == SMD_R(0.0) && p->u_drop > SMD_R(0.2) * em &&
+                             em <= p->i_spin * SMD_SQRT(p->R_s * p->R_s + wl * wl);
                 psi_next_phase(s, SMD_IDENT_PSI_COAST);
             }
         }
@@ -767,13 +774,25 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
          * the frame follows (low-passed at 1/(20 T_sp)): a rotor that slows
          * (a fan load) would otherwise turn against the frame, and the PI's
          * integral would lag the EMF's turn in it */
-        const smd_cplx rot = smd_cmul(s->u_ab, smd_cconj(s->u_prev));
+        const smd_cplx rot = s->shorted ? smd_cmul(i_ab, smd_cconj(s->i_prev))
+                                        : smd_cmul(s->u_ab, smd_cconj(s->u_prev));
         const smd_real turn = SMD_ATAN2(rot.im, rot.re);
         s->w_c = SMD_R(0.0);
         if (s->n > 1) {
             s->w_f += SMD_R(0.05) * (turn / T - s->w_f);
         }
-        if (p->L1 > SMD_R(0.0)) {
+        if (s->shorted) {
+            /* the stator shorted (the header): the back EMF is -(R_s + j w
+             * L_s) i, and i turns with the rotor; no device switches, so no
+             * dead time */
+            s->i_prev = i_ab;
+            if (10 * s->n > p->n_coast) {
+                const smd_real wl = s->w_f * p->L_s;
+                s->acc_e += smd_cabs(i_ab) * SMD_SQRT(p->R_s * p->R_s + wl * wl);
+                s->acc_w += turn;
+                s->acc_n += SMD_R(1.0);
+            }
+        } else if (p->L1 > SMD_R(0.0)) {
             /* behind a filter: the PI holds i_1 near 0 for a tenth of the
              * coast, then every switch opens; from a fifth on, the motor's
              * current is the capacitor's, i = -j w C1 u_c, its magnitude and
@@ -808,14 +827,19 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
             s->psi1 = s->e1 / s->w1m;
             s->psi2 = s->e2 / s->w2m;
             s->psi_slope = (s->e2 - s->e1) / (s->w2m - s->w1m);
-            s->psi = s->psi2;
+            /* each hold within 5 % and a tenth of the drop's share of its EMF
+             * (the drop's model, 3/pi u_0, taken as 10 % uncertain; the header) */
+            const smd_real m1 = SMD_R(0.05) + SMD_R(0.1) * p->u_drop / s->e1,
+                           m2 = SMD_R(0.05) + SMD_R(0.1) * p->u_drop / s->e2;
+            s->psi = s->shorted ? s->psi_coast : s->psi2;
             s->w_coast = w;
             s->share_ramp = s->acc_r > SMD_R(0.0) ? s->acc_sh / s->acc_r : SMD_R(0.0);
             s->a_ramp = s->acc_r > SMD_R(0.0) ? s->acc_a / s->acc_r : SMD_R(0.0);
             s->outcome = !(SMD_FABS(w / s->w2m - SMD_R(1.0)) <= SMD_R(0.5)) ? SMD_IDENT_SLIPPED
                          : (isfinite(s->psi) && s->psi > SMD_R(0.0) && isfinite(s->psi_coast) &&
-                          SMD_FABS(s->psi_coast / s->psi - SMD_R(1.0)) <= SMD_R(0.05) &&
-                          SMD_FABS(s->psi1 / s->psi - SMD_R(1.0)) <= SMD_R(0.05))
+                          SMD_FABS(s->psi_coast / s->psi - SMD_R(1.0)) <= m2 &&
+                          SMD_FABS(s->psi2 / s->psi - SMD_R(1.0)) <= m2 &&
+                          SMD_FABS(s->psi1 / s->psi - SMD_R(1.0)) <= m1)
                              ? SMD_IDENT_OK
                              : SMD_IDENT_POOR_FIT;
             s->phase = SMD_IDENT_PSI_DONE;
@@ -824,6 +848,15 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
         }
     }
     s->u_prev = s->u_ab;
+    if (s->phase == SMD_IDENT_PSI_COAST && s->shorted) {
+        /* every lower switch on, forced (pwm_off = 2: a PWM unit's forced
+         * output level, no edge and so no dead time; the duties 0 for a gate
+         * driver without one) */
+        s->pwm_off = 2;
+        d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.0);
+        s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+        return SMD_OK;
+    }
     if (s->pwm_off) {
         zero_vector(d_abc, &s->u_applied); /* (the duties if the switches stay on) */
         return SMD_OK;

@@ -181,7 +181,7 @@ static inline void engine_apply(smd_engine *e, const engine_sample *x, const smd
     }
     /* (pwm_off as the duties: from the next period on) */
     e->plant.off = e->pwm_off;
-    e->pwm_off = out->pwm_off != 0;
+    e->pwm_off = out->pwm_off == 2 ? 2 : out->pwm_off != 0;
     if (r != 0) {
         const smd_plant *pl = &e->plant;
         double c = cos(pl->theta_r), s = sin(pl->theta_r);

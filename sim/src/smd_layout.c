@@ -482,6 +482,7 @@ static const smd_layout_row ROWS[] = {
     F(smd_ident_psi_state, i_cap, "smd_cplx"),
     F(smd_ident_psi_state, i_prev, "smd_cplx"),
     F(smd_ident_psi_state, pwm_off, "int"),
+    F(smd_ident_psi_state, shorted, "int"),
     F(smd_ident_psi_state, g, "smd_real"),
     F(smd_ident_psi_state, gov_on, "int"),
     F(smd_ident_psi_state, e1, "smd_real"),

@@ -124,6 +124,22 @@ int smd_plant_set_resistance(smd_plant *p, double R_s)
 
 void smd_plant_step(smd_plant *p, const double d_abc[3], double T_ext, double T_brake)
 {
+    if (p->off == 2) {
+        /* every lower switch on, forced: the legs low the whole period with no
+         * edge, so no dead time: the sign model's exact step with duties 0 and
+         * no dead time is that (behind a filter, its step likewise) */
+        static const double low[3] = {0.0, 0.0, 0.0};
+        const double t_dead = p->c.t_dead;
+        const int solver = p->solver;
+        p->c.t_dead = 0.0;
+        p->off = 0;
+        p->solver = solver == 2 ? 2 : 0;
+        smd_plant_step(p, low, T_ext, T_brake);
+        p->c.t_dead = t_dead;
+        p->solver = solver;
+        p->off = 2;
+        return;
+    }
     if (p->solver == 2) {
         smd_lcl_step(p, d_abc, T_ext, T_brake);
     } else {

@@ -153,10 +153,12 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
                        f"deg, {x.t:.2f} s: {x.outcome}")
     if c.psi is not None:
         p = c.psi
+        how = (f"the stator shorted while coasting (the inverter's drop is over a fifth of "
+               f"the EMF), {p.psi2:.5g} at half speed" if p.shorted else
+               f"at half speed, {p.psi_coast:.5g} coasting")
         click.echo(f"  psi_r {p.psi:.5g} Wb measured, {s.motor.psi_r:.5g} Wb true "
-                   f"({100.0 * (p.psi / s.motor.psi_r - 1.0):+.2f} %); at half speed, "
-                   f"{p.psi1:.5g} at a quarter, {p.psi_coast:.5g} coasting, {p.t:.2f} s: "
-                   f"{p.outcome}")
+                   f"({100.0 * (p.psi / s.motor.psi_r - 1.0):+.2f} %); {how}, "
+                   f"{p.psi1:.5g} at a quarter, {p.t:.2f} s: {p.outcome}")
         if p.outcome == "slipped":
             click.echo(f"  the rotor did not follow the spin: a load heavier than the ramp "
                        f"allows; run again with --slow 10 (the spin and the inertia test ten "
@@ -171,7 +173,7 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
                        f"{_rel(x.J, s.motor.J)}; B {x.B:.4g}{se} N m s measured, "
                        f"{s.motor.B:.4g} true {_rel(x.B, s.motor.B)}{fan}, {x.t:.2f} s")
         else:
-            click.echo(f"  J, B not measured: {x.outcome}")
+            click.echo(f"  J, B not measured: {x.outcome} ({OUTCOME_TEXT.get(x.outcome, '')})")
     if out is not None:
         export.write_text(out, identified_toml(scenario, s, c))
         click.echo(f"wrote {out}")

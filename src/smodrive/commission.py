@@ -46,6 +46,11 @@ OUTCOME_TEXT = {
     "not_settled": "a level's current did not settle within t_level_max",
     "poor_fit": "the levels are not on a line (R^2 < 0.999): the values are not to be trusted",
     "bad_input": "a measured current or the DC-link voltage was not finite",
+    "no_sensorless_range": "the sensorless drive hands over from its forced start where the "
+                           "back EMF is twice the inverter's drop (u_0), and for this motor "
+                           "and inverter that is at or above rated speed: no room for the J "
+                           "and B test's ramp; a shorter dead time or a motor with more EMF "
+                           "at rated speed",
     "slipped": "the rotor did not follow the spin (coasting, it turned at under half the "
                "frame's speed): a load heavier than the ramp allows, or a rotor that does not "
                "turn; a heavy load needs a slower sequence (commission(slow=...), identify "
@@ -303,7 +308,7 @@ W_DAMP = 2.0 * math.pi * 20.0
 @dataclass(frozen=True)
 class PsiResult:
     """The PM flux as step 3 measured it."""
-    psi: float          # Wb, at the higher speed (the result)
+    psi: float          # Wb, the result: at the higher speed (psi2), or coasting when shorted
     psi1: float         # Wb, at the lower speed
     psi2: float         # Wb, at the higher (= psi)
     psi_slope: float    # Wb, the slope between the two
@@ -312,6 +317,9 @@ class PsiResult:
     t: float            # s
     w_coast: float = math.nan  # rad/s: the rotor's electrical speed coasting (the frame's: w2)
     J_spin: float = math.nan   # kg m^2: the inertia the second ramp saw (friction and load in)
+    #: the coast shorted the stator (the inverter's drop over a fifth of the EMF): psi is the
+    #: coast's, the holds its check (smd_ident.h)
+    shorted: bool = False
 
     @property
     def ok(self) -> bool:
@@ -340,7 +348,8 @@ def identify_psi(s: Scenario, rs: RsResult, L_s: float, i_spin: float, engine: E
     return PsiResult(psi=float(st.psi), psi1=float(st.psi1), psi2=float(st.psi2),
                      psi_slope=float(st.psi_slope), psi_coast=float(st.psi_coast),
                      outcome=OUTCOMES.get(int(st.outcome), "?"), t=n * s.T_sp,
-                     w_coast=float(st.w_coast), J_spin=spin_inertia(s, st, i_spin))
+                     w_coast=float(st.w_coast), J_spin=spin_inertia(s, st, i_spin),
+                     shorted=bool(st.shorted))
 
 
 def spin_inertia(s: Scenario, st, i_spin: float) -> float:
@@ -383,7 +392,8 @@ class MechResult:
     """J and B as step 4 measured them."""
     J: float            # kg m^2
     B: float            # N m s/rad
-    outcome: str        # "ok", "poor_fit", "not_settled" or "fault: <names>"
+    outcome: str        # "ok", "poor_fit", "not_settled", "no_sensorless_range" or
+                        # "fault: <names>"
     t: float            # s
     K: float = 0.0      # N m s^2/rad^2: a fan load's K w_M |w_M| (fitted with one)
     B_ramp: float = math.nan  # N m s/rad: B from the ramp alone (the coast's is B)
@@ -392,6 +402,12 @@ class MechResult:
     @property
     def ok(self) -> bool:
         return self.outcome == "ok"
+
+
+#: step 4's ramp spans at least this share of rated speed (assumed), else the test is not
+#: run ("no_sensorless_range": the drive's handover, where the EMF is twice the inverter's
+#: drop, is too close to rated speed)
+MIN_RAMP_MECH = 0.2
 
 
 def mech_speeds(sd: Scenario) -> tuple[float, float]:
@@ -474,6 +490,8 @@ def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float,
 
     sd = design(0.4 * w_n, 0.8 * w_n)
     w1, w2 = mech_speeds(sd)
+    if w2 - w1 < MIN_RAMP_MECH * w_n:
+        return sd  # (no room for the test: identify_mech names it)
     return sd if (w1, w2) == (0.4 * w_n, 0.8 * w_n) else design(w1, w2)
 
 
@@ -499,6 +517,8 @@ def identify_mech(s: Scenario, R_s: float, L_s: float, psi_r: float,
     drive that never leaves its forced start is "not_settled"."""
     sd = mech_scenario(s, R_s, L_s, psi_r, t_dead_comp, u_0, slow, J_spin)
     w1, w2 = mech_speeds(sd)
+    if w2 - w1 < MIN_RAMP_MECH * s.motor.w_M_N:
+        return MechResult(math.nan, math.nan, "no_sensorless_range", 0.0)
     # (with a fan the coast's deceleration is mostly the fan's, where B and K lean on each
     # other: yao2022's K came out -41 % from a 0.4 s coast, -3 % from the ramp alone)
     fan = s.load.k_fan > 0.0

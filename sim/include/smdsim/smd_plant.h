@@ -108,7 +108,9 @@ typedef struct smd_plant {
     double u_re, u_im;    /* mean applied inverter voltage over the last period, V */
     int off;              /* 1: every switch open over the next period (the drive's pwm_off):
                            * the legs on their diodes, or floating at zero current (the
-                           * clamping model's walk, whatever dead_time_model) */
+                           * clamping model's walk, whatever dead_time_model); 2: every
+                           * lower switch on, forced (an MCU's forced output level): nothing
+                           * switches, so no dead time (the commissioning's shorted coast) */
     /* --- private --- */
     double a;             /* R_s / (L2o + L_s), 1/s */
     double L2;            /* L2o + L_s, H */

@@ -433,11 +433,11 @@ class IdentPsiState(ct.Structure):
         ("phase", ct.c_int), ("outcome", ct.c_int), ("theta_f", real), ("w_f", real), ("x_i", Cplx),
         ("u_ab", Cplx), ("u_prev", Cplx), ("n", ct.c_int), ("acc_e", real), ("acc_n", real),
         ("acc_w", real), ("phi_lpf", real), ("w_c", real), ("share", real), ("i_cap", Cplx),
-        ("i_prev", Cplx), ("pwm_off", ct.c_int), ("g", real), ("gov_on", ct.c_int), ("e1", real),
-        ("e2", real), ("w1m", real), ("w2m", real), ("psi", real), ("psi1", real), ("psi2", real),
-        ("psi_coast", real), ("psi_slope", real), ("w_coast", real), ("acc_sh", real),
-        ("acc_a", real), ("acc_r", real), ("share_ramp", real), ("a_ramp", real),
-        ("u_applied", Cplx), ("samples", ct.c_int),
+        ("i_prev", Cplx), ("pwm_off", ct.c_int), ("shorted", ct.c_int), ("g", real),
+        ("gov_on", ct.c_int), ("e1", real), ("e2", real), ("w1m", real), ("w2m", real),
+        ("psi", real), ("psi1", real), ("psi2", real), ("psi_coast", real), ("psi_slope", real),
+        ("w_coast", real), ("acc_sh", real), ("acc_a", real), ("acc_r", real), ("share_ramp", real),
+        ("a_ramp", real), ("u_applied", Cplx), ("samples", ct.c_int),
     ]
 
 

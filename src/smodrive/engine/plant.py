@@ -123,6 +123,17 @@ class Plant:
         self._head.off = 1 if on else 0
 
     @property
+    def lower_on(self) -> bool:
+        """Every lower switch on, forced, over the next periods (the
+        commissioning's shorted coast, ``pwm_off = 2``): nothing switches,
+        so no dead time; the duties given to :meth:`step` are then unused."""
+        return self._head.off == 2
+
+    @lower_on.setter
+    def lower_on(self, on: bool) -> None:
+        self._head.off = 2 if on else 0
+
+    @property
     def eigenvalues(self) -> np.ndarray:
         """Eigenvalues of the filter-machine matrix A, 1/s ([0] real, [1:] the
         resonant pair); zeros without the filter."""
