@@ -47,8 +47,8 @@ OUTCOME_TEXT = {
     "poor_fit": "the levels are not on a line (R^2 < 0.999): the values are not to be trusted",
     "bad_input": "a measured current or the DC-link voltage was not finite",
     "no_sensorless_range": "the sensorless drive hands over from its forced start where the "
-                           "back EMF is twice the inverter's drop (u_0), and for this motor "
-                           "and inverter that is at or above rated speed: no room for the J "
+                           "back EMF is twice the inverter's drop ((3/pi) u_0), and for this "
+                           "motor and inverter that is at or above rated speed: no room for the J "
                            "and B test's ramp; a shorter dead time or a motor with more EMF "
                            "at rated speed",
     "slipped": "the rotor did not follow the spin (coasting, it turned at under half the "
