@@ -441,8 +441,13 @@ static void psi_reset(void *t) { smd_ident_psi_reset(&((psi_t *)t)->s); }
 static void psi_check(const void *t, const smd_real d[3])
 {
     const psi_t *x = (const psi_t *)t;
-    (void)d;
     FZ_CHECK(isfinite(x->s.theta_f) && isfinite(x->s.w_f));
+    FZ_CHECK(x->s.pwm_off >= 0 && x->s.pwm_off <= 2);
+    if (x->s.pwm_off == 2) {
+        /* the shorted coast: every lower switch on, the duties 0, no filter */
+        FZ_CHECK(x->s.shorted && x->s.phase == SMD_IDENT_PSI_COAST && x->p.L1 == SMD_R(0.0));
+        FZ_CHECK(d[0] == SMD_R(0.0) && d[1] == SMD_R(0.0) && d[2] == SMD_R(0.0));
+    }
     fz_use((double)x->s.psi + (double)x->s.x_i.re);
 }
 

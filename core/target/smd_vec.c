@@ -585,6 +585,9 @@ static void blk_ident_psi(smd_writer *w, rng *g, int n)
     /* an even seed: behind an LCL filter (the inverter's current the
      * motor's plus a capacitor's, from the applied voltage) */
     const int lcl = (int)(g->x % 2u) == 0;
+    /* a seed 1 mod 3 without a filter: an inverter's drop over a fifth of the
+     * EMF, the coast shorted (pwm_off = 2) */
+    const int shorted = !lcl && g->x % 3u == 1u;
     /* (behind the filter a rotor of its own, which keeps the frame's speed
      * from the coast on: the rotor tied to the frame, as without one, runs
      * away with a frame that follows its voltage, and the coast would end
@@ -603,6 +606,10 @@ static void blk_ident_psi(smd_writer *w, rng *g, int n)
     c.t_coast = SMD_R(0.02);
     c.w_cc = SMD_R(1500.0);
     c.L1 = c.C1 = c.L2o = SMD_R(0.0); /* no filter */
+    if (shorted) {
+        c.u_0 = SMD_R(40.0);
+        c.i_spin = SMD_R(20.0);
+    }
     if (lcl) {
         c.L1 = SMD_R(2e-3);
         c.C1 = SMD_R(5e-6);

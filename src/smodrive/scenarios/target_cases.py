@@ -90,6 +90,7 @@ def standard_cases(samples: int = 600, paper_samples: int = 3000) -> list:
               BlockCase("block.ident_ls.b", "ident_ls", 4000, 3007),
               BlockCase("block.ident_psi", "ident_psi", 3000, 3009),  # seed even: a filter
               BlockCase("block.ident_psi.lcl", "ident_psi", 3000, 3012),
+              BlockCase("block.ident_psi.shorted", "ident_psi", 3000, 3013),
               BlockCase("block.ident_mech", "ident_mech", 800, 3010)]
     cat = catalogue()
     for name in PAPER_CASES:
