@@ -39,7 +39,7 @@ import pytest
 from issue23_draws import sensor_errors
 
 from smodrive.commission import identify_rs
-from smodrive.engine import simulate
+from smodrive.engine import fault_names, simulate
 from smodrive.model import LoadCfg, ParameterError, Profile
 from smodrive.scenario_io import load_scenario
 
@@ -54,7 +54,7 @@ TOL = 0.02
 
 
 def tracked(s0, seed: int, rng, i_inj_rel: float = 0.4, sensors: int = 3, gains_only=False,
-            duration: float = 4.0, speed: float = 0.5, **ctl):
+            duration: float = 4.0, speed: float = 0.5, stale_ok: bool = False, **ctl):
     """One draw of the issue's conditions on motor scenario `s0` (or, with
     `gains_only`, of its sensor gains alone), the drive's dead-time
     compensation from commissioning's step 1; the run's times, R_s and psi_r
@@ -74,7 +74,7 @@ def tracked(s0, seed: int, rng, i_inj_rel: float = 0.4, sensors: int = 3, gains_
                           t_dead_comp=min(rs.t_dead(s.T_sp, s.inverter.u_dc), 0.25 * s.T_sp),
                           rls_i_inj=i_inj_rel * m.T_N / m.k_t, **ctl)
     r = simulate(s)
-    assert r.status == 0 and r.faults.t_first is None
+    assert r.status == 0 and (stale_ok or r.faults.t_first is None), fault_names(r.faults.first)
     return r["t"], r["R_s_rls"], r["psi_r_rls"], s
 
 
@@ -99,11 +99,19 @@ def test_without_its_square_wave_R_s_is_not_tracked():
     square wave is lost in the noise keeps its initial R_s through the rise
     (off by the whole 40 %), where the working one is within 2 % (the test
     above). A fit that did not check its standard error returned -3 ohm
-    here: R_s from the noise."""
+    here: R_s from the noise. The drive says so: the warning rls_stale from
+    2 rls_tau (0.6 s) on, while the estimate is not taken (before
+    2026-11-27 it ran on at status 0 with no warning, 40 % off: the worst
+    kind of run). The working tracker of the tests above raises no fault or
+    warning at all (tracked() checks it)."""
     s0 = load_scenario(MOTORS["yang2018 Table I"])
-    _, R, _, _ = tracked(s0, 1, np.random.default_rng(1), i_inj_rel=1e-4)
+    t, R, _, s = tracked(s0, 1, np.random.default_rng(1), i_inj_rel=1e-4, stale_ok=True)
     assert R[-1] == pytest.approx(s0.controller.R_s_hat or s0.motor.R_s, rel=1e-6)
     assert abs(R[-1] / (RISE * s0.motor.R_s) - 1.0) > 0.25
+    r = simulate(s)
+    assert r.status == 0 and fault_names(r.faults.first) == ["rls_stale"]
+    assert r.faults.t_first == pytest.approx(2.0 * s.controller.rls_tau, abs=2 * s.T_sp)
+    assert "rls_stale" in fault_names(r.faults.final)
 
 
 @pytest.mark.parametrize("sensors", [2, 3])

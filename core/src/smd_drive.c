@@ -1559,10 +1559,12 @@ static smd_status end_supervised(const smd_drive_params *p, smd_drive_state *s,
         try_restart(p, s)) {
         s->warn |= (uint32_t)SMD_FAULT_RESTART;
     }
+    const uint32_t warn = s->warn | (p->use_rls && smd_rls_stale(&p->rls, &s->rls)
+                                         ? (uint32_t)SMD_FAULT_RLS_STALE : 0u);
     if (s->fault != 0u) {
-        return apply_safe(p, s, out, s->warn);
+        return apply_safe(p, s, out, warn);
     }
-    out->fault = s->warn;
+    out->fault = warn;
     return st;
 }
 

@@ -24,6 +24,11 @@ smd_status smd_rls_init(smd_rls_params *p, smd_real T_sp, smd_real L_s_hat, smd_
     p->R0 = R0;
     p->psi0 = psi0;
     p->n_half = n_half;
+    {
+        /* 2 tau in samples, within an int (tau / T_sp <= 1e3 / T_sp) */
+        const smd_real n = SMD_R(2.0) * tau / T_sp;
+        p->n_stale = n < SMD_R(1e9) ? (int)n : 1000000000;
+    }
     return SMD_OK;
 }
 
@@ -41,6 +46,7 @@ void smd_rls_reset(const smd_rls_params *p, smd_rls_state *s)
     s->S_ww = s->S_wy = s->S_wi = SMD_R(0.0);
     s->R_hat = p->R0;
     s->psi_hat = p->psi0;
+    s->age = 0;
 }
 
 smd_real smd_rls_injection(const smd_rls_params *p, const smd_rls_state *s)
@@ -84,6 +90,7 @@ static void solve(const smd_rls_params *p, smd_rls_state *s)
             s->R_se = SMD_SQRT(se2);
             if (se2 <= SMD_R(0.0625) * R * R) {
                 s->R_hat = R;
+                s->age = 0;
             }
         }
     }
@@ -101,6 +108,9 @@ void smd_rls_step(const smd_rls_params *p, smd_rls_state *s, smd_cplx i_ab, smd_
     const smd_real T = p->T_sp;
     int ok = valid && smd_cnf(i_ab) + smd_cnf(u_next) + smd_nf(theta_k) + smd_nf(w_k) ==
                           SMD_R(0.0);
+    if (s->age <= p->n_stale) {
+        s->age++;
+    }
     if (ok && s->have_prev) {
         /* the interval [k-1, k): its middle, its mean current, eq. (1) */
         const smd_cplx r = smd_cconj(smd_cexpj(theta_k - SMD_R(0.5) * w_k * T));
@@ -121,4 +131,9 @@ void smd_rls_step(const smd_rls_params *p, smd_rls_state *s, smd_cplx i_ab, smd_
         s->k_half = 0;
         s->sgn = -s->sgn;
     }
+}
+
+int smd_rls_stale(const smd_rls_params *p, const smd_rls_state *s)
+{
+    return s->age > p->n_stale;
 }

@@ -130,6 +130,11 @@
  *                            osc_i + osc_rel |i_ref| for osc_samples samples
  *                            in a row (a deadbeat limit cycle from L_hat >
  *                            1.5 L, a diverging observer)
+ *     SMD_FAULT_RLS_STALE    the R_s / psi_r tracker's R_s was not taken for
+ *                            more than 2 rls_tau (smd_rls.h): no sample
+ *                            counted or the fit could not tell it; the
+ *                            estimate is its last (a warning: the drive
+ *                            runs on, its control law does not read it)
  * The step returns SMD_ERR_FAULT while any latched bit is set (SMD_ERR_NONFINITE
  * for an INTERNAL one).
  *
@@ -330,14 +335,16 @@ enum {
     SMD_FAULT_START = 1u << 10,
     SMD_FAULT_RESTART = 1u << 11,
     SMD_FAULT_ANGLE_JUMP = 1u << 12,
-    SMD_FAULT_HUNTING = 1u << 13
+    SMD_FAULT_HUNTING = 1u << 13,
+    SMD_FAULT_RLS_STALE = 1u << 14
 };
 #define SMD_FAULT_LATCHED (SMD_FAULT_OVERCURRENT | SMD_FAULT_UNDERVOLTAGE | \
                            SMD_FAULT_OVERVOLTAGE | SMD_FAULT_LOST_LOCK | \
                            SMD_FAULT_SPEED_TRACKING | SMD_FAULT_FORCED | SMD_FAULT_CHATTER | \
                            SMD_FAULT_START | SMD_FAULT_HUNTING)
 /* warnings: reported while their condition holds, the drive runs on */
-#define SMD_FAULT_WARNINGS (SMD_FAULT_OSCILLATION | SMD_FAULT_RESTART | SMD_FAULT_ANGLE_JUMP)
+#define SMD_FAULT_WARNINGS (SMD_FAULT_OSCILLATION | SMD_FAULT_RESTART | SMD_FAULT_ANGLE_JUMP | \
+                            SMD_FAULT_RLS_STALE)
 
 typedef struct smd_drive_params {
     int current, position, start, lcl;

@@ -24,6 +24,13 @@
  * telescopes (sum (i_k - i_{k-1})(i_k + i_{k-1}) = i_end^2 - i_start^2), so
  * an error of L_s and the current's steps do not bias R_s.
  *
+ * An estimate not taken for more than 2 tau is stale (smd_rls_stale; the
+ * drive's warning SMD_FAULT_RLS_STALE): no sample counted (the modulator at
+ * its limit, the rotor's angle not valid) or the fit could not tell R_s (a
+ * square wave lost in the noise). It keeps its last value, which a heating
+ * winding has left behind: without the warning such an estimate, 40 % off,
+ * read like a good one.
+ *
  * The least squares are those of exponential forgetting with factor
  * 1 - alpha (alpha = T_sp / tau): their normal equations are weighted
  * means, updated recursively (the information form of RLS), here with a
@@ -71,6 +78,7 @@ typedef struct smd_rls_params {
     smd_real w_min;     /* psi_r is fitted only at |w| >= w_min, rad/s */
     smd_real R0, psi0;  /* the estimates until the fit has data */
     int n_half;         /* samples per half period of the injection */
+    int n_stale;        /* R_hat not taken for more than this many samples (2 tau): stale */
 } smd_rls_params;
 
 typedef struct smd_rls_state {
@@ -86,6 +94,8 @@ typedef struct smd_rls_state {
     smd_real R_hat;     /* R_s estimate, ohm */
     smd_real R_se;      /* its standard error, ohm (the fit quality; -1: no fit yet) */
     smd_real psi_hat;   /* psi_r estimate, Wb */
+    int age;            /* samples since R_hat was last taken (or since reset), at most
+                         * n_stale + 1 */
 } smd_rls_state;
 
 /* tau: forgetting time constant, s, in [10 T_sp, 1e3]; n_half in
@@ -106,6 +116,8 @@ smd_real smd_rls_injection(const smd_rls_params *p, const smd_rls_state *s);
  * non-finite inputs or results leave the estimates as they were. */
 void smd_rls_step(const smd_rls_params *p, smd_rls_state *s, smd_cplx i_ab, smd_cplx u_next,
                   int u_ok, smd_real theta_k, smd_real w_k, int valid);
+/* 1 when R_hat was not taken for more than 2 tau (the header), else 0. */
+int smd_rls_stale(const smd_rls_params *p, const smd_rls_state *s);
 
 #ifdef __cplusplus
 }

@@ -255,7 +255,7 @@ LAWS: dict[str, int] = {'proposed': 0, 'tde17': 1, 'tde18': 2}
 FAULT_BITS: dict[str, int] = {
     'input': 1, 'internal': 2, 'overcurrent': 4, 'undervoltage': 8, 'overvoltage': 16,
     'lost_lock': 32, 'speed_tracking': 64, 'forced': 128, 'chatter': 256, 'oscillation': 512,
-    'start_failed': 1024, 'restart': 2048, 'angle_jump': 4096, 'hunting': 8192,
+    'start_failed': 1024, 'restart': 2048, 'angle_jump': 4096, 'hunting': 8192, 'rls_stale': 16384,
 }
 #: the latched ones: the drive stays in its safe state until cleared (SMD_FAULT_LATCHED)
 LATCHED_FAULTS: tuple[str, ...] = (
@@ -264,5 +264,5 @@ LATCHED_FAULTS: tuple[str, ...] = (
 )
 #: warnings: reported while their condition holds, the drive runs on (SMD_FAULT_WARNINGS)
 WARNING_FAULTS: tuple[str, ...] = (
-    'oscillation', 'restart', 'angle_jump',
+    'oscillation', 'restart', 'angle_jump', 'rls_stale',
 )
