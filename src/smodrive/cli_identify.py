@@ -131,9 +131,18 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         s = resolve_scenario(scenario)
+    said = set()
     for w in caught:
+        said.add(str(w.message))
         click.secho(f"warning: {w.message}", fg="yellow", err=True)
-    c = commission(s, i_test, slow=slow)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        c = commission(s, i_test, slow=slow)
+    for w in caught:
+        # (the scenario's own warnings again, as each step builds its run: said once)
+        if str(w.message) not in said:
+            said.add(str(w.message))
+            click.secho(f"warning: {w.message}", fg="yellow", err=True)
     r = c.rs
     err = 100.0 * (r.R_s / s.motor.R_s - 1.0)
     click.echo(f"{scenario}: commissioning, {c.t:.2f} s")

@@ -280,7 +280,7 @@ def commission(s: Scenario, i_test: float | None = None, mechanics: bool = True,
     lq = identify_ls(s, rs, "q", i_bias, eng) if ld.ok else None
     psi = mech = None
     if lq is not None and lq.ok:
-        psi = identify_psi(s, rs, 0.5 * (ld.L + lq.L), K_SPIN * max(rs.i_levels), eng, slow)
+        psi = identify_psi(s, rs, 0.5 * (ld.L + lq.L), spin_current(s, rs), eng, slow)
         if psi.ok and mechanics:
             mech = identify_mech(s, rs.R_s, 0.5 * (ld.L + lq.L), psi.psi,
                                  t_dead_comp=rs.t_dead(s.T_sp, s.inverter.u_dc),
@@ -298,6 +298,24 @@ T_COAST = 0.1
 #: and its rotor slipped in 2 of 10 draws with issue 23's dead time; with 10 x their inertia the
 #: 600 V, 20 mohm and micro motors' rotors slipped: they now measure psi_r within 0.8 %)
 K_SPIN = 2.0
+#: step 3's spin current across the measured R_s at most this share of what the modulator
+#: has, u_dc / sqrt 3 (assumed, as the drive's I/f start: smodrive.model.derive.IF_VOLTAGE):
+#: the rest is for the EMF and w L_s i at the spin's speeds
+SPIN_VOLTAGE = 0.5
+
+
+def spin_current(s: Scenario, rs: RsResult) -> float:
+    """Step 3's current, A: K_SPIN times step 1's largest level, at most
+    SPIN_VOLTAGE u_dc / sqrt 3 across the measured R_s. (An invented 12 V
+    gimbal motor, 6 ohm: twice its largest level needed 7.7 V of the 6.9 V
+    the modulator has; the current fell short, the governor held the ramp
+    at 1 % of its rate, and the spin ended "running" after 30 s.)"""
+    i = K_SPIN * max(rs.i_levels)
+    if rs.R_s > 0.0:
+        i = min(i, SPIN_VOLTAGE * s.inverter.u_dc / math.sqrt(3.0) / rs.R_s)
+    return i
+
+
 #: step 3's governor (assumed): the ramp waits while the rotor takes more than this share of
 #: the spin current's torque (smd_ident_psi_config.share_max)
 SHARE_MAX = 0.7
