@@ -88,12 +88,12 @@ def test_readme_example_prints_what_the_readme_says():
 
 
 def test_zero_crossing_example():
-    """README: the run ends at -600.4 r/min with no fault; without the
+    """README: the run ends at -599.6 r/min with no fault; without the
     return to I/f it ends in lost_lock, declared at 0.923 s, the sample the
     SMDO's angle jumps (issue 21: a jump latches; 0.957 s before, 34 ms
     later, by the leaky count)."""
     out = run_script("plot_zero_crossing.py")
-    assert "with I/f: final speed -600.4 r/min, no fault" in out
+    assert "with I/f: final speed -599.6 r/min, no fault" in out
     m = re.search(r"without: .* ends in lost_lock \(latched at ([0-9.]+) s\)", out)
     assert m and abs(float(m.group(1)) - 0.923) <= 0.001
 

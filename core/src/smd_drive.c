@@ -799,9 +799,15 @@ static void frame_now(const smd_drive_params *p, smd_drive_state *s, const smd_d
  * frame, sign dir_f) is placed so that its q component in the source's
  * frame is the current that was flowing, on the stable side (dir_f
  * sin(theta_f - theta) < 0): the torque does not step, and the rotor does
- * not swing about the forced angle. */
+ * not swing about the forced angle. From the SMDO's speed (lag != 0), the
+ * forced speed starts from the rotor's, not from the estimate: the
+ * estimate, low-passed at w_lpf, lags a rotor that follows the slewed
+ * reference at a_ref by a_ref / w_lpf, a quarter of w_if_enter as the
+ * derived a_ref allows it (an invented 30,000 r/min spindle: the frame
+ * started 33 % faster than its light rotor, which slipped, start_failed on
+ * every seed). */
 static void return_to_forced(const smd_drive_params *p, smd_drive_state *s, smd_real w_ref,
-                             const sample *x)
+                             const sample *x, int lag)
 {
     smd_real c, sn;
     switch_phase(s, SMD_PHASE_FORCED);
@@ -812,6 +818,11 @@ static void return_to_forced(const smd_drive_params *p, smd_drive_state *s, smd_
     sn = SMD_SQRT(SMD_R(1.0) - c * c);
     s->theta_f = smd_wrap_pi(x->theta_k - (smd_real)s->dir_f * SMD_ATAN2(sn, c));
     s->w_f = x->w_k;
+    if (lag && p->a_ref > SMD_R(0.0) && x->w_ref != w_ref) {
+        /* (the slew still moving: toward w_ref) */
+        const smd_real a = x->w_ref < w_ref ? p->a_ref : -p->a_ref;
+        s->w_f = x->w_k + a / p->emf.w_lpf;
+    }
 }
 
 /* The forced speed: the start from standstill ramps at a_start in the
@@ -871,7 +882,7 @@ static void forced_next(const smd_drive_params *p, smd_drive_state *s, const smd
          * placed so that the torque does not step (the start ramp only ran
          * up to |w_ref| in the start's direction: a reference of +100 then
          * -100 r/min below the handover ended at +133 r/min, no fault) */
-        return_to_forced(p, s, in->w_ref, x);
+        return_to_forced(p, s, in->w_ref, x, 0);
     }
     ramp_forced(p, s, in->w_ref, x->w_ref, x->T);
     s->theta_f = smd_wrap_pi(s->theta_f + s->w_f * x->T);
@@ -911,7 +922,7 @@ static void frame_next(const smd_drive_params *p, smd_drive_state *s, const smd_
     if (s->phase == SMD_PHASE_SOURCE && p->w_if_enter > SMD_R(0.0) && x->settled &&
         SMD_FABS(x->w_k) < p->w_if_enter &&
         (SMD_FABS(x->w_ref) < p->w_handover || x->w_ref * x->w_k < SMD_R(0.0))) {
-        return_to_forced(p, s, in->w_ref, x);
+        return_to_forced(p, s, in->w_ref, x, source_uses_smdo(p->position));
     }
     if (s->phase == SMD_PHASE_FORCED) {
         forced_next(p, s, in, x);
