@@ -73,7 +73,7 @@ def identified_toml(name: str, s, c) -> str:
         measured = measured.replace(load=dataclasses.replace(s.load, k_fan=_g(c.mech.K)))
     if r.ok:
         # the measured drop sets the dead-time compensation (issue 23)
-        t_dc = _g(r.t_dead(s.T_sp, s.inverter.u_dc))
+        t_dc = _g(r.t_dead())
         measured = measured.with_controller(t_dead_comp=min(t_dc, 0.25 * s.T_sp))
         record["t_dead_comp_s"] = t_dc
     # the uncertainty: each method's accuracy as measured (docs/commissioning.md: 10 noise
@@ -150,7 +150,7 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
                f"{len(r.i_levels)} levels from {min(r.i_levels):.3g} to {max(r.i_levels):.3g} A, "
                f"{r.t:.2f} s")
     click.echo(f"  u_0  {r.u_0:.4g} V (the inverter's drop: dead time and switches; "
-               f"compensated as {1e6 * r.t_dead(s.T_sp, s.inverter.u_dc):.3g} us of dead time, "
+               f"compensated as {1e6 * r.t_dead():.3g} us of dead time, "
                f"{1e6 * s.inverter.t_dead:.3g} us true)")
     click.echo(f"  fit  R^2 {r.r2:.6f}, residual {r.resid:.3g} V RMS: {r.outcome} "
                f"({OUTCOME_TEXT.get(r.outcome, '')})")
