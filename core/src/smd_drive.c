@@ -8,7 +8,8 @@
 /* the supervision's functions out of line (GCC, Clang): it runs every
  * sample but is not the control law's hot path, and inlined it made the
  * step's code too large for the host engine's loop (the logged simulation
- * ran 6 % slower); elsewhere a plain static function */
+ * ran 6 % slower); the return to I/f, a start-up transition, too;
+ * elsewhere a plain static function */
 #if defined(__GNUC__)
 #define SMD_COLD __attribute__((noinline))
 #else
@@ -551,6 +552,8 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
     p->R_hat = c->R_s_hat;
     p->L_hat = c->current == SMD_CC_PI ? c->L_dec : c->L_s_hat;
     p->a_ref = c->a_ref;
+    p->if_lag = source_uses_smdo(c->position) && c->a_ref > SMD_R(0.0) ? c->a_ref / c->w_lpf
+                                                                       : SMD_R(0.0);
     p->dwell = c->dwell;
     p->chatter_max = c->chatter_max;
     p->chatter_decay = c->chatter_max > 0 ? (smd_real)c->chatter_max / (smd_real)c->chatter_window
@@ -649,6 +652,7 @@ void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real the
     s->osc_ms = SMD_R(0.0);
     s->i_prev1 = zero;
     s->warn = 0u;
+    s->warn_rls = 0u;
     s->restarts = SMD_R(0.0);
     s->jumped = 0;
     s->sup_k = 0;
@@ -799,15 +803,15 @@ static void frame_now(const smd_drive_params *p, smd_drive_state *s, const smd_d
  * frame, sign dir_f) is placed so that its q component in the source's
  * frame is the current that was flowing, on the stable side (dir_f
  * sin(theta_f - theta) < 0): the torque does not step, and the rotor does
- * not swing about the forced angle. From the SMDO's speed (lag != 0), the
- * forced speed starts from the rotor's, not from the estimate: the
+ * not swing about the forced angle. The forced speed starts at the source's
+ * plus lag: from the SMDO's speed, the rotor's, not the estimate's: the
  * estimate, low-passed at w_lpf, lags a rotor that follows the slewed
  * reference at a_ref by a_ref / w_lpf, a quarter of w_if_enter as the
  * derived a_ref allows it (an invented 30,000 r/min spindle: the frame
  * started 33 % faster than its light rotor, which slipped, start_failed on
  * every seed). */
-static void return_to_forced(const smd_drive_params *p, smd_drive_state *s, smd_real w_ref,
-                             const sample *x, int lag)
+SMD_COLD static void return_to_forced(const smd_drive_params *p, smd_drive_state *s, smd_real w_ref,
+                             const sample *x, smd_real lag)
 {
     smd_real c, sn;
     switch_phase(s, SMD_PHASE_FORCED);
@@ -818,11 +822,7 @@ static void return_to_forced(const smd_drive_params *p, smd_drive_state *s, smd_
     sn = SMD_SQRT(SMD_R(1.0) - c * c);
     s->theta_f = smd_wrap_pi(x->theta_k - (smd_real)s->dir_f * SMD_ATAN2(sn, c));
     s->w_f = x->w_k;
-    if (lag && p->a_ref > SMD_R(0.0) && x->w_ref != w_ref) {
-        /* (the slew still moving: toward w_ref) */
-        const smd_real a = x->w_ref < w_ref ? p->a_ref : -p->a_ref;
-        s->w_f = x->w_k + a / p->emf.w_lpf;
-    }
+    s->w_f += lag;
 }
 
 /* The forced speed: the start from standstill ramps at a_start in the
@@ -882,7 +882,7 @@ static void forced_next(const smd_drive_params *p, smd_drive_state *s, const smd
          * placed so that the torque does not step (the start ramp only ran
          * up to |w_ref| in the start's direction: a reference of +100 then
          * -100 r/min below the handover ended at +133 r/min, no fault) */
-        return_to_forced(p, s, in->w_ref, x, 0);
+        return_to_forced(p, s, in->w_ref, x, SMD_R(0.0));
     }
     ramp_forced(p, s, in->w_ref, x->w_ref, x->T);
     s->theta_f = smd_wrap_pi(s->theta_f + s->w_f * x->T);
@@ -922,7 +922,14 @@ static void frame_next(const smd_drive_params *p, smd_drive_state *s, const smd_
     if (s->phase == SMD_PHASE_SOURCE && p->w_if_enter > SMD_R(0.0) && x->settled &&
         SMD_FABS(x->w_k) < p->w_if_enter &&
         (SMD_FABS(x->w_ref) < p->w_handover || x->w_ref * x->w_k < SMD_R(0.0))) {
-        return_to_forced(p, s, in->w_ref, x, source_uses_smdo(p->position));
+        /* (the SMDO's lag, while the slewed reference still moves toward
+         * w_ref: p->if_lag is 0 with another source; computed here, as a
+         * value: the sample's w_ref read inside return_to_forced cost the
+         * Cortex-M4F step 24 cycles every sample, the sample no longer kept
+         * in registers) */
+        return_to_forced(p, s, in->w_ref, x,
+                         x->w_ref == in->w_ref ? SMD_R(0.0)
+                                               : (x->w_ref < in->w_ref ? p->if_lag : -p->if_lag));
     }
     if (s->phase == SMD_PHASE_FORCED) {
         forced_next(p, s, in, x);
@@ -1172,6 +1179,7 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
             whole = whole && out->d_abc[k] > SMD_R(0.0) && out->d_abc[k] < SMD_R(1.0);
         }
         s->u_whole = whole;
+        s->warn_rls = smd_rls_stale(&p->rls, &s->rls) ? (uint32_t)SMD_FAULT_RLS_STALE : 0u;
     }
     end_sample(p, s, &x);
     return st;
@@ -1570,8 +1578,7 @@ static smd_status end_supervised(const smd_drive_params *p, smd_drive_state *s,
         try_restart(p, s)) {
         s->warn |= (uint32_t)SMD_FAULT_RESTART;
     }
-    const uint32_t warn = s->warn | (p->use_rls && smd_rls_stale(&p->rls, &s->rls)
-                                         ? (uint32_t)SMD_FAULT_RLS_STALE : 0u);
+    const uint32_t warn = s->warn | s->warn_rls;
     if (s->fault != 0u) {
         return apply_safe(p, s, out, warn);
     }

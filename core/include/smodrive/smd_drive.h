@@ -361,6 +361,8 @@ typedef struct smd_drive_params {
     smd_real w_src_max;   /* largest |w| the sensorless source can estimate */
     smd_real R_hat, L_hat; /* the steady state of a (warm) start: R_s_hat, L_dec or L_s_hat */
     smd_real a_ref, w_track, osc_i, osc_rel;
+    smd_real if_lag;        /* a_ref / w_lpf with the SMDO's speed (else 0): its estimate's lag
+                             * behind a rotor on the slewed reference (return_to_forced) */
     smd_real chatter_decay; /* chatter_max / chatter_window */
     smd_real hunt_decay;  /* hunt_max / hunt_window */
     smd_real osc_k;       /* 1 / osc_samples (0: off) */
@@ -453,6 +455,7 @@ typedef struct smd_drive_state {
     smd_real osc_ms;      /* filtered |difference of the current, turning frame|^2, A^2 */
     smd_cplx i_prev1;     /* measured current of k-1 */
     uint32_t warn;        /* warning bits of the last sample (SMD_FAULT_WARNINGS) */
+    uint32_t warn_rls;    /* SMD_FAULT_RLS_STALE while the tracker's R_s is stale (smd_rls.h) */
     smd_real restarts;    /* leaky count of automatic restarts */
     int jumped;           /* 1: the source's angle jumped this sample */
     int sup_k;            /* the supervision's piece due (supervise_every > 1) */
