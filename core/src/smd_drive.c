@@ -821,8 +821,7 @@ SMD_COLD static void return_to_forced(const smd_drive_params *p, smd_drive_state
     c = c > SMD_R(1.0) ? SMD_R(1.0) : (c < SMD_R(-1.0) ? SMD_R(-1.0) : c);
     sn = SMD_SQRT(SMD_R(1.0) - c * c);
     s->theta_f = smd_wrap_pi(x->theta_k - (smd_real)s->dir_f * SMD_ATAN2(sn, c));
-    s->w_f = x->w_k;
-    s->w_f += lag;
+    s->w_f = x->w_k + lag;
 }
 
 /* The forced speed: the start from standstill ramps at a_start in the

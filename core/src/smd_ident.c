@@ -631,6 +631,13 @@ void smd_ident_psi_reset(smd_ident_psi_state *s)
     s->samples = 0;
 }
 
+/* |R_s + j w L_s|, ohm: the stator's impedance at electrical speed w */
+static smd_real stator_z(const smd_ident_psi_params *p, smd_real w)
+{
+    const smd_real wl = w * p->L_s;
+    return SMD_SQRT(p->R_s * p->R_s + wl * wl);
+}
+
 static smd_status psi_stop(smd_ident_psi_state *s, int outcome, smd_real d_abc[3])
 {
     s->phase = SMD_IDENT_PSI_FAILED;
@@ -757,14 +764,14 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
                 s->w1m = wm;
                 psi_next_phase(s, SMD_IDENT_PSI_RAMP2);
             } else {
-                const smd_real wl = wm * p->L_s;
                 s->e2 = em;
                 s->w2m = wm;
                 /* the coast shorts the stator where the inverter's drop is more
                  * than a fifth of the EMF and the short's current, |e2| / |R_s
                  * + j w L_s|, within the spin's (the header) */
                 s->shorted = p->L1 == SMD_R(0.0) && p->u_drop > SMD_R(0.2) * em &&
-                             em <= p->i_spin * SMD_SQRT(p->R_s * p->R_s + wl * wl);
+                             em <= p->i_spin * stator_z(p, wm);
+                s->pwm_off = s->shorted ? 2 : 0;
                 psi_next_phase(s, SMD_IDENT_PSI_COAST);
             }
         }
@@ -787,8 +794,7 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
              * dead time */
             s->i_prev = i_ab;
             if (10 * s->n > p->n_coast) {
-                const smd_real wl = s->w_f * p->L_s;
-                s->acc_e += smd_cabs(i_ab) * SMD_SQRT(p->R_s * p->R_s + wl * wl);
+                s->acc_e += smd_cabs(i_ab) * stator_z(p, s->w_f);
                 s->acc_w += turn;
                 s->acc_n += SMD_R(1.0);
             }
@@ -848,11 +854,10 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
         }
     }
     s->u_prev = s->u_ab;
-    if (s->phase == SMD_IDENT_PSI_COAST && s->shorted) {
-        /* every lower switch on, forced (pwm_off = 2: a PWM unit's forced
-         * output level, no edge and so no dead time; the duties 0 for a gate
-         * driver without one) */
-        s->pwm_off = 2;
+    if (s->pwm_off == 2) {
+        /* every lower switch on, forced (pwm_off = 2, set as the shorted
+         * coast began: a PWM unit's forced output level, no edge and so no
+         * dead time; the duties 0 for a gate driver without one) */
         d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.0);
         s->u_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
         return SMD_OK;

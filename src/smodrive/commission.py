@@ -30,7 +30,7 @@ from scipy.optimize import minimize_scalar
 from .engine import LATCHED_FAULTS, _ffi, fault_names
 from .engine.run import Engine
 from .model import ParameterError, Profile
-from .model.derive import rated_current
+from .model.derive import IF_VOLTAGE, rated_current
 from .model.scenario import Scenario
 
 #: the test's outcomes (smd_ident_outcome)
@@ -307,21 +307,18 @@ T_COAST = 0.1
 #: and its rotor slipped in 2 of 10 draws with issue 23's dead time; with 10 x their inertia the
 #: 600 V, 20 mohm and micro motors' rotors slipped: they now measure psi_r within 0.8 %)
 K_SPIN = 2.0
-#: step 3's spin current across the measured R_s at most this share of what the modulator
-#: has, u_dc / sqrt 3 (assumed, as the drive's I/f start: smodrive.model.derive.IF_VOLTAGE):
-#: the rest is for the EMF and w L_s i at the spin's speeds
-SPIN_VOLTAGE = 0.5
-
 
 def spin_current(s: Scenario, rs: RsResult) -> float:
     """Step 3's current, A: K_SPIN times step 1's largest level, at most
-    SPIN_VOLTAGE u_dc / sqrt 3 across the measured R_s. (An invented 12 V
+    IF_VOLTAGE u_dc / sqrt 3 across the measured R_s, the share the drive's
+    own I/f start takes (the rest is for the EMF and w L_s i at the spin's
+    speeds). (An invented 12 V
     gimbal motor, 6 ohm: twice its largest level needed 7.7 V of the 6.9 V
     the modulator has; the current fell short, the governor held the ramp
     at 1 % of its rate, and the spin ended "running" after 30 s.)"""
     i = K_SPIN * max(rs.i_levels)
     if rs.R_s > 0.0:
-        i = min(i, SPIN_VOLTAGE * s.inverter.u_dc / math.sqrt(3.0) / rs.R_s)
+        i = min(i, IF_VOLTAGE * s.inverter.u_dc / math.sqrt(3.0) / rs.R_s)
     return i
 
 
@@ -437,6 +434,13 @@ class MechResult:
 MIN_RAMP_MECH = 0.2
 
 
+def mech_room(sd: Scenario) -> bool:
+    """Whether step 4's speeds (mech_speeds) leave its ramp MIN_RAMP_MECH of
+    rated speed at least."""
+    w1, w2 = mech_speeds(sd)
+    return w2 - w1 >= MIN_RAMP_MECH * sd.motor.w_M_N
+
+
 def mech_speeds(sd: Scenario) -> tuple[float, float]:
     """Step 4's two speeds, mechanical rad/s: 40 % and 80 % of rated speed,
     the first at least 1.25 times the drive's handover speed (below it the
@@ -516,9 +520,9 @@ def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float,
         return sd
 
     sd = design(0.4 * w_n, 0.8 * w_n)
-    w1, w2 = mech_speeds(sd)
-    if w2 - w1 < MIN_RAMP_MECH * w_n:
+    if not mech_room(sd):
         return sd  # (no room for the test: identify_mech names it)
+    w1, w2 = mech_speeds(sd)
     return sd if (w1, w2) == (0.4 * w_n, 0.8 * w_n) else design(w1, w2)
 
 
@@ -543,9 +547,9 @@ def identify_mech(s: Scenario, R_s: float, L_s: float, psi_r: float,
     drive's own supervision stays on: a run that ends in a fault is named; a
     drive that never leaves its forced start is "not_settled"."""
     sd = mech_scenario(s, R_s, L_s, psi_r, t_dead_comp, u_0, slow, J_spin)
-    w1, w2 = mech_speeds(sd)
-    if w2 - w1 < MIN_RAMP_MECH * s.motor.w_M_N:
+    if not mech_room(sd):
         return MechResult(math.nan, math.nan, "no_sensorless_range", 0.0)
+    w1, w2 = mech_speeds(sd)
     # (with a fan the coast's deceleration is mostly the fan's, where B and K lean on each
     # other: yao2022's K came out -41 % from a 0.4 s coast, -3 % from the ramp alone)
     fan = s.load.k_fan > 0.0
