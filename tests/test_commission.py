@@ -24,7 +24,7 @@ from issue23_draws import sensor_errors
 
 from smodrive._util import tomllib
 from smodrive.cli import main
-from smodrive.commission import commission, identify_rs, mech_scenario
+from smodrive.commission import commission, identify_mech, identify_rs, mech_room, mech_scenario
 from smodrive.model import ParameterError
 from smodrive.scenario_io import load_scenario
 from smodrive.scenarios import yao2022
@@ -500,12 +500,19 @@ def test_micro_motor_under_the_issues_dead_time():
     itself (+10 to +41 %, named poor_fit on all 10 draws); the coast now
     shorts the stator (no switching, no dead time) and psi_r is the short's
     current through the measured impedance. 10 draws of issue 23's
-    conditions: R_s within 2 %, L_d and L_q within 5 %, psi_r within 2 %
-    (measured 1.3, 2.4, 1.4 %), steps 1-3 ok in 10 s; the holds' value, the
-    plausible wrong result, is more than 2 % off on some draw. J and B: the
-    sensorless drive hands over where the EMF is twice the drop, here at or
-    above rated speed; step 4 is not run and says so (no_sensorless_range),
-    instead of the negative ramp it was once given."""
+    conditions: R_s within 2 %, L_d and L_q within 5 %, psi_r within 2 %, J
+    within 10 %, B within 20 % (measured 1.3, 2.4, 1.4, 3.6 and 16.7 %), the
+    whole sequence in 10 s (9.1 s at most); the holds' value, the plausible
+    wrong result, is more than 2 % off on some draw. Then the usual profile
+    (start, steps, rated load, reversal) sensorless, designed from the
+    measured and from the true values: both reach its end, the RMS angle
+    errors within 10 % of each other (measured within 4.5 %). Before the
+    handover counted the compensated drop (derive.DTC_RESIDUAL) the drive
+    handed over at 1.8-2 x rated speed: step 4 said no_sensorless_range and
+    the profile ran on I/f to its end."""
+    from smodrive.engine import simulate
+    from smodrive.scenarios import trials
+
     s0 = CASES["micro 1 ohm, 50 uH (invented)"]
     rng = np.random.default_rng(2026)
     holds = []
@@ -517,10 +524,38 @@ def test_micro_motor_under_the_issues_dead_time():
         assert abs(c.rs.R_s / m.R_s - 1.0) < 0.02
         assert abs(c.ld.L / m.L_s - 1.0) < 0.05 and abs(c.lq.L / m.L_s - 1.0) < 0.05
         assert abs(c.psi.psi / m.psi_r - 1.0) < 0.02
-        assert c.mech is not None and c.mech.outcome == "no_sensorless_range", c.mech
-        assert c.rs.t + c.ld.t + c.lq.t + c.psi.t <= 10.0
+        assert c.mech is not None and c.mech.ok, c.mech
+        assert abs(c.mech.J / m.J - 1.0) < 0.10 and abs(c.mech.B / m.B - 1.0) < 0.20
+        assert c.rs.t + c.ld.t + c.lq.t + c.psi.t + c.mech.t <= 10.0
         holds.append(abs(c.psi.psi2 / m.psi_r - 1.0))
+        p = trials.profile_scenario(s, seed)
+        rms = []
+        for x in (p, p.with_controller(R_s_hat=c.rs.R_s, L_s_hat=c.L_s, psi_r_hat=c.psi.psi)):
+            r = simulate(x)
+            assert trials.judge(r).verdict == "reached", (seed, trials.judge(r))
+            rms.append(float(np.sqrt(np.mean(r.theta_error[r["phase"] == 2] ** 2))))
+        assert abs(rms[1] / rms[0] - 1.0) < 0.10, (seed, rms)
     assert max(holds) > 0.02
+
+
+def test_no_room_for_step_4_below_rated_speed_is_named():
+    """The micro motor with 2 us of dead time on a 24 V bus: the drop's
+    fundamental, (4/pi) 0.08 x 24 V = 2.44 V, is the EMF at 1.9 x rated
+    speed; even a quarter of it (the compensated residual the handover
+    counts, derive.DTC_RESIDUAL) puts the handover at rated speed, and step
+    4's ramp has no room below it: it is not run and says so, before any
+    simulation, instead of the negative ramp it was once given (a
+    ParameterError on a_M_ref). On 12 V the same dead time leaves it room
+    (test_micro_motor_under_the_issues_dead_time)."""
+    s0 = CASES["micro 1 ohm, 50 uH (invented)"]
+    for u_dc, room in ((24.0, False), (12.0, True)):
+        s = _inverter(s0, u_dc=u_dc, t_dead=2e-6, dead_time_model="clamp")
+        m = s.motor
+        sd = mech_scenario(s, m.R_s, m.L_s, m.psi_r, 2e-6, 0.08 * u_dc)
+        assert mech_room(sd) is room, (u_dc, sd.controller.w_M_handover / m.w_M_N)
+    r = identify_mech(_inverter(s0, u_dc=24.0, t_dead=2e-6, dead_time_model="clamp"),
+                      1.0, 50e-6, 2e-3, 2e-6, 0.08 * 24.0)
+    assert r.outcome == "no_sensorless_range" and r.t == 0.0 and not r.ok
 
 
 def test_five_microhenry_drone_motor_steps_1_to_3_with_sensor_errors():

@@ -308,3 +308,53 @@ def test_a_motor_whose_if_swing_vanishes_derives_without_overflow():
     m = MotorPars(R_s=1.0, L_s=1e-3, psi_r=1e-300, n_p=1, J=1e4, P_N=1.0, w_M_N=9e4)
     c = Scenario(motor=m, controller=ControllerCfg(start="if")).controller
     assert math.isfinite(c.i_start) and c.i_start > 0.0
+
+
+def _micro_at(t_dead: float, **controller) -> Scenario:
+    """Issue 23's micro motor (1 ohm, 50 uH, 2 mWb, 12 W at 3000 r/min) on
+    its 12 V, 40 kHz inverter with `t_dead` of dead time, zero-current
+    clamping, sensorless robust DBPC with an I/f start."""
+    micro = MotorPars(R_s=1.0, L_s=50e-6, psi_r=2e-3, n_p=4, J=4e-5, B=2e-5, P_N=12.0,
+                      w_M_N=3000 * RPM)
+    return Scenario(motor=micro, inverter=InverterCfg(u_dc=12.0, t_dead=t_dead,
+                                                      dead_time_model="clamp"),
+                    T_sp=25e-6, controller=ControllerCfg(current="robust_dbpc",
+                                                         position="smdo_emf", start="if",
+                                                         **controller))
+
+
+def test_a_drop_as_large_as_the_emf_hands_over_at_half_rated_speed():
+    """The micro motor at issue 23's 2 us (8 % of its 40 kHz period): the
+    uncompensated drop's fundamental, (4/pi) 0.08 x 12 V = 1.22 V, is the EMF
+    at 0.98 of rated speed, and twice it, twice again for the handover, put
+    the handover at 1.96 w_M_N: the usual profile ran on I/f from start to
+    end, 78 deg RMS off, at status 0 (judged silent, 3 of 3 seeds). With the
+    dead time compensated the source needs a quarter of it
+    (derive.DTC_RESIDUAL: the profile held its lock with the return at 0.2 of
+    the drop): the return is at a quarter of rated speed, the handover at
+    half, and the profile reaches its end. Without the compensation
+    (t_dead_comp = 0) the full drop counts, and a handover at or above rated
+    speed is named."""
+    from smodrive.engine import simulate
+    from smodrive.scenarios import trials
+
+    s = _micro_at(2e-6)
+    c, m = s.controller, s.motor
+    u_dt = 4.0 / math.pi * 0.08 * 12.0
+    assert c.w_M_handover == pytest.approx(0.5 * m.w_M_N, rel=1e-9)
+    assert c.w_M_if_enter == pytest.approx(0.25 * m.w_M_N, rel=1e-9)
+    # the quarter of the drop (plus the noise) needs less than that: the cap is what binds
+    assert 2.0 * 0.25 * u_dt / (m.n_p * m.psi_r) < c.w_M_if_enter
+    assert "residual" in dict((n, src) for n, _, src in c.derived)["w_M_if_enter"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        s.check_controller()
+    r = simulate(trials.profile_scenario(s, 1))
+    assert trials.judge(r).verdict == "reached", trials.judge(r)
+    # uncompensated: the full drop, the handover above rated speed, named
+    raw = _micro_at(2e-6, t_dead_comp=0.0)
+    assert raw.controller.w_M_handover > 1.9 * m.w_M_N
+    with pytest.warns(UserWarning, match=r"w_M_handover = .* at or above rated speed"):
+        raw.check_controller()
+    # a drop well below the EMF keeps the rule as it was (0.1 us: 0.06 V)
+    assert _micro_at(0.1e-6).controller.w_M_handover < 0.15 * m.w_M_N

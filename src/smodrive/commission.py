@@ -47,10 +47,10 @@ OUTCOME_TEXT = {
     "poor_fit": "the levels are not on a line (R^2 < 0.999): the values are not to be trusted",
     "bad_input": "a measured current or the DC-link voltage was not finite",
     "no_sensorless_range": "the sensorless drive hands over from its forced start where the "
-                           "back EMF is twice the inverter's drop ((3/pi) u_0), and for this "
-                           "motor and inverter that is at or above rated speed: no room for the J "
-                           "and B test's ramp; a shorter dead time or a motor with more EMF "
-                           "at rated speed",
+                           "back EMF clears the inverter's drop (docs/design_from_motor.md, "
+                           "w_M_if_enter), and for this motor and inverter that is too close to "
+                           "rated speed: no room for the J and B test's ramp; a shorter dead "
+                           "time or a motor with more EMF at rated speed",
     "slipped": "the rotor did not follow the spin (coasting, it turned at under half the "
                "frame's speed): a load heavier than the ramp allows, or a rotor that does not "
                "turn; a heavy load needs a slower sequence (commission(slow=...), identify "
@@ -429,8 +429,9 @@ class MechResult:
 
 
 #: step 4's ramp spans at least this share of rated speed (assumed), else the test is not
-#: run ("no_sensorless_range": the drive's handover, where the EMF is twice the inverter's
-#: drop, is too close to rated speed)
+#: run ("no_sensorless_range": the drive's handover is too close to rated speed; since the
+#: handover counts the compensated drop where the full one would put it above half rated
+#: speed, derive.DTC_RESIDUAL, no motor of the tests reaches this)
 MIN_RAMP_MECH = 0.2
 
 

@@ -81,6 +81,14 @@ OSC_NOISE = 4.0
 #: the sensorless sources' back EMF must exceed the voltage error of their
 #: input (dead time, ADC noise) by this factor for the return to I/f ...
 EMF_MARGIN_ENTER = 2.0
+#: the share of the dead time's voltage error counted where the full error would put the
+#: handover above HANDOVER_MAX w_M_N and the drive compensates it: inside the compensation's
+#: linear zone the error and its compensation lie along the current, which at light load
+#: lies along q, the EMF's direction (they change the EMF's length, not its angle).
+#: Measured (issue 23's micro motor at 2 us on 12 V, 40 kHz: a 1.22 V drop): the usual
+#: profile holds its lock with the return at 0.2 of the drop (3 of 3 seeds) and loses it
+#: at 0.1 (1 of 3); a quarter, with the margin EMF_MARGIN_ENTER on top, is 2.5 x the first
+DTC_RESIDUAL = 0.25
 #: ... and by this one for the handover to the source (the hysteresis)
 HANDOVER_RATIO = 2.0
 #: the handover is at least this many times the rotor's speed swing on I/f (if_swing)
@@ -142,17 +150,20 @@ def if_swing(m: MotorPars, i_start: float) -> float:
 
 
 def source_voltage_error(m: MotorPars, c: ControllerCfg, *, T_sp: float,
-                         plant: dict[str, float]) -> tuple[float, float, float]:
+                         plant: dict[str, float], compensated: bool = False
+                         ) -> tuple[float, float, float]:
     """(total, dead time, noise): the voltage error, V, of the back EMF a
     sensorless source estimates near zero current. Dead time: the
     fundamental of the uncompensated per-leg error t_dead / T_sp u_dc, a
     square wave, (4 / pi) t_dead / T_sp u_dc (the compensation removes it
     only outside its linear zone, which a lightly loaded machine at low
-    speed sits in). ADC noise: the SMDO's disturbance estimate reads the
+    speed sits in); `compensated`: DTC_RESIDUAL of it. ADC noise: the SMDO's disturbance estimate reads the
     current noise sigma through L_s / T_sp and filters it to its bandwidth
     w_c: sigma L_s / T_sp sqrt(w_c T_sp / 2) (one standard deviation),
     counted three times."""
     u_dt = 4.0 / math.pi * plant["t_dead"] / T_sp * plant["u_dc"]
+    if compensated:
+        u_dt *= DTC_RESIDUAL
     u_n = 3.0 * plant["noise"] * m.L_s / T_sp * math.sqrt(min(c.w_c * T_sp, 2.0) / 2.0)
     return u_dt + u_n, u_dt, u_n
 #: an override whose ratio to the motor's value lies outside this band warns
@@ -349,12 +360,26 @@ def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any =
             return REFERENCE_UNUSED[name], "reference: motor.psi_r = 0 (no back EMF)"
         u_err, u_dt, u_n = source_voltage_error(m, c, T_sp=T_sp, plant=plant)
         w_emf = EMF_MARGIN_ENTER * u_err / (m.n_p * m.psi_r)
+        why = (f"{EMF_MARGIN_ENTER:g} x the voltage error of the source's EMF "
+               f"({u_dt:.3g} V dead time + {u_n:.3g} V ADC noise) over n_p psi_r")
+        t_dc = get("t_dead_comp")
+        w_cap = HANDOVER_MAX * m.w_M_N / HANDOVER_RATIO
+        if w_emf > w_cap and (t_dc is None or t_dc > 0.0):
+            # a drop as large as the EMF over most of the speed range (issue 23's micro
+            # motor at 2 us, 8 % of its 40 kHz period: the rule above hands over at 1.96
+            # w_M_N, and the drive never leaves its forced start): with the dead time
+            # compensated, the source needs a quarter of it (DTC_RESIDUAL); the return
+            # then where the handover is half rated speed, or the residual's speed above it
+            u_res = source_voltage_error(m, c, T_sp=T_sp, plant=plant, compensated=True)[0]
+            w_emf = max(w_cap, EMF_MARGIN_ENTER * u_res / (m.n_p * m.psi_r))
+            why = (f"{why}, limited to where the handover is {HANDOVER_MAX:g} w_M_N, above "
+                   f"{EMF_MARGIN_ENTER:g} x the compensated dead time's residual "
+                   f"({DTC_RESIDUAL:g} of it) + the noise over n_p psi_r")
         w_floor = IF_ENTER_MIN * m.w_M_N
         enter = max(w_emf, w_floor)
-        why = (f"{EMF_MARGIN_ENTER:g} x the voltage error of the source's EMF "
-               f"({u_dt:.3g} V dead time + {u_n:.3g} V ADC noise) over n_p psi_r"
-               if w_emf >= w_floor else f"{IF_ENTER_MIN:g} w_M_N (above the "
-               f"{EMF_MARGIN_ENTER:g} x {u_err:.3g} V of the source's voltage error)")
+        if w_emf < w_floor:
+            why = (f"{IF_ENTER_MIN:g} w_M_N (above the {EMF_MARGIN_ENTER:g} x {u_err:.3g} V "
+                   "of the source's voltage error)")
         if name == "w_M_if_enter":
             return enter, why
         hand = max(HANDOVER_RATIO * (get("w_M_if_enter") or enter),
@@ -539,6 +564,14 @@ def override_warnings(c: ControllerCfg, m: MotorPars, *, T_sp: float, lcl: Any =
                    f"the motor, {ref:g} {unit} ({basis}), outside [{lo:g}, {hi:g}]: the "
                    f"controller is tuned for another machine; remove controller.{name} to "
                    "derive it".replace("  ", " "))
+    hand = c.w_M_handover
+    if uses.get("w_M_handover") is None and hand is not None and hand >= m.w_M_N > 0.0:
+        # (issue 23's micro motor at 2 us, before the residual rule: the drive ran its
+        # whole profile on I/f, 78 deg off, at status 0)
+        out.append(f"controller.w_M_handover = {hand:.4g} rad/s is at or above rated speed "
+                   f"(w_M_N = {m.w_M_N:.4g} rad/s): below it the drive runs on its forced start "
+                   "(I/f), the rotor's angle unknown, and hands over to the sensorless source "
+                   "only above it; check inverter.t_dead, inverter.u_dc and motor.psi_r")
     rated = rated_voltage(m)
     u_max = (plant or DEFAULT_PLANT)["u_dc"] / math.sqrt(3.0)
     if rated > u_max:
