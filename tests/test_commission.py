@@ -256,8 +256,7 @@ def test_the_drive_designed_from_the_identified_motor(motor):
     rms = []
     for r in runs:
         assert trials.judge(r).verdict == "reached"
-        m = r["phase"] == 2
-        rms.append(float(np.sqrt(np.mean(r.theta_error[m] ** 2))))
+        rms.append(trials.sensorless_angle_rms(r))
     assert abs(rms[1] / rms[0] - 1.0) < 0.10, rms
 
 
@@ -445,12 +444,18 @@ def test_slow_out_of_range_is_named():
         commission(CASES["yang2018 Table I"], slow=0.5)
 
 
-def _issue23_draws(s0, per_period: bool = False, mechanics: bool = True) -> list:
+def _issue23_draws(s0, per_period: bool = False, mechanics: bool = True,
+                   profile: bool = False) -> list:
     """Commission 10 draws of issue 23's conditions on `s0` (with
     `per_period`, the dead time as the same share of `s0`'s period as of
     100 us) and hold each to the issue's bounds: R_s 2 %, L_d and L_q 5 %,
-    psi_r 2 %, and with `mechanics` J 10 % and B 20 %, every step ok; the
-    commissionings."""
+    psi_r 2 %, and with `mechanics` J 10 % and B 20 %, every step ok; with
+    `profile`, the usual profile on the same plant, sensorless, designed from
+    the measured and from the true values, both reaching its end with RMS
+    angle errors within 10 % of each other; the commissionings."""
+    from smodrive.engine import simulate
+    from smodrive.scenarios import trials
+
     rng = np.random.default_rng(2026)
     out = []
     for seed in range(1, 11):
@@ -465,6 +470,15 @@ def _issue23_draws(s0, per_period: bool = False, mechanics: bool = True) -> list
         assert abs(c.psi.psi / m.psi_r - 1.0) < 0.02
         if mechanics:
             assert abs(c.mech.J / m.J - 1.0) < 0.10 and abs(c.mech.B / m.B - 1.0) < 0.20
+        if profile:
+            p = trials.profile_scenario(s, seed)
+            rms = []
+            for x in (p, p.with_controller(R_s_hat=c.rs.R_s, L_s_hat=c.L_s,
+                                           psi_r_hat=c.psi.psi)):
+                r = simulate(x)
+                assert trials.judge(r).verdict == "reached", (seed, trials.judge(r))
+                rms.append(trials.sensorless_angle_rms(r))
+            assert abs(rms[1] / rms[0] - 1.0) < 0.10, (seed, rms)
         out.append(c)
     return out
 
@@ -476,8 +490,13 @@ def test_accuracy_with_sensor_errors_and_dead_time(motor):
     with zero-current clamping, the 12-bit ADC's noise (its seed): R_s within
     2 %, L_d and L_q within 5 %, psi_r within 2 %, J within 10 %, B within
     20 %, every step ok. (A gain error on phase a is R_s's error one for one:
-    +-0.5 % here; an offset moves the intercept, not the slope.)"""
-    _issue23_draws(load_scenario(MOTORS / f"{motor}.toml"))
+    +-0.5 % here; an offset moves the intercept, not the slope.) Then the
+    usual profile on each draw's plant, sensorless, designed from the
+    measured and from the true values: both reach its end, RMS angle errors
+    within 10 % (measured: Table I within 4.3 %, the servo 6.7 %, the 600 V
+    motor 1.4 %; counting the handover's logged sample, which carries the
+    forced start's angle, one draw read +87 %: trials.sensorless_angle_rms)."""
+    _issue23_draws(load_scenario(MOTORS / f"{motor}.toml"), profile=True)
 
 
 def test_micro_motor_with_sensor_errors_and_dead_time():
@@ -533,7 +552,7 @@ def test_micro_motor_under_the_issues_dead_time():
         for x in (p, p.with_controller(R_s_hat=c.rs.R_s, L_s_hat=c.L_s, psi_r_hat=c.psi.psi)):
             r = simulate(x)
             assert trials.judge(r).verdict == "reached", (seed, trials.judge(r))
-            rms.append(float(np.sqrt(np.mean(r.theta_error[r["phase"] == 2] ** 2))))
+            rms.append(trials.sensorless_angle_rms(r))
         assert abs(rms[1] / rms[0] - 1.0) < 0.10, (seed, rms)
     assert max(holds) > 0.02
 

@@ -327,3 +327,24 @@ def test_the_return_to_if_starts_at_the_rotors_speed():
     assert 0.2 * w_M < lag  # (the estimate's lag is a fifth of the speed and more here)
     assert abs(w_f / w_M - 1.0) < 0.05, (w_f, w_M, lag)
     assert trials.judge(r).verdict == "reached"
+
+
+def test_the_sensorless_angle_error_leaves_out_the_handovers_forced_angle():
+    """The log's phase is the drive's at the end of a step, its angle the one
+    the step used: the step that hands over logs phase 2 with the forced
+    start's angle. Table I's I/f start, every sample logged: that sample is
+    16 deg off, the next within 1 deg; trials.sensorless_angle_rms leaves it
+    out (a profile logged every 12th sample read +87 % when the stride fell
+    on it) and is the RMS of the others, which the plain phase-2 mask is not."""
+    from smodrive.scenarios import drive
+
+    r = simulate(drive.if_start().replace(log_stride=1))
+    ph = r["phase"]
+    i = int(np.nonzero(np.diff(ph))[0][0]) + 1
+    assert ph[i - 1] == 0 and ph[i] == 2 and ph[i + 1] == 2
+    e = np.degrees(np.abs(r.theta_error))
+    assert e[i] > 10.0 and e[i + 1] < 1.0
+    after = np.arange(len(ph)) > i
+    want = float(np.sqrt(np.mean(r.theta_error[(ph == 2) & after] ** 2)))
+    assert trials.sensorless_angle_rms(r) == pytest.approx(want, rel=1e-12)
+    assert float(np.sqrt(np.mean(r.theta_error[ph == 2] ** 2))) > 1.05 * want
