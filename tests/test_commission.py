@@ -520,12 +520,14 @@ def test_micro_motor_under_the_issues_dead_time():
     shorts the stator (no switching, no dead time) and psi_r is the short's
     current through the measured impedance. 10 draws of issue 23's
     conditions: R_s within 2 %, L_d and L_q within 5 %, psi_r within 2 %, J
-    within 10 %, B within 20 % (measured 1.3, 2.4, 1.4, 3.6 and 16.7 %), the
-    whole sequence in 10 s (9.1 s at most); the holds' value, the plausible
+    within 10 %, B within 20 % (measured 0.72, 2.4, 0.68, 5.5 and 10.6 %;
+    before R_s's correction for where the current is sampled, 1.3, 2.4, 1.4,
+    3.6 and 16.7 %), the whole sequence in 10 s (8.8 s at most); the holds' value, the plausible
     wrong result, is more than 2 % off on some draw. Then the usual profile
     (start, steps, rated load, reversal) sensorless, designed from the
     measured and from the true values: both reach its end, the RMS angle
-    errors within 10 % of each other (measured within 4.5 %). Before the
+    errors within 10 % of each other (measured within 8.7 %: the micro
+    motor's angle error moves 6 % for 1 % of L_s_hat, docs/commissioning.md). Before the
     handover counted the compensated drop (derive.DTC_RESIDUAL) the drive
     handed over at 1.8-2 x rated speed: step 4 said no_sensorless_range and
     the profile ran on I/f to its end."""
@@ -555,6 +557,37 @@ def test_micro_motor_under_the_issues_dead_time():
             rms.append(trials.sensorless_angle_rms(r))
         assert abs(rms[1] / rms[0] - 1.0) < 0.10, (seed, rms)
     assert max(holds) > 0.02
+
+
+def test_r_s_corrected_for_where_the_current_is_sampled():
+    """The dead time moves each pulse's centre by t_d / 2 from the carrier's,
+    where the current is sampled: the staircase's slope is R_s (1 - R_s t_d /
+    (2 L_s)). The micro motor (R_s / L_s = 20,000 1/s) at 1 and 2 us with
+    clamping, 3 ADC seeds each: the slope is that far low (-1 and -2 %,
+    within 0.4 % of R_s: measured -0.66 and -1.72 %), and the corrected R_s
+    (t_d from the measured drop, L_s from step 2) is within 0.5 % (the
+    plausible wrong result, the slope, is not at 2 us); psi_r, which step 3
+    takes through R_s, within 1 %. On Table I the factor is below 2e-4;
+    behind yao2022's LCL filter nothing is corrected."""
+    s0 = CASES["micro 1 ohm, 50 uH (invented)"]
+    for t_d in (1e-6, 2e-6):
+        for seed in (1, 2, 3):
+            s = _inverter(s0, t_dead=t_d, dead_time_model="clamp")
+            s = s.replace(adc=dataclasses.replace(s.adc, seed=seed))
+            c = commission(s, mechanics=False)
+            m = s.motor
+            assert c.ok and c.psi.ok, c
+            k = m.R_s * t_d / (2.0 * m.L_s)
+            assert abs(c.rs.R_fit / m.R_s - (1.0 - k)) < 0.004, (t_d, c.rs)
+            assert abs(c.rs.R_s / m.R_s - 1.0) < 0.005, (t_d, c.rs)
+            if t_d == 2e-6:
+                assert abs(c.rs.R_fit / m.R_s - 1.0) > 0.01
+            assert abs(c.psi.psi / m.psi_r - 1.0) < 0.01, (t_d, c.psi)
+    c = commission(CASES["yang2018 Table I"], mechanics=False)
+    assert 0.0 < c.rs.R_s / c.rs.R_fit - 1.0 < 2e-4
+    y = catalogue()["yao2022.steady.100k"]()
+    c = commission(y, mechanics=False)
+    assert math.isnan(c.rs.R_fit)
 
 
 def test_no_room_for_step_4_below_rated_speed_is_named():
