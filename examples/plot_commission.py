@@ -35,7 +35,7 @@ from smodrive.scenario_io import load_scenario
 
 s = load_scenario("scenarios/motors/servo_48v_200w.toml")
 c = commission(s)
-print(c.rs.R_s, c.L_s, c.psi.psi)  # 0.2502 ohm, 0.00049 H, 0.01756 Wb
+print(c.rs.R_s, c.L_s, c.psi.psi)  # 0.2502 ohm, 0.00049 H, 0.01753 Wb
 drive = s.with_controller(R_s_hat=c.rs.R_s, L_s_hat=c.L_s, psi_r_hat=c.psi.psi)
 os.chdir(start)
 

@@ -51,6 +51,8 @@ def identified_toml(name: str, s, c) -> str:
     if c.ok:
         motor["L_s"] = _g(c.L_s)
         record.update({"L_d": _g(c.ld.L), "L_q": _g(c.lq.L), "L_test_s": _g(c.ld.t + c.lq.t)})
+        for x in (c.ld, c.lq):
+            record[f"L_{x.axis}_levels"] = [[_g(v.i_bias), _g(v.L)] for v in x.levels]
     if c.psi is not None:
         record.update({"psi_r": _g(c.psi.psi), "psi_r_quarter_speed": _g(c.psi.psi1),
                        "psi_r_coasting": _g(c.psi.psi_coast), "psi_outcome": c.psi.outcome,
@@ -160,6 +162,9 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
                        f"({100.0 * (x.L / s.motor.L_s - 1.0):+.2f} %); +-{x.du:.3g} V, swing "
                        f"{x.swing:.3g} A, the rotor moved {x.moved * 180 / 3.141592653589793:.2g} "
                        f"deg, {x.t:.2f} s: {x.outcome}")
+            if len(x.levels) > 1:
+                click.echo("       at " + ", ".join(f"{v.i_bias:.3g} A {v.L:.5g} H"
+                                                    for v in x.levels))
     if c.psi is not None:
         p = c.psi
         how = (f"the stator shorted while coasting (the inverter's drop is over a fifth of "

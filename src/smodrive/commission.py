@@ -147,8 +147,8 @@ def identify_rs(s: Scenario, i_test: float | None = None, engine: Engine | None 
                     T_sp=s.T_sp, u_dc=s.inverter.u_dc)
 
 
-#: step 2's defaults (assumed): a square wave of 8 samples each way, 400 periods averaged,
-#: the bias at half the R_s test's current
+#: step 2's defaults (assumed): a square wave of 8 samples each way, 400 periods averaged at
+#: one bias (identify_ls; commission runs three levels, LS_LEVELS)
 N_HALF = 8
 PERIODS = 400
 
@@ -165,20 +165,56 @@ class LsResult:
     moved: float        # rad, how far the rotor turned during the test (electrical, true)
     L_series: float = math.nan  # H, the core's first-order fit (behind a filter: the filter's
     #                             inductances and the motor's in series, the capacitor aside)
+    i_bias: float = math.nan    # A, the DC bias it was measured on
+    levels: tuple = ()          # LsResult of each bias level (identify_ls_levels), or ()
 
     @property
     def ok(self) -> bool:
         return self.outcome == "ok"
 
 
-def identify_ls(s: Scenario, rs: RsResult, axis: str, i_bias: float, engine: Engine
-                ) -> LsResult:
+#: step 2's bias levels (assumed), fractions of step 1's largest level (about half the rated
+#: current), LS_PERIODS periods each: the inductance at three currents, as a saturating motor's
+#: data sheet gives it. Downwards, each within the test's trip (3 x its bias) of the current
+#: before it; no lower than half (at a quarter, phases b and c carry an eighth, near zero
+#: against the ripple: Table I's L_d read +9 %). 3 x 80 periods: within 0.1 s of one level's 400
+LS_LEVELS = (1.0, 0.75, 0.5)
+LS_PERIODS = 80
+
+
+def identify_ls_levels(s: Scenario, rs: RsResult, axis: str, i_max: float, engine: Engine
+                       ) -> LsResult:
+    """Step 2 on `axis` at each bias of LS_LEVELS x `i_max`. L weighs each
+    level's by its swing squared (L's noise goes as the ADC's over the swing,
+    a tenth of the bias); `levels` keeps each (a saturating stator's L falls
+    with the current; the plant's does not). The first level not ok is the
+    outcome."""
+    runs = []
+    for f in LS_LEVELS:
+        r = identify_ls(s, rs, axis, f * i_max, engine, periods=LS_PERIODS)
+        runs.append(r)
+        if not r.ok:
+            break
+    bad = [r for r in runs if not r.ok]
+    t = sum(r.t for r in runs)
+    moved = max(r.moved for r in runs)
+    if bad:
+        return dataclasses.replace(bad[0], t=t, moved=moved, levels=tuple(runs))
+    w = [r.swing ** 2 for r in runs]
+    L = sum(wk * r.L for wk, r in zip(w, runs)) / sum(w)
+    Ls = sum(wk * r.L_series for wk, r in zip(w, runs)) / sum(w)
+    return dataclasses.replace(runs[0], L=L, L_series=Ls, t=t, moved=moved, levels=tuple(runs))
+
+
+def identify_ls(s: Scenario, rs: RsResult, axis: str, i_bias: float, engine: Engine,
+                periods: int = PERIODS) -> LsResult:
     """Step 2 on `axis` ("d" or "q") with the bias i_bias along alpha, on the
-    R_s and drop that step 1 measured, where `engine` is."""
+    R_s and drop that step 1 measured, where `engine` is, averaging
+    `periods` periods."""
     n_half = N_HALF if s.lcl is None else N_HALF_LCL
     cfg = _ffi.IdentLsConfig(T_sp=s.T_sp, R_s=max(rs.R_s, 0.0), u_0=max(rs.u_0, 0.0),
                              i_bias=i_bias, u_max=s.inverter.u_dc / math.sqrt(3.0), t_win=T_WIN,
-                             axis={"d": 0, "q": 1}[axis], n_half=n_half, periods=PERIODS)
+                             axis={"d": 0, "q": 1}[axis], n_half=n_half, periods=periods)
     p, st = _ffi.IdentLsParams(), _ffi.IdentLsState()
     rc = _ffi.lib.smd_ident_ls_init(ct.byref(p), ct.byref(cfg))
     if rc != 0:
@@ -198,7 +234,7 @@ def identify_ls(s: Scenario, rs: RsResult, axis: str, i_bias: float, engine: Eng
         L = lcl_inductance(s, rs.R_s, w - w.mean(), n_half, float(st.du))
     return LsResult(axis=axis, L=L, du=float(st.du), swing=float(st.swing),
                     outcome=OUTCOMES.get(int(st.outcome), "?"), t=n * s.T_sp, moved=moved,
-                    L_series=float(st.L))
+                    L_series=float(st.L), i_bias=i_bias)
 
 
 #: step 2's half period behind an LCL filter, samples: the wave's resonance (its edges ring the
@@ -274,7 +310,7 @@ class Commissioning:
 
 def commission(s: Scenario, i_test: float | None = None, mechanics: bool = True,
                slow: float = 1.0) -> Commissioning:
-    """R_s and the drop (step 1), L_d and L_q (step 2) at half the test
+    """R_s and the drop (step 1), L_d and L_q (step 2) at three levels of the test
     current, psi_r (step 3) on one plant from standstill; then, with
     `mechanics`, J and B (step 4) by the drive designed from them. `slow`
     (>= 1) runs the spin (step 3) and the drive's start and ramp (step 4)
@@ -286,9 +322,9 @@ def commission(s: Scenario, i_test: float | None = None, mechanics: bool = True,
     rs = identify_rs(s, i_test, eng)
     if not rs.ok:
         return Commissioning(rs, None, None)
-    i_bias = 0.5 * max(rs.i_levels)
-    ld = identify_ls(s, rs, "d", i_bias, eng)
-    lq = identify_ls(s, rs, "q", i_bias, eng) if ld.ok else None
+    i_max = max(rs.i_levels)
+    ld = identify_ls_levels(s, rs, "d", i_max, eng)
+    lq = identify_ls_levels(s, rs, "q", i_max, eng) if ld.ok else None
     psi = mech = None
     if lq is not None and lq.ok:
         rs = sampled_current_correction(s, rs, 0.5 * (ld.L + lq.L))
