@@ -1107,10 +1107,10 @@ static void mech_solve(const smd_ident_mech_params *p, smd_ident_mech_state *s)
         s->B >= SMD_R(0.0) && s->K >= SMD_R(0.0) && s->rows > 0 &&
         /* with a coast, its B (no torque in it) and the ramp's (the drive's
          * torque k_t i_q) agree: their friction torques at w2 differ by at
-         * most a tenth of the torque the ramp's acceleration takes (the
+         * most a twentieth of the torque the ramp's acceleration takes (the
          * header) */
         !(s->crows > 0 && SMD_FABS(s->B - s->B_ramp) * p->w2 * p->inv_np >
-                              SMD_R(0.1) * s->J * p->dw * p->inv_np * (smd_real)p->n_bin /
+                              SMD_R(0.05) * s->J * p->dw * p->inv_np * (smd_real)p->n_bin /
                                   ((smd_real)p->n_ramp * p->t_bin))) {
         s->outcome = SMD_IDENT_OK;
     }

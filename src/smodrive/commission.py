@@ -342,18 +342,12 @@ K_SAMPLE_MAX = 0.1
 
 
 def sampled_current_correction(s: Scenario, rs: RsResult, L_s: float) -> RsResult:
-    """R_s corrected for where the current is sampled. The dead time takes
-    t_d from one edge of each pulse, which moves the pulse's centre by
-    t_d / 2 from the carrier's, where the current is sampled: the sample is
-    off the period's mean by the ripple's slope over t_d / 2, whose part
-    that grows with the level is u t_d / (2 L_s), u = R_s i across the
-    stator. The staircase's slope is then R_s (1 - R_s t_d / (2 L_s)), with
-    t_d from the measured drop (RsResult.t_dead) and L_s from step 2.
-    Measured on issue 23's micro motor (R_s / L_s = 20,000 1/s, clamping):
-    the slope's error -0.29, -0.66, -1.28, -1.72 % at 0.5, 1, 1.5, 2 us,
-    -0.95 % per us against the -1.0 % this predicts; on Table I the
-    correction is 1e-4. Not behind an LCL filter (its capacitor takes the
-    ripple: the motor's current is smooth)."""
+    """R_s corrected for where the current is sampled: the dead time moves
+    each pulse's centre by t_d / 2 from the carrier's, and the sample is off
+    the period's mean by u t_d / (2 L_s), u = R_s i across the stator; the
+    staircase's slope is R_s (1 - R_s t_d / (2 L_s)), t_d from the measured
+    drop, L_s from step 2 (docs/commissioning.md, step 1: the micro motor's
+    slope -0.95 % a us, -1.0 % predicted). Not behind an LCL filter."""
     k = rs.R_s * rs.t_dead() / (2.0 * L_s) if L_s > 0.0 else 0.0
     if s.lcl is not None or not (0.0 < k <= K_SAMPLE_MAX):
         return rs
@@ -456,6 +450,10 @@ def spin_inertia(s: Scenario, st, i_spin: float) -> float:
 #: until T_STEP, the reference then ramped to 80 % in T_RAMP and held T_HOLD_MECH
 J_GUESS_T = 0.1
 SPEED_BW_MECH = 20.0
+#: step 4's speed estimate's low-pass at least W_LPF_RAMP / T_RAMP (its lag a hundredth of the
+#: ramp's span), at most w_c / 3 (at 31 rad/s, derived from a 60,000 r/min blower's inertia, the
+#: lag turned the SMDO's filter (36) off the rotor: J +16 %, B +86 % read as ok)
+W_LPF_RAMP = 100.0
 T_STEP = 1.5
 T_RAMP = 0.4
 T_HOLD_MECH = 0.6
@@ -492,9 +490,7 @@ class MechResult:
 
 
 #: step 4's ramp spans at least this share of rated speed (assumed), else the test is not
-#: run ("no_sensorless_range": the drive's handover is too close to rated speed; since the
-#: handover counts the compensated drop where the full one would put it above half rated
-#: speed, derive.DTC_RESIDUAL, no motor of the tests reaches this)
+#: run ("no_sensorless_range": the drive's handover is too close to rated speed)
 MIN_RAMP_MECH = 0.2
 
 
@@ -581,6 +577,9 @@ def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float,
         a_cap = K_START_TORQUE * 1.5 * m.n_p * psi_r * c.i_start / J_hat
         if psi_r > 0.0 and c.a_M_start > a_cap:
             sd = sd.with_controller(a_M_start=a_cap)
+        w_lpf = min(W_LPF_RAMP / t_ramp, c.w_c / 3.0)
+        if s.lcl is None and c.w_lpf < w_lpf:
+            sd = sd.with_controller(w_lpf=w_lpf)
         return sd
 
     sd = design(0.4 * w_n, 0.8 * w_n)

@@ -351,14 +351,17 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
  * K w_M |w_M| is a third unknown (a fan, a pump). A fit with J <= 0, B < 0
  * or K < 0, or equations without an acceleration, is POOR_FIT (values
  * given); so is one whose coast's B and ramp's B give friction torques at
- * w2 that differ by more than a tenth of the torque the ramp's
+ * w2 that differ by more than a twentieth of the torque the ramp's
  * acceleration takes, J (w2 - w1) / t_ramp: the coast has no torque in
  * it, so the two disagree when the torque the drive reports, k_t i_q in
- * its frame, is not the rotor's (a 5 uH multirotor motor whose sensorless
- * angle lagged 3-5 deg in the ramp: J -28 %, B +450 % by the coast, +113 %
- * by the ramp, a difference of 27 % of the ramp's torque; on the motors
- * that measure right, 10 x their inertia too, a few %: on a heavy rotor the
- * ramp's B is loose, so the check is against the ramp's torque, not B). The caller says each sample whether the drive runs on its
+ * its frame, is not the rotor's, or when the coast's zero current is not
+ * zero torque (a 5 uH multirotor motor at 0.2 rad a sample: its angle
+ * lagged 3-5 deg in the ramp, J -28 %, B +450 % by the coast, a difference
+ * of 27 % of the ramp's torque; with the speed estimate's filter fast
+ * enough, J -4.5 % and B +161 % by the coast, +47 % by the ramp, 9.7 %; on
+ * 27 motors that measure right, 10 x their inertia too, at most 2.0 %: on
+ * a heavy rotor the ramp's B is loose, so the check is against the ramp's
+ * torque, not B). The caller says each sample whether the drive runs on its
  * position source (closed != 0: its torque is k_t i_q); before that (its
  * forced start, slow with a heavy rotor) the fit waits at its first sample,
  * with the reference at w1, until the drive has run on its source for
