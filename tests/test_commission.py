@@ -706,9 +706,9 @@ def test_a_torque_the_drive_misreports_is_named():
     (commission.W_LPF_RAMP) J reads -4.5 %, but the coast's zero current is
     not the rotor's zero torque there: B +161 % by the coast, +47 % by the
     ramp, 9.7 % of the ramp's torque apart, which the former bound of a
-    tenth passed as ok. It is named (poor_fit, the values given). On 27
-    motors that measure right, 10 x their inertia too, the two are at most
-    2.0 % apart (commission.py's W_LPF_RAMP, smd_ident.h)."""
+    tenth passed as ok. It is named (poor_fit, the values given). On 30
+    other runs, 10 x their inertia too, the two are at most 2.0 % apart
+    (commission.py's W_LPF_RAMP, smd_ident.h)."""
     s = load_scenario(ROOT / "tests" / "motors" / "drone_24v_5uh.toml")
     c = commission(s)
     assert c.psi.ok and c.mech is not None

@@ -359,7 +359,7 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
  * lagged 3-5 deg in the ramp, J -28 %, B +450 % by the coast, a difference
  * of 27 % of the ramp's torque; with the speed estimate's filter fast
  * enough, J -4.5 % and B +161 % by the coast, +47 % by the ramp, 9.7 %; on
- * 27 motors that measure right, 10 x their inertia too, at most 2.0 %: on
+ * 30 other runs, 10 x their inertia too, at most 2.0 %: on
  * a heavy rotor the ramp's B is loose, so the check is against the ramp's
  * torque, not B). The caller says each sample whether the drive runs on its
  * position source (closed != 0: its torque is k_t i_q); before that (its
