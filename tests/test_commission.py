@@ -474,6 +474,22 @@ def test_slow_out_of_range_is_named():
         commission(CASES["yang2018 Table I"], slow=0.5)
 
 
+def _profile_within_10_percent(s, c, seed: int) -> None:
+    """Issue 23: the usual profile on plant `s`, sensorless, designed from
+    the true values and from commissioning `c`'s: both reach its end, their
+    RMS angle errors over the sensorless phase within 10 % of each other."""
+    from smodrive.engine import simulate
+    from smodrive.scenarios import trials
+
+    p = trials.profile_scenario(s, seed)
+    rms = []
+    for x in (p, p.with_controller(R_s_hat=c.rs.R_s, L_s_hat=c.L_s, psi_r_hat=c.psi.psi)):
+        r = simulate(x)
+        assert trials.judge(r).verdict == "reached", (seed, trials.judge(r))
+        rms.append(trials.sensorless_angle_rms(r))
+    assert abs(rms[1] / rms[0] - 1.0) < 0.10, (seed, rms)
+
+
 def _issue23_draws(s0, per_period: bool = False, mechanics: bool = True,
                    profile: bool = False) -> list:
     """Commission 10 draws of issue 23's conditions on `s0` (with
@@ -483,8 +499,6 @@ def _issue23_draws(s0, per_period: bool = False, mechanics: bool = True,
     `profile`, the usual profile on the same plant, sensorless, designed from
     the measured and from the true values, both reaching its end with RMS
     angle errors within 10 % of each other; the commissionings."""
-    from smodrive.engine import simulate
-    from smodrive.scenarios import trials
 
     rng = np.random.default_rng(2026)
     out = []
@@ -501,14 +515,7 @@ def _issue23_draws(s0, per_period: bool = False, mechanics: bool = True,
         if mechanics:
             assert abs(c.mech.J / m.J - 1.0) < 0.10 and abs(c.mech.B / m.B - 1.0) < 0.20
         if profile:
-            p = trials.profile_scenario(s, seed)
-            rms = []
-            for x in (p, p.with_controller(R_s_hat=c.rs.R_s, L_s_hat=c.L_s,
-                                           psi_r_hat=c.psi.psi)):
-                r = simulate(x)
-                assert trials.judge(r).verdict == "reached", (seed, trials.judge(r))
-                rms.append(trials.sensorless_angle_rms(r))
-            assert abs(rms[1] / rms[0] - 1.0) < 0.10, (seed, rms)
+            _profile_within_10_percent(s, c, seed)
         out.append(c)
     return out
 
@@ -562,8 +569,6 @@ def test_micro_motor_under_the_issues_dead_time():
     handover counted the compensated drop (derive.DTC_RESIDUAL) the drive
     handed over at 1.8-2 x rated speed: step 4 said no_sensorless_range and
     the profile ran on I/f to its end."""
-    from smodrive.engine import simulate
-    from smodrive.scenarios import trials
 
     s0 = CASES["micro 1 ohm, 50 uH (invented)"]
     rng = np.random.default_rng(2026)
@@ -580,13 +585,7 @@ def test_micro_motor_under_the_issues_dead_time():
         assert abs(c.mech.J / m.J - 1.0) < 0.10 and abs(c.mech.B / m.B - 1.0) < 0.20
         assert c.rs.t + c.ld.t + c.lq.t + c.psi.t + c.mech.t <= 10.0
         holds.append(abs(c.psi.psi2 / m.psi_r - 1.0))
-        p = trials.profile_scenario(s, seed)
-        rms = []
-        for x in (p, p.with_controller(R_s_hat=c.rs.R_s, L_s_hat=c.L_s, psi_r_hat=c.psi.psi)):
-            r = simulate(x)
-            assert trials.judge(r).verdict == "reached", (seed, trials.judge(r))
-            rms.append(trials.sensorless_angle_rms(r))
-        assert abs(rms[1] / rms[0] - 1.0) < 0.10, (seed, rms)
+        _profile_within_10_percent(s, c, seed)
     assert max(holds) > 0.02
 
 
@@ -682,7 +681,7 @@ def test_step_4s_speed_estimate_is_fast_enough_for_its_ramp():
     low-pass of at least 100 / T_RAMP = 250 rad/s (its lag a hundredth of
     the ramp's span): J and B within 10 and 20 % over 3 ADC seeds (measured
     +0.8 %, +3.2 %), and the drive's own derived value is left as it was."""
-    from smodrive.commission import W_LPF_RAMP, T_RAMP
+    from smodrive.commission import T_RAMP, W_LPF_RAMP
 
     s0 = load_scenario(ROOT / "tests" / "commission_motors" / "blower_24v_60krpm.toml")
     m = s0.motor

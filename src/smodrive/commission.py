@@ -195,11 +195,10 @@ def identify_ls_levels(s: Scenario, rs: RsResult, axis: str, i_max: float, engin
         runs.append(r)
         if not r.ok:
             break
-    bad = [r for r in runs if not r.ok]
     t = sum(r.t for r in runs)
     moved = max(r.moved for r in runs)
-    if bad:
-        return dataclasses.replace(bad[0], t=t, moved=moved, levels=tuple(runs))
+    if not runs[-1].ok:  # (the levels stop at the first not ok)
+        return dataclasses.replace(runs[-1], t=t, moved=moved, levels=tuple(runs))
     w = [r.swing ** 2 for r in runs]
     L = sum(wk * r.L for wk, r in zip(w, runs)) / sum(w)
     Ls = sum(wk * r.L_series for wk, r in zip(w, runs)) / sum(w)
@@ -327,10 +326,11 @@ def commission(s: Scenario, i_test: float | None = None, mechanics: bool = True,
     lq = identify_ls_levels(s, rs, "q", i_max, eng) if ld.ok else None
     psi = mech = None
     if lq is not None and lq.ok:
-        rs = sampled_current_correction(s, rs, 0.5 * (ld.L + lq.L))
-        psi = identify_psi(s, rs, 0.5 * (ld.L + lq.L), spin_current(s, rs), eng, slow)
+        L_s = 0.5 * (ld.L + lq.L)
+        rs = sampled_current_correction(s, rs, L_s)
+        psi = identify_psi(s, rs, L_s, spin_current(s, rs), eng, slow)
         if psi.ok and mechanics:
-            mech = identify_mech(s, rs.R_s, 0.5 * (ld.L + lq.L), psi.psi,
+            mech = identify_mech(s, rs.R_s, L_s, psi.psi,
                                  t_dead_comp=rs.t_dead(),
                                  u_0=max(rs.u_0, 0.0), slow=slow, J_spin=psi.J_spin)
     return Commissioning(rs, ld, lq, psi, mech)

@@ -157,8 +157,9 @@ def source_voltage_error(m: MotorPars, c: ControllerCfg, *, T_sp: float,
     fundamental of the uncompensated per-leg error t_dead / T_sp u_dc, a
     square wave, (4 / pi) t_dead / T_sp u_dc (the compensation removes it
     only outside its linear zone, which a lightly loaded machine at low
-    speed sits in); `compensated`: DTC_RESIDUAL of it. ADC noise: the SMDO's disturbance estimate reads the
-    current noise sigma through L_s / T_sp and filters it to its bandwidth
+    speed sits in; `compensated`: DTC_RESIDUAL of it). ADC noise: the SMDO's
+    disturbance estimate reads the current noise sigma through L_s / T_sp
+    and filters it to its bandwidth
     w_c: sigma L_s / T_sp sqrt(w_c T_sp / 2) (one standard deviation),
     counted three times."""
     u_dt = 4.0 / math.pi * plant["t_dead"] / T_sp * plant["u_dc"]
