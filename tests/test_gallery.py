@@ -180,3 +180,22 @@ def test_winding_heating_example_prints_what_the_readme_says():
     value is what the comment shows, and within 2 % of the truth)."""
     out = run_script("plot_winding_heating.py")
     assert "R_s 3.146 ohm (true 3.150), psi_r 0.4000 Wb (true 0.4)" in out
+
+
+def test_no_example_figure_is_committed():
+    """An example run headless keeps its figure as NAME.png in the current
+    folder (the test above); run from the repository's root, that file is
+    an output, not a source. On 2026-11-27 plot_commission.png had been
+    committed at the root by mistake; the root's .gitignore now keeps such
+    figures out, and no tracked file at the root may be a figure (the
+    documentation's figures live in docs/img)."""
+    if not (ROOT / ".git").exists():
+        pytest.fail("not a git checkout: the tracked files cannot be read")
+    tracked = subprocess.run(["git", "ls-files"], cwd=ROOT, capture_output=True, text=True,
+                             check=True).stdout.split()
+    at_root = [f for f in tracked if "/" not in f]
+    assert at_root, "git ls-files listed nothing"
+    assert [f for f in at_root if f.lower().endswith((".png", ".svg", ".pdf"))] == []
+    ignored = subprocess.run(["git", "check-ignore", "plot_readme_example.png"], cwd=ROOT,
+                             capture_output=True, text=True)
+    assert ignored.returncode == 0, "an example's figure at the root is not ignored"
