@@ -633,6 +633,7 @@ void smd_ident_psi_reset(smd_ident_psi_state *s)
     s->g = SMD_R(1.0);
     s->gov_on = 0;
     s->samples = 0;
+    s->n_lim = 0;
 }
 
 /* |R_s + j w L_s|, ohm: the stator's impedance at electrical speed w */
@@ -852,6 +853,13 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
                           SMD_FABS(s->psi1 / s->psi - SMD_R(1.0)) <= m1)
                              ? SMD_IDENT_OK
                              : SMD_IDENT_POOR_FIT;
+            if (s->outcome != SMD_IDENT_OK && 20 * s->n_lim > p->n_hold) {
+                /* no result, and the voltage was limited for more than a
+                 * twentieth of a hold: the EMF the spin met was beyond the
+                 * DC link's reach, and the rotor slipped for that, not for
+                 * a load (the header) */
+                s->outcome = SMD_IDENT_VOLTAGE_LIMIT;
+            }
             s->phase = SMD_IDENT_PSI_DONE;
             zero_vector(d_abc, &s->u_applied);
             return SMD_OK;
@@ -876,6 +884,15 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
         s->theta_f = smd_wrap_pi(s->theta_f + w * T);
     }
     smd_svm_step(&p->svm, s->u_ab, u_dc, d_abc, &s->u_applied);
+    if (s->phase != SMD_IDENT_PSI_COAST && s->n_lim < 1000000000 &&
+        (s->u_applied.re != s->u_ab.re || s->u_applied.im != s->u_ab.im)) {
+        s->n_lim++; /* (the ramps and holds: the coast applies the EMF it reads) */
+        if (s->n_lim >= p->n_hold) {
+            /* limited for a hold's length: the governor would hold the ramp
+             * at the EMF the DC link reaches, without end (the header) */
+            return psi_stop(s, SMD_IDENT_VOLTAGE_LIMIT, d_abc);
+        }
+    }
     return SMD_OK;
 }
 

@@ -173,6 +173,8 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
         click.echo(f"  psi_r {p.psi:.5g} Wb measured, {s.motor.psi_r:.5g} Wb true "
                    f"({100.0 * (p.psi / s.motor.psi_r - 1.0):+.2f} %); {how}, "
                    f"{p.psi1:.5g} at a quarter, {p.t:.2f} s: {p.outcome}")
+        if p.outcome == "voltage_limit":
+            click.echo(f"  {OUTCOME_TEXT['voltage_limit']}")
         if p.outcome == "slipped":
             click.echo(f"  the rotor did not follow the spin: a load heavier than the ramp "
                        f"allows; run again with --slow 10 (the spin and the inertia test ten "

@@ -35,7 +35,7 @@ from .model.scenario import Scenario
 
 #: the test's outcomes (smd_ident_outcome)
 OUTCOMES = {0: "ok", 1: "running", 2: "no_current", 3: "overcurrent", 4: "not_settled",
-            5: "poor_fit", 6: "bad_input", 7: "slipped"}
+            5: "poor_fit", 6: "bad_input", 7: "slipped", 8: "voltage_limit"}
 #: what each outcome means, for a user
 OUTCOME_TEXT = {
     "ok": "the fit is good (R^2 >= 0.999)",
@@ -55,6 +55,9 @@ OUTCOME_TEXT = {
                "frame's speed): a load heavier than the ramp allows, or a rotor that does not "
                "turn; a heavy load needs a slower sequence (commission(slow=...), identify "
                "--slow)",
+    "voltage_limit": "the spin's voltage reached the inverter's limit: the back EMF at half "
+                     "rated speed is beyond the DC link's reach (a slower spin would not "
+                     "help): check inverter.u_dc and motor.w_M_N",
 }
 #: the test's defaults (assumed: windows of 20 ms, a level waits 2 s at most, 10 levels)
 T_WIN = 0.02
@@ -311,10 +314,9 @@ def commission(s: Scenario, i_test: float | None = None, mechanics: bool = True,
                slow: float = 1.0) -> Commissioning:
     """R_s and the drop (step 1), L_d and L_q (step 2) at three levels of the test
     current, psi_r (step 3) on one plant from standstill; then, with
-    `mechanics`, J and B (step 4) by the drive designed from them. `slow`
-    (>= 1) runs the spin (step 3) and the drive's start and ramp (step 4)
-    that many times slower, for a load that much heavier than the defaults
-    allow (a step 3 that ends "slipped" says so)."""
+    `mechanics`, J and B (step 4) by the drive designed from them. `slow` (>= 1)
+    runs step 3's spin and step 4's start and ramp that many times slower, for
+    a load that much heavier than the defaults allow (step 3 ends "slipped")."""
     if not (math.isfinite(slow) and 1.0 <= slow <= 100.0):
         raise ParameterError(f"slow = {slow!r} is outside its valid range [1, 100]")
     eng = _engine(s)
@@ -369,10 +371,9 @@ def spin_current(s: Scenario, rs: RsResult) -> float:
     """Step 3's current, A: K_SPIN times step 1's largest level, at most
     IF_VOLTAGE u_dc / sqrt 3 across the measured R_s, the share the drive's
     own I/f start takes (the rest is for the EMF and w L_s i at the spin's
-    speeds). (An invented 12 V
-    gimbal motor, 6 ohm: twice its largest level needed 7.7 V of the 6.9 V
-    the modulator has; the current fell short, the governor held the ramp
-    at 1 % of its rate, and the spin ended "running" after 30 s.)"""
+    speeds). (An invented 12 V gimbal motor, 6 ohm: twice its largest level
+    needed 7.7 V of the 6.9 V the modulator has; the current fell short, the
+    governor held the ramp at 1 % of its rate; "running" after 30 s.)"""
     i = K_SPIN * max(rs.i_levels)
     if rs.R_s > 0.0:
         i = min(i, IF_VOLTAGE * s.inverter.u_dc / math.sqrt(3.0) / rs.R_s)

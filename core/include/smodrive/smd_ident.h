@@ -59,8 +59,10 @@ typedef enum smd_ident_outcome {
     SMD_IDENT_NOT_SETTLED = 4,  /* a level did not settle within t_level_max */
     SMD_IDENT_POOR_FIT = 5,     /* R^2 below 0.999: the values are given, not trusted */
     SMD_IDENT_BAD_INPUT = 6,    /* a non-finite current or DC-link voltage */
-    SMD_IDENT_SLIPPED = 7       /* step 3: the rotor did not follow the spin (it turns at
+    SMD_IDENT_SLIPPED = 7,      /* step 3: the rotor did not follow the spin (it turns at
                                  * under half the frame's speed when it coasts) */
+    SMD_IDENT_VOLTAGE_LIMIT = 8 /* step 3: no result, and the modulator limited the spin's
+                                 * voltage (the back EMF beyond the DC link's reach) */
 } smd_ident_outcome;
 
 typedef struct smd_ident_rs_config {
@@ -227,7 +229,13 @@ smd_status smd_ident_ls_step(const smd_ident_ls_params *p, smd_ident_ls_state *s
  * its EMF's turn is the rotor's speed, and off the frame's by more than
  * half (|w_coast / w2 - 1| > 1/2: a stalled rotor's turn is the noise's)
  * the rotor slipped (outcome SLIPPED: a load heavier than the ramp allows,
- * or a rotor that does not turn; the values are given, not trusted). The
+ * or a rotor that does not turn; the values are given, not trusted). A spin
+ * without a result (slipped or a poor fit) whose voltage the modulator
+ * limited for more than a twentieth of a hold ends VOLTAGE_LIMIT instead:
+ * the back EMF at the spin's speeds is beyond the DC link's reach (a bench
+ * supply below the motor's voltage), and a slower spin would not help; a
+ * spin limited for a hold's length in all stops there with that outcome (the
+ * governor would otherwise hold its ramp at that EMF without end). The
  * second ramp, where the governor reads the rotor, also gives the mean
  * share of the torque the rotor took and the frame's mean acceleration
  * (share_ramp, a_ramp): the inertia the spin saw is about 1.5 n_p^2 psi_r
@@ -320,6 +328,8 @@ typedef struct smd_ident_psi_state {
     smd_real share_ramp, a_ramp; /* their means (the header), -, rad/s^2 */
     smd_cplx u_applied;
     int samples;
+    int n_lim;            /* samples of the ramps and holds whose voltage the modulator
+                           * limited */
 } smd_ident_psi_state;
 
 smd_status smd_ident_psi_init(smd_ident_psi_params *p, const smd_ident_psi_config *c);

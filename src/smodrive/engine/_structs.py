@@ -437,7 +437,7 @@ class IdentPsiState(ct.Structure):
         ("gov_on", ct.c_int), ("e1", real), ("e2", real), ("w1m", real), ("w2m", real),
         ("psi", real), ("psi1", real), ("psi2", real), ("psi_coast", real), ("psi_slope", real),
         ("w_coast", real), ("acc_sh", real), ("acc_a", real), ("acc_r", real), ("share_ramp", real),
-        ("a_ramp", real), ("u_applied", Cplx), ("samples", ct.c_int),
+        ("a_ramp", real), ("u_applied", Cplx), ("samples", ct.c_int), ("n_lim", ct.c_int),
     ]
 
 
