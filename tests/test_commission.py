@@ -478,6 +478,48 @@ def test_a_spin_beyond_the_dc_links_reach_is_named(u_dc, slow, outcome):
         assert abs(c.psi.psi / s.motor.psi_r - 1.0) < 0.02
 
 
+def test_the_voltage_limits_advice_works():
+    """voltage_limit says where the limit came (w_lim, the frame's speed at
+    the first limited sample above the governor's start) and `identify`
+    advises w_M_N_rpm up to 1.6 times it (the spin's upper speed half of
+    w_M_N, at 0.8 of the limit). On 3.5 V the limit must come where the EMF,
+    w psi_r, is between 0.7 (R_s i and the drop take 0.55 V of the 2.02 V)
+    and 1.16 (the hexagon's corners, 2/3 u_dc) of u_dc / sqrt 3; measured
+    0.79. The advice taken (w_M_N_rpm = 1.6 x the limit's r/min), psi_r is
+    measured within 2 %."""
+    s0 = load_scenario(ROOT / "tests" / "commission_motors" / "pump_12v_60w.toml")
+    s = _inverter(s0, u_dc=3.5)
+    c = commission(s, mechanics=False)
+    assert c.psi.outcome == "voltage_limit"
+    k = c.psi.w_lim * s.motor.psi_r / (3.5 / math.sqrt(3.0))
+    assert 0.7 <= k <= 1.16, k
+    rpm = c.psi.w_lim / s.motor.n_p * 30.0 / math.pi
+    s2 = s.replace(motor=dataclasses.replace(s.motor, w_M_N=1.6 * rpm * math.pi / 30.0))
+    c2 = commission(s2, mechanics=False)
+    assert c2.psi.ok and abs(c2.psi.psi / s.motor.psi_r - 1.0) < 0.02, c2.psi
+
+
+def test_a_step_1_without_a_result_writes_no_resistance(tmp_path):
+    """The pump on 1 V with its nameplate's 60 W at 722 r/min: rated current
+    50 A, and step 1's top current needs more than the 0.58 V the modulator
+    has (no_current). `identify` wrote the motor with the R_s it had not
+    measured, 0 ohm, and stopped with "motor.R_s = 0.0 is outside its valid
+    range" (before 2026-11-27); it now says "not measured", writes the
+    scenario's values with the record of why, and exits 1."""
+    src = ROOT / "tests" / "commission_motors" / "pump_12v_60w.toml"
+    text = src.read_text().replace("u_dc = 12.0", "u_dc = 1.0").replace(
+        "w_M_N_rpm = 4000.0", "w_M_N_rpm = 722.0")
+    scen, out = tmp_path / "pump_1v.toml", tmp_path / "measured.toml"
+    scen.write_text(text)
+    res = CliRunner().invoke(main, ["identify", str(scen), "--out", str(out)])
+    assert res.exit_code == 1, res.output
+    assert "R_s  not measured" in res.output and "no_current" in res.output
+    assert "outside its valid range" not in res.output
+    written = out.read_text()
+    assert "nothing measured" in written and 'outcome = "no_current"' in written
+    assert load_scenario(out).motor.R_s == 0.05
+
+
 def test_a_heavy_load_commissioned_slowly():
     """The same motor with `slow` = 10 (the spin and step 4's start and ramp
     10 x slower): every step ok, psi_r within 2 %, J within 10 %, the fan's

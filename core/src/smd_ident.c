@@ -634,6 +634,7 @@ void smd_ident_psi_reset(smd_ident_psi_state *s)
     s->gov_on = 0;
     s->samples = 0;
     s->n_lim = 0;
+    s->w_lim = SMD_R(0.0);
 }
 
 /* |R_s + j w L_s|, ohm: the stator's impedance at electrical speed w */
@@ -886,6 +887,9 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
     smd_svm_step(&p->svm, s->u_ab, u_dc, d_abc, &s->u_applied);
     if (s->phase != SMD_IDENT_PSI_COAST && s->n_lim < 1000000000 &&
         (s->u_applied.re != s->u_ab.re || s->u_applied.im != s->u_ab.im)) {
+        if (s->w_lim == SMD_R(0.0) && s->w_f >= p->w_gov) {
+            s->w_lim = s->w_f; /* (above the start's current step: the EMF's limit) */
+        }
         s->n_lim++; /* (the ramps and holds: the coast applies the EMF it reads) */
         if (s->n_lim >= p->n_hold) {
             /* limited for a hold's length: the governor would hold the ramp

@@ -503,6 +503,7 @@ static const smd_layout_row ROWS[] = {
     F(smd_ident_psi_state, u_applied, "smd_cplx"),
     F(smd_ident_psi_state, samples, "int"),
     F(smd_ident_psi_state, n_lim, "int"),
+    F(smd_ident_psi_state, w_lim, "smd_real"),
     F(smd_ident_mech_config, T_sp, "smd_real"),
     F(smd_ident_mech_config, k_t, "smd_real"),
     F(smd_ident_mech_config, n_p, "int"),

@@ -44,7 +44,7 @@ def identified_toml(name: str, s, c) -> str:
     (from `name`): the scenario with the measured motor values, loadable by
     `smodrive design` and `smodrive run`, the tests' record as comments."""
     r = c.rs
-    motor = {"R_s": _g(r.R_s)}
+    motor = {"R_s": _g(r.R_s)} if r.ok else {}  # (a step 1 without a result: nothing)
     record = {"outcome": r.outcome, "u_0": _g(r.u_0), "r2": _g(r.r2), "resid_V": _g(r.resid),
               "test_s": _g(r.t), "i_levels_A": [_g(x) for x in r.i_levels],
               "u_levels_V": [_g(x) for x in r.u_levels]}
@@ -87,7 +87,9 @@ def identified_toml(name: str, s, c) -> str:
         record["R_s_std_error"] = _g(r.resid * math.sqrt(len(i) / (len(i) - 2))
                                      / math.sqrt(np.sum((i - i.mean()) ** 2)))
     head = (f"# Measured by `smodrive identify` on {name} (commissioning, issue 23):\n"
-            f"# [motor] {', '.join(motor)} as measured; the other values are the scenario's\n"
+            + (f"# [motor] {', '.join(motor)} as measured; the other values are the scenario's\n"
+               if motor else "# [motor] nothing measured (the record below says why): the "
+               "scenario's values\n") +
             "# (the nameplate's: pole pairs, rated power and speed; the inverter and ADC).\n"
             "# Uncertainty (each test's accuracy as measured, docs/commissioning.md): "
             + ", ".join(f"{k} +-{100 * v:g} %" for k, v in unc.items()) + "\n"
@@ -148,12 +150,15 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
     r = c.rs
     err = 100.0 * (r.R_s / s.motor.R_s - 1.0)
     click.echo(f"{scenario}: commissioning, {c.t:.2f} s")
-    click.echo(f"  R_s  {r.R_s:.5g} ohm measured, {s.motor.R_s:.5g} ohm true ({err:+.2f} %); "
-               f"{len(r.i_levels)} levels from {min(r.i_levels):.3g} to {max(r.i_levels):.3g} A, "
-               f"{r.t:.2f} s")
-    click.echo(f"  u_0  {r.u_0:.4g} V (the inverter's drop: dead time and switches; "
-               f"compensated as {1e6 * r.t_dead():.3g} us of dead time, "
-               f"{1e6 * s.inverter.t_dead:.3g} us true)")
+    if r.R_s > 0.0:
+        click.echo(f"  R_s  {r.R_s:.5g} ohm measured, {s.motor.R_s:.5g} ohm true ({err:+.2f} %); "
+                   f"{len(r.i_levels)} levels from {min(r.i_levels):.3g} to "
+                   f"{max(r.i_levels):.3g} A, {r.t:.2f} s")
+        click.echo(f"  u_0  {r.u_0:.4g} V (the inverter's drop: dead time and switches; "
+                   f"compensated as {1e6 * r.t_dead():.3g} us of dead time, "
+                   f"{1e6 * s.inverter.t_dead:.3g} us true)")
+    else:
+        click.echo(f"  R_s  not measured, {r.t:.2f} s")
     click.echo(f"  fit  R^2 {r.r2:.6f}, residual {r.resid:.3g} V RMS: {r.outcome} "
                f"({OUTCOME_TEXT.get(r.outcome, '')})")
     for x in (c.ld, c.lq):
@@ -175,6 +180,11 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
                    f"{p.psi1:.5g} at a quarter, {p.t:.2f} s: {p.outcome}")
         if p.outcome == "voltage_limit":
             click.echo(f"  {OUTCOME_TEXT['voltage_limit']}")
+            if p.w_lim > 0.0:
+                rpm = p.w_lim / s.motor.n_p * 30.0 / math.pi
+                click.echo(f"  the limit came at {rpm:.4g} r/min; on this supply the spin (to "
+                           f"half of w_M_N, with a fifth to spare) fits w_M_N_rpm up to "
+                           f"{1.6 * rpm:.4g}")
         if p.outcome == "slipped":
             click.echo(f"  the rotor did not follow the spin: a load heavier than the ramp "
                        f"allows; run again with --slow 10 (the spin and the inertia test ten "

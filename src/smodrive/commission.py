@@ -122,8 +122,7 @@ def bench(s: Scenario) -> Scenario:
 
 
 def _engine(s: Scenario) -> Engine:
-    """The plant of `s` on the bench (the scenario's drive is configured,
-    never stepped)."""
+    """The plant of `s` on the bench (its drive configured, never stepped)."""
     return Engine(bench(s))
 
 
@@ -402,6 +401,7 @@ class PsiResult:
     #: the coast shorted the stator (the inverter's drop over a fifth of the EMF): psi is the
     #: coast's, the holds its check (smd_ident.h)
     shorted: bool = False
+    w_lim: float = 0.0  # rad/s, electrical: the frame's, where the voltage was first limited
 
     @property
     def ok(self) -> bool:
@@ -431,7 +431,7 @@ def identify_psi(s: Scenario, rs: RsResult, L_s: float, i_spin: float, engine: E
                      psi_slope=float(st.psi_slope), psi_coast=float(st.psi_coast),
                      outcome=OUTCOMES.get(int(st.outcome), "?"), t=n * s.T_sp,
                      w_coast=float(st.w_coast), J_spin=spin_inertia(s, st, i_spin),
-                     shorted=bool(st.shorted))
+                     shorted=bool(st.shorted), w_lim=float(st.w_lim))
 
 
 def spin_inertia(s: Scenario, st, i_spin: float) -> float:

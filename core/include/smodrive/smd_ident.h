@@ -330,6 +330,8 @@ typedef struct smd_ident_psi_state {
     int samples;
     int n_lim;            /* samples of the ramps and holds whose voltage the modulator
                            * limited */
+    smd_real w_lim;       /* the frame's speed at the first of them at or above the
+                           * governor's w1 / 5, rad/s (0: none) */
 } smd_ident_psi_state;
 
 smd_status smd_ident_psi_init(smd_ident_psi_params *p, const smd_ident_psi_config *c);

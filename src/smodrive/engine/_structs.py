@@ -438,6 +438,7 @@ class IdentPsiState(ct.Structure):
         ("psi", real), ("psi1", real), ("psi2", real), ("psi_coast", real), ("psi_slope", real),
         ("w_coast", real), ("acc_sh", real), ("acc_a", real), ("acc_r", real), ("share_ramp", real),
         ("a_ramp", real), ("u_applied", Cplx), ("samples", ct.c_int), ("n_lim", ct.c_int),
+        ("w_lim", real),
     ]
 
 
