@@ -515,6 +515,11 @@ def test_a_step_1_without_a_result_writes_no_resistance(tmp_path):
     assert res.exit_code == 1, res.output
     assert "R_s  not measured" in res.output and "no_current" in res.output
     assert "outside its valid range" not in res.output
+    # (the spin's: on 3.5 V it stops before its holds, and says so instead of -100 %)
+    scen.write_text(src.read_text().replace("u_dc = 12.0", "u_dc = 3.5"))
+    res = CliRunner().invoke(main, ["identify", str(scen)])
+    assert res.exit_code == 1 and "psi_r not measured" in res.output, res.output
+    assert "voltage_limit" in res.output and "fits w_M_N_rpm up to" in res.output
     written = out.read_text()
     assert "nothing measured" in written and 'outcome = "no_current"' in written
     assert load_scenario(out).motor.R_s == 0.05

@@ -175,9 +175,12 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
         how = (f"the stator shorted while coasting (the inverter's drop is over a fifth of "
                f"the EMF), {p.psi2:.5g} at half speed" if p.shorted else
                f"at half speed, {p.psi_coast:.5g} coasting")
-        click.echo(f"  psi_r {p.psi:.5g} Wb measured, {s.motor.psi_r:.5g} Wb true "
-                   f"({100.0 * (p.psi / s.motor.psi_r - 1.0):+.2f} %); {how}, "
-                   f"{p.psi1:.5g} at a quarter, {p.t:.2f} s: {p.outcome}")
+        if p.psi > 0.0:
+            click.echo(f"  psi_r {p.psi:.5g} Wb measured, {s.motor.psi_r:.5g} Wb true "
+                       f"({100.0 * (p.psi / s.motor.psi_r - 1.0):+.2f} %); {how}, "
+                       f"{p.psi1:.5g} at a quarter, {p.t:.2f} s: {p.outcome}")
+        else:  # (a spin stopped before its holds)
+            click.echo(f"  psi_r not measured, {p.t:.2f} s: {p.outcome}")
         if p.outcome == "voltage_limit":
             click.echo(f"  {OUTCOME_TEXT['voltage_limit']}")
             if p.w_lim > 0.0:
