@@ -56,7 +56,8 @@ TOL = 0.02
 
 
 def tracked(s0, seed: int, rng, i_inj_rel: float = 0.4, sensors: int = 3, gains_only=False,
-            duration: float = 4.0, speed: float = 0.5, stale_ok: bool = False, **ctl):
+            duration: float = 4.0, speed: float = 0.5, stale_ok: bool = False,
+            T_sp: float = 100e-6, **ctl):
     """One draw of the issue's conditions on motor scenario `s0` (or, with
     `gains_only`, of its sensor gains alone), the drive's dead-time
     compensation from commissioning's step 1; the run's times, R_s and psi_r
@@ -68,7 +69,7 @@ def tracked(s0, seed: int, rng, i_inj_rel: float = 0.4, sensors: int = 3, gains_
                               inverter=dataclasses.replace(plant.inverter, t_dead=0.0))
     rs = identify_rs(plant)
     assert rs.ok, rs
-    s = plant.replace(T_sp=100e-6, duration=duration, log_stride=10, warm_start=True,
+    s = plant.replace(T_sp=T_sp, duration=duration, log_stride=10, warm_start=True,
                       w_M0=speed * m.w_M_N, w_M_ref=Profile((0.0,), (speed * m.w_M_N,)),
                       R_s_scale=Profile((0.0, 1.0, 1.5), (1.0, 1.0, RISE)),
                       load=LoadCfg(T_ext=Profile((0.0,), (0.5 * m.T_N,))))
@@ -94,6 +95,34 @@ def test_a_40_percent_rise_of_R_s_within_2_percent_in_under_2_s(name):
         assert np.all(np.abs(R[after] / (RISE * m.R_s) - 1.0) <= tol), (seed, R[after].min(),
                                                                         R[after].max())
         assert np.all(np.abs(psi[t >= 0.8] / m.psi_r - 1.0) <= TOL), seed
+
+
+def test_the_micro_motor_at_its_own_40_khz():
+    """The micro motor (1 ohm, 50 uH, 2 mWb; tests/test_commission.py) at
+    its own 25 us, where issue 23's 0.5-2 us of dead time is 2-8 % of the
+    period. The dead time moves each pulse's centre by t_dc / 2 from where
+    the current is sampled, and the d-axis line's slope is R_s (1 - R_s t_dc
+    / (2 L_s)), as commissioning's step 1 measured it: 1.0-1.9 % low here
+    before the rise, 1.4-2.6 % after, and the tracker read 3.0-4.0 % low
+    after the rise (before 2026-11-27; 1e-4 on Table I's motor). The
+    tracker now divides the slope by that factor with the dead time the
+    drive compensates (smd_rls_set_dead_time): 10 draws within 2 % before
+    and from 2 s after the rise began (measured 0.82 % and 1.82 %, within 2 %
+    after at most 1.69 s). psi_r, fitted with the slope (the q axis's
+    currents are sampled as the d axis's), reads 2.4-3.3 % high, outside
+    the 2 % the other motors meet: bounded here at 4 % (docs/commissioning.md)."""
+    from test_commission import CASES
+
+    s0 = CASES["micro 1 ohm, 50 uH (invented)"]
+    m = s0.motor
+    rng = np.random.default_rng(2026)
+    for seed in range(1, 11):
+        t, R, psi, _ = tracked(s0, seed, rng, T_sp=s0.T_sp)
+        before = (t >= 0.8) & (t < 1.0)
+        after = t >= 3.0
+        assert np.all(np.abs(R[before] / m.R_s - 1.0) <= TOL), (seed, R[before][-1])
+        assert np.all(np.abs(R[after] / (RISE * m.R_s) - 1.0) <= TOL), (seed, R[after].min())
+        assert np.all(np.abs(psi[t >= 0.8] / m.psi_r - 1.0) <= 0.04), seed
 
 
 def test_without_its_square_wave_R_s_is_not_tracked():

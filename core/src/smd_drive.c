@@ -535,6 +535,9 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
         st = smd_rls_init(&p->rls, c->T_sp, c->current == SMD_CC_PI ? c->L_dec : c->L_s_hat,
                           c->rls_i_inj, c->rls_tau, c->rls_half, c->rls_w_min, c->R_s_hat,
                           c->psi_r_hat);
+        if (st == SMD_OK && c->t_dead_comp > SMD_R(0.0)) {
+            st = smd_rls_set_dead_time(&p->rls, c->t_dead_comp);
+        }
         if (st != SMD_OK) {
             return st;
         }

@@ -24,11 +24,24 @@ smd_status smd_rls_init(smd_rls_params *p, smd_real T_sp, smd_real L_s_hat, smd_
     p->R0 = R0;
     p->psi0 = psi0;
     p->n_half = n_half;
+    p->k_td = SMD_R(0.0);
     {
         /* 2 tau in samples, within an int (tau / T_sp <= 1e3 / T_sp) */
         const smd_real n = SMD_R(2.0) * tau / T_sp;
         p->n_stale = n < SMD_R(1e9) ? (int)n : 1000000000;
     }
+    return SMD_OK;
+}
+
+smd_status smd_rls_set_dead_time(smd_rls_params *p, smd_real t_dc)
+{
+    if (p == 0) {
+        return SMD_ERR_NULL;
+    }
+    if (!smd_in_range(t_dc, SMD_R(0.0), p->T_sp)) {
+        return SMD_ERR_RLS;
+    }
+    p->k_td = t_dc / (SMD_R(2.0) * p->L_s_hat);
     return SMD_OK;
 }
 
@@ -45,6 +58,7 @@ void smd_rls_reset(const smd_rls_params *p, smd_rls_state *s)
     s->R_se = SMD_R(-1.0);
     s->S_ww = s->S_wy = s->S_wi = SMD_R(0.0);
     s->R_hat = p->R0;
+    s->R_slope = p->R0;
     s->psi_hat = p->psi0;
     s->age = 0;
 }
@@ -89,13 +103,18 @@ static void solve(const smd_rls_params *p, smd_rls_state *s)
         if (isfinite(R) && isfinite(se2)) {
             s->R_se = SMD_SQRT(se2);
             if (se2 <= SMD_R(0.0625) * R * R) {
-                s->R_hat = R;
+                /* the slope corrected for where the current is sampled
+                 * (smd_rls_set_dead_time) */
+                const smd_real k = R * p->k_td;
+                s->R_hat = (k > SMD_R(0.0) && k <= SMD_R(0.1)) ? R / (SMD_R(1.0) - k) : R;
+                s->R_slope = R;
                 s->age = 0;
             }
         }
     }
     if (s->S_ww > SMD_R(0.0)) {
-        const smd_real psi = (s->S_wy - s->R_hat * s->S_wi) / s->S_ww;
+        /* (with the slope: the q axis's currents are sampled as the d axis's) */
+        const smd_real psi = (s->S_wy - s->R_slope * s->S_wi) / s->S_ww;
         if (isfinite(psi)) {
             s->psi_hat = psi;
         }

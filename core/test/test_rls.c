@@ -34,6 +34,7 @@
 typedef struct run_opts {
     double L_hat, noise, i_inj, bad_u; /* bad_u: voltage error on samples marked not whole */
     int n;
+    double t_dc; /* smd_rls_set_dead_time's, s (0: not called) */
 } run_opts;
 
 /* the d-axis current at sample k: it follows the tracker's square wave
@@ -55,6 +56,9 @@ static void run(const run_opts *o, smd_rls_state *s)
     CHECK_INT(smd_rls_init(&p, (smd_real)T_SP, (smd_real)o->L_hat, (smd_real)o->i_inj,
                            SMD_R(0.3), N_HALF, SMD_R(10.0), SMD_R(1.0), SMD_R(0.3)),
               SMD_OK);
+    if (o->t_dc > 0.0) {
+        CHECK_INT(smd_rls_set_dead_time(&p, (smd_real)o->t_dc), SMD_OK);
+    }
     smd_rls_reset(&p, s);
     id_next = current_d(0, o->i_inj, N_HALF, &i_d);
     for (k = 0; k < o->n; k++) {
@@ -91,7 +95,7 @@ static void run(const run_opts *o, smd_rls_state *s)
 
 static void test_exact_model(void)
 {
-    run_opts o = {L_TRUE, 0.0, 1.0, 0.0, 20000};
+    run_opts o = {L_TRUE, 0.0, 1.0, 0.0, 20000, 0.0};
     smd_rls_state s;
     run(&o, &s);
     CHECK_CLOSE(s.R_hat, R_TRUE, 2e-3 * R_TRUE);
@@ -101,7 +105,7 @@ static void test_exact_model(void)
 
 static void test_wrong_inductance(void)
 {
-    run_opts o = {1.1 * L_TRUE, 0.0, 1.0, 0.0, 20000};
+    run_opts o = {1.1 * L_TRUE, 0.0, 1.0, 0.0, 20000, 0.0};
     smd_rls_state s;
     run(&o, &s);
     CHECK_CLOSE(s.R_hat, R_TRUE, 0.01 * R_TRUE);
@@ -111,7 +115,7 @@ static void test_wrong_inductance(void)
 static void test_voltage_not_whole_does_not_count(void)
 {
     /* 50 V on one sample in 37: counted, it would move R_s by volts per amp */
-    run_opts o = {L_TRUE, 0.0, 1.0, 50.0, 20000};
+    run_opts o = {L_TRUE, 0.0, 1.0, 50.0, 20000, 0.0};
     smd_rls_state s;
     run(&o, &s);
     CHECK_CLOSE(s.R_hat, R_TRUE, 2e-3 * R_TRUE);
@@ -121,11 +125,31 @@ static void test_voltage_not_whole_does_not_count(void)
 static void test_lost_in_noise(void)
 {
     /* a 1 mA square wave under 0.1 A of current noise: R_s stays at R0 */
-    run_opts o = {L_TRUE, 0.1, 1e-3, 0.0, 20000};
+    run_opts o = {L_TRUE, 0.1, 1e-3, 0.0, 20000, 0.0};
     smd_rls_state s;
     run(&o, &s);
     CHECK_CLOSE(s.R_hat, 1.0, 0.0);
     CHECK((double)s.R_se > 0.05 * R_TRUE);
+}
+
+/* The dead time the drive compensates: R_hat is the slope over (1 - slope
+ * t_dc / (2 L_s_hat)), the slope kept as R_slope, and psi_r fitted with the
+ * slope (the same bits as without the correction). The exact model's slope
+ * is R_s itself, so the corrected value is off by the factor, 1 + 0.48 %
+ * at t_dc = T_SP here: the correction applied, not a value from a plant. */
+static void test_dead_time_correction(void)
+{
+    run_opts o0 = {L_TRUE, 0.0, 1.0, 0.0, 20000, 0.0};
+    run_opts o1 = {L_TRUE, 0.0, 1.0, 0.0, 20000, T_SP};
+    smd_rls_state s0, s1;
+    double k;
+    run(&o0, &s0);
+    run(&o1, &s1);
+    k = (double)s0.R_hat * T_SP / (2.0 * L_TRUE);
+    CHECK((double)s1.R_slope == (double)s0.R_hat);
+    CHECK_CLOSE(s1.R_hat, (double)s0.R_hat / (1.0 - k), 1e-5 * R_TRUE);
+    CHECK(k > 0.004 && k < 0.006);
+    CHECK((double)s1.psi_hat == (double)s0.psi_hat);
 }
 
 static void test_settings(void)
@@ -146,6 +170,13 @@ static void test_settings(void)
                            SMD_R(1.0), SMD_R(0.1)), SMD_ERR_RLS);
     CHECK_INT(smd_rls_init(0, T, SMD_R(0.01), SMD_R(1.0), SMD_R(0.3), 100, SMD_R(0.0),
                            SMD_R(1.0), SMD_R(0.1)), SMD_ERR_NULL);
+    CHECK_INT(smd_rls_init(&p, T, SMD_R(0.01), SMD_R(1.0), SMD_R(0.3), 100, SMD_R(0.0),
+                           SMD_R(1.0), SMD_R(0.1)), SMD_OK);
+    CHECK_INT(smd_rls_set_dead_time(&p, SMD_R(-1e-6)), SMD_ERR_RLS);
+    CHECK_INT(smd_rls_set_dead_time(&p, SMD_R(2.0) * T), SMD_ERR_RLS);
+    CHECK_INT(smd_rls_set_dead_time(&p, (smd_real)NAN), SMD_ERR_RLS);
+    CHECK_INT(smd_rls_set_dead_time(0, SMD_R(1e-6)), SMD_ERR_NULL);
+    CHECK_INT(smd_rls_set_dead_time(&p, SMD_R(0.0)), SMD_OK);
 }
 
 int main(void)
@@ -154,6 +185,7 @@ int main(void)
     RUN_TEST(test_wrong_inductance);
     RUN_TEST(test_voltage_not_whole_does_not_count);
     RUN_TEST(test_lost_in_noise);
+    RUN_TEST(test_dead_time_correction);
     RUN_TEST(test_settings);
     return smdt_summary("rls");
 }

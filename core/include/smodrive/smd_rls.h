@@ -79,6 +79,8 @@ typedef struct smd_rls_params {
     smd_real R0, psi0;  /* the estimates until the fit has data */
     int n_half;         /* samples per half period of the injection */
     int n_stale;        /* R_hat not taken for more than this many samples (2 tau): stale */
+    smd_real k_td;      /* t_dc / (2 L_s_hat), 1/ohm: where the current is sampled
+                         * (smd_rls_set_dead_time; 0: not corrected) */
 } smd_rls_params;
 
 typedef struct smd_rls_state {
@@ -92,6 +94,8 @@ typedef struct smd_rls_state {
                                            i_d y_d, y_d^2 */
     smd_real S_ww, S_wy, S_wi;     /* q axis: of w^2, w y_q, w i_q */
     smd_real R_hat;     /* R_s estimate, ohm */
+    smd_real R_slope;   /* the d-axis line's slope it was taken from, ohm: what the
+                         * sampled currents show, and what the q axis's fit subtracts */
     smd_real R_se;      /* its standard error, ohm (the fit quality; -1: no fit yet) */
     smd_real psi_hat;   /* psi_r estimate, Wb */
     int age;            /* samples since R_hat was last taken (or since reset), at most
@@ -104,6 +108,14 @@ typedef struct smd_rls_state {
  * Anything else: SMD_ERR_RLS (a NULL p: SMD_ERR_NULL). */
 smd_status smd_rls_init(smd_rls_params *p, smd_real T_sp, smd_real L_s_hat, smd_real i_inj,
                         smd_real tau, int n_half, smd_real w_min, smd_real R0, smd_real psi0);
+/* The dead time the drive compensates, t_dc (s, >= 0; 0 after init): the
+ * dead time moves each pulse's centre by t_dc / 2 from the carrier's, where
+ * the current is sampled, and the fitted slope is R_s (1 - R_s t_dc / (2
+ * L_s)) (commissioning's step 1 the same: docs/commissioning.md); R_hat is
+ * the slope divided by that factor while R_s t_dc / (2 L_s) <= 0.1 (the
+ * first-order model's reach), the slope itself beyond. SMD_ERR_RLS for a
+ * t_dc not in [0, T_sp]. */
+smd_status smd_rls_set_dead_time(smd_rls_params *p, smd_real t_dc);
 void smd_rls_reset(const smd_rls_params *p, smd_rls_state *s);
 /* The injected d-axis current for sample k, A: +-i_inj. */
 smd_real smd_rls_injection(const smd_rls_params *p, const smd_rls_state *s);
