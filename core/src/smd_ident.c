@@ -854,7 +854,7 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
                           SMD_FABS(s->psi1 / s->psi - SMD_R(1.0)) <= m1)
                              ? SMD_IDENT_OK
                              : SMD_IDENT_POOR_FIT;
-            if (s->outcome != SMD_IDENT_OK && 20 * s->n_lim > p->n_hold) {
+            if (s->outcome != SMD_IDENT_OK && s->n_lim > p->n_hold / 20) {
                 /* no result, and the voltage was limited for more than a
                  * twentieth of a hold: the EMF the spin met was beyond the
                  * DC link's reach, and the rotor slipped for that, not for
@@ -885,7 +885,8 @@ smd_status smd_ident_psi_step(const smd_ident_psi_params *p, smd_ident_psi_state
         s->theta_f = smd_wrap_pi(s->theta_f + w * T);
     }
     smd_svm_step(&p->svm, s->u_ab, u_dc, d_abc, &s->u_applied);
-    if (s->phase != SMD_IDENT_PSI_COAST && s->n_lim < 1000000000 &&
+    /* (n_lim stays below n_hold <= 1e8: the spin stops there) */
+    if (s->phase != SMD_IDENT_PSI_COAST &&
         (s->u_applied.re != s->u_ab.re || s->u_applied.im != s->u_ab.im)) {
         if (s->w_lim == SMD_R(0.0) && s->w_f >= p->w_gov) {
             s->w_lim = s->w_f; /* (above the start's current step: the EMF's limit) */
