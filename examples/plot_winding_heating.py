@@ -26,7 +26,7 @@ s = s.with_controller(current="robust_dbpc", position="encoder", start="handover
 r = simulate(s)
 print(f"R_s {r['R_s_rls'][-1]:.3f} ohm (true {1.4 * m.R_s:.3f}), "
       f"psi_r {r['psi_r_rls'][-1]:.4f} Wb (true {m.psi_r})")
-# R_s 3.147 ohm (true 3.150), psi_r 0.4000 Wb (true 0.4)
+# R_s 3.148 ohm (true 3.150), psi_r 0.4000 Wb (true 0.4)
 
 fig, ax = plt.subplots(figsize=(6, 3.5), layout="constrained")
 t = r["t"]

@@ -461,11 +461,14 @@ def test_forced_lower_switches_short_the_stator_without_dead_time(model, pwm):
     every lower switch on, forced, so no edge and no dead time. The applied
     voltage is 0 in every period whatever the currents' signs, and the
     current settles at the short's, |i| = w psi_r / |R_s + j w L_s| (within
-    0.5 %: the rotor slows by under 0.1 % over the run). Duties 0 instead,
-    the plant's PWM still puts a dead time's pulse into each period (a
-    phase with a negative current goes high for t_dead): the short read
-    through it was 27-49 % off on the micro motor; that run is the check
-    that can fail here."""
+    0.5 %: the rotor slows by under 0.1 % over the run). Duties of 0 are the
+    same: with centre-aligned PWM a duty of 0 has no edge, so no dead time,
+    and the leg stays low (before 2026-11-27 the plant put a dead time's
+    pulse into each such period, a phase with a negative current high for
+    t_dead: the short read through it was 27-49 % off on the micro motor).
+    The check that can fail here: a duty of 1e-3 does switch, and its dead
+    time puts that pulse back (a phase with a negative current high for
+    t_dead + 1e-3 T_sp, at least half of it on the stator's voltage)."""
     s = _scenario(model, pwm, w_M0=100.0, theta_r0=0.0)
     s = s.replace(motor=dataclasses.replace(s.motor, J=1e3),
                   inverter=dataclasses.replace(s.inverter, t_dead=2e-6))
@@ -481,8 +484,13 @@ def test_forced_lower_switches_short_the_stator_without_dead_time(model, pwm):
     i_sc = w * m.psi_r / abs(m.R_s + 1j * w * m.L_s)
     assert abs(abs(p.i_s) / i_sc - 1.0) < 0.005, (abs(p.i_s), i_sc)
     q = Plant(s)
-    us = []
     for _ in range(n):
         q.step((0.0, 0.0, 0.0))
-        us.append(abs(q.u_mean))
+        assert q.u_mean == 0.0
+    assert abs(abs(q.i_s) / i_sc - 1.0) < 0.005, (abs(q.i_s), i_sc)
+    r = Plant(s)
+    us = []
+    for _ in range(n):
+        r.step((1e-3, 1e-3, 1e-3))
+        us.append(abs(r.u_mean))
     assert max(us) > 0.5 * (4.0 / 3.0) * 2e-6 / s.T_sp * s.inverter.u_dc

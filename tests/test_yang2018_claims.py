@@ -143,16 +143,50 @@ def _ideal_inverter(s):
 
 
 def test_fig6a_ripple_is_adc_noise():
-    """Without ADC noise and quantisation the robust DBPC with L_hat = 2 L has
-    little more ripple than with exact parameters (measured 1.17; 2.95 with
-    the noise): the ripple growth of Fig. 6(a) is the noise gain's."""
+    """The ripple growth of Fig. 6(a) (robust DBPC, L_hat = 2 L against
+    L_hat = L) is the noise gain's (errata E12): without ADC noise and
+    quantisation the growth is under a fifth of the growth with them
+    (measured 0.0077 A against 0.065 A, 12 %). A growth of the loop's own
+    (a limit cycle that the SMDO did not remove) would be there without
+    the noise too, and the share would be near 1. (Until 2026-11-27 this
+    bounded the noiseless ratio at 1.5, measured 1.17; the plant's duty of
+    0 without a dead-time pulse sends the exact-parameter run, through the
+    load step's saturated samples, into the quieter of its two limit
+    cycles, 0.0100 A instead of 0.0153 A, and the ratio to 1.77: a ratio
+    of two noiseless ripples depends on which cycle each run ends in, the
+    growth's share does not.)"""
     L = y.MOTOR.L_s
-    ex = simulate(_ideal_adc(y.fig56_scenario("ex", "robust")))
-    mm = simulate(_ideal_adc(y.fig56_scenario("2L", "robust", L_s_hat=2 * L)))
-    m = ex.window(*y.SS_WINDOW)
-    r_ex = metrics.ripple_dq(ex["i_d"][m], ex["i_q"][m])
-    r_mm = metrics.ripple_dq(mm["i_d"][m], mm["i_q"][m])
-    assert r_mm / r_ex <= 1.5
+    r = {}
+    for adc in ("ideal", "noisy"):
+        for key, kw in (("ex", {}), ("2L", {"L_s_hat": 2 * L})):
+            s = y.fig56_scenario(key, "robust", **kw)
+            res = simulate(_ideal_adc(s) if adc == "ideal" else s)
+            m = res.window(*y.SS_WINDOW)
+            r[adc, key] = metrics.ripple_dq(res["i_d"][m], res["i_q"][m])
+    growth_ideal = r["ideal", "2L"] - r["ideal", "ex"]
+    growth_noisy = r["noisy", "2L"] - r["noisy", "ex"]
+    assert growth_noisy > 0.0
+    assert growth_ideal <= 0.2 * growth_noisy, r
+
+
+def test_fig7b_holds_lock_with_the_clipped_duties_voltage():
+    """Fig. 7(b), 75 r/min at rated load: the robust DBPC chases the ADC
+    noise onto the hexagon, about 7 % of its duties at exactly 0 or 1, where
+    the dead-time compensation is clipped and the inverter does not apply
+    what the modulator computed (a duty of 0 switches nothing; a duty of 1
+    keeps its rising edge's dead time). The drive gives the SMDO that
+    voltage (smd_drive.c, clipped_voltage): over 10 noise seeds no run loses
+    the rotor, and the RMS position error after 0.5 s stays below 4 deg
+    (measured 3.2-3.6; the claim's quoted value is 1.1). Given the
+    modulator's voltage instead, 2 of the 10 lost the rotor (lost_lock,
+    angle_jump) once the plant's duty of 0 had no dead-time pulse."""
+    s0 = y.fig7_scenario(75.0)
+    for seed in range(1, 11):
+        r = simulate(s0.replace(adc=dataclasses.replace(s0.adc, seed=seed)))
+        assert r.faults.final == 0, seed
+        m = r.t >= 0.5
+        rms = math.degrees(float(np.sqrt(np.mean(r.theta_error[m] ** 2))))
+        assert rms < 4.0, (seed, rms)
 
 
 def _no_noise(s):

@@ -127,8 +127,10 @@ static inline void smd_dtc_legs(const dtc_circuit *c, const double d[3], double 
     for (x = 0; x < 3; x++) {
         double r = 0.5 * (1.0 - d[x]) * T, f = 0.5 * (1.0 + d[x]) * T;
         int n = 0;
-        if (off) {
-            st_n[x] = 0; /* (every leg opens at once: the first event below) */
+        if (off || !(d[x] > 0.0)) {
+            /* (every leg opens at once: the first event below; a duty of 0
+             * switches nothing, the leg stays low with no dead time) */
+            st_n[x] = 0;
             legs[x].n = 0;
             continue;
         }

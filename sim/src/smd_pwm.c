@@ -14,7 +14,9 @@ void smd_pwm_edges(double T, double t_dead, double d, double i_x, double *t_on, 
      * duty exceeds the triangle, i.e. on [(1-d)T/2, (1+d)T/2). */
     *t_on = 0.5 * (1.0 - d) * T;
     *t_off = 0.5 * (1.0 + d) * T;
-    if (t_dead > 0.0) {
+    if (t_dead > 0.0 && d > 0.0) {
+        /* (a duty of 0 switches nothing: the lower device conducts the whole
+         * period, no edge and so no dead time) */
         /* During the dead time the diode of the current's direction conducts:
          * a positive phase current delays the rising edge, a negative one the
          * falling edge (current sign at the period start). */
@@ -31,7 +33,7 @@ void smd_pwm_edges(double T, double t_dead, double d, double i_x, double *t_on, 
 double smd_pwm_avg_duty(double T, double t_dead, double d, double i_x)
 {
     double de = smd_pwm_clamp(d);
-    if (t_dead > 0.0) {
+    if (t_dead > 0.0 && de > 0.0) { /* (no edge at a duty of 0) */
         if (i_x > 0.0) de -= t_dead / T;
         else if (i_x < 0.0) de += t_dead / T;
         if (de < 0.0) de = 0.0;
@@ -44,7 +46,7 @@ double smd_pwm_avg_duty_clamp(double T, double t_dead, double d, double i_x, dou
                               double k_rate)
 {
     double tz, vr, vfc, dz, de;
-    if (!(t_dead > 0.0)) return smd_pwm_avg_duty(T, t_dead, d, i_x);
+    if (!(t_dead > 0.0 && smd_pwm_clamp(d) > 0.0)) return smd_pwm_avg_duty(T, t_dead, d, i_x);
     /* time for the current to reach zero with the leg on the diode's rail:
      * L di/dt = (2/3) u_dc (v_rail - v_f) (R i neglected), linear */
     if (i_x > 0.0) {

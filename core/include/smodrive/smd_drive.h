@@ -462,6 +462,9 @@ typedef struct smd_drive_state {
     smd_rls_state rls;    /* the R_s / psi_r tracker */
     int u_whole;          /* tracker: the voltage of the running period, u_ab, is applied
                              whole (not limited, no duty clipped) */
+    smd_cplx du_clip;     /* what the inverter applies of u_ab_next less u_ab_next, where
+                             the dead-time compensation's duty was clipped at 0 or 1 (0
+                             elsewhere); read with u_ab by the SMDO before it is renewed */
 } smd_drive_state;
 
 /* Read-only view of the controller's internals for logging. */
