@@ -2,7 +2,7 @@
  * libFuzzer target: the blocks of the core one at a time, each through its
  * init (or setter), reset and step functions on parameters and input
  * sequences decoded from the input (fuzz.h):
- *   block 0  smd_svm_init, smd_svm_step, smd_svm_deadtime_comp
+ *   block 0  smd_svm_init, smd_svm_step, smd_svm_deadtime_comp(_lost)
  *   block 1  smd_pi_init, smd_pi_reset, smd_pi_step
  *   block 2  smd_dbpc_init, smd_dbpc_ref_k2, smd_dbpc_predict,
  *            smd_dbpc_conventional, smd_dbpc_robust
@@ -118,7 +118,21 @@ static void fuzz_svm(fz *f)
                     i_abc[j] = fz_r(f, -100.0, 100.0);
                     finite = finite && isfinite(i_abc[j]) && isfinite(d[j]);
                 }
-                smd_svm_deadtime_comp(d, i_abc, t_ratio, i_lin);
+                if (op & 4) {
+                    /* the drive's: the same duties, and the voltage the
+                     * clipping leaves out; with t_ratio in the drive's range
+                     * [0, 0.25] each leg's share is within 1 of u_dc, so the
+                     * vector within 2 u_dc */
+                    const smd_cplx lost = smd_svm_deadtime_comp_lost(
+                        d, i_abc, t_ratio, i_lin, SMD_R(1.0) / i_lin, SMD_R(540.0));
+                    if (finite && t_ratio >= SMD_R(0.0) && t_ratio <= SMD_R(0.25) &&
+                        isfinite(i_lin) && i_lin > SMD_R(0.0)) {
+                        FZ_CHECK(smd_cfinite(lost));
+                        FZ_CHECK(smd_cabs(lost) <= SMD_R(2.0) * SMD_R(540.0));
+                    }
+                } else {
+                    smd_svm_deadtime_comp(d, i_abc, t_ratio, i_lin);
+                }
                 if (finite && isfinite(t_ratio) && isfinite(i_lin) && i_lin > SMD_R(0.0)) {
                     for (j = 0; j < 3; j++) {
                         FZ_CHECK(is_finite_duty(d[j], SMD_R(0.0), SMD_R(1.0)));

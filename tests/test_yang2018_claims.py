@@ -175,7 +175,7 @@ def test_fig7b_holds_lock_with_the_clipped_duties_voltage():
     the dead-time compensation is clipped and the inverter does not apply
     what the modulator computed (a duty of 0 switches nothing; a duty of 1
     keeps its rising edge's dead time). The drive gives the SMDO that
-    voltage (smd_drive.c, clipped_voltage): over 10 noise seeds no run loses
+    voltage (smd_svm_deadtime_comp_lost): over 10 noise seeds no run loses
     the rotor, and the RMS position error after 0.5 s stays below 4 deg
     (measured 3.2-3.6; the claim's quoted value is 1.1). Given the
     modulator's voltage instead, 2 of the 10 lost the rotor (lost_lock,

@@ -1111,21 +1111,15 @@ static smd_status modulate(const smd_drive_params *p, smd_drive_state *s, const 
     if (p->dtc_ratio > SMD_R(0.0)) {
         /* current expected in the middle of the next period, t_k + 1.5 T_sp */
         smd_real i_abc[3];
-        const smd_real d_m[3] = {out->d_abc[0], out->d_abc[1], out->d_abc[2]};
         smd_cplx i_mid = smd_cmul(s->i_dq_ref, x->ej_15);
         smd_ab_to_abc(i_mid, i_abc);
-#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
-        smd_svm_deadtime_comp_r(out->d_abc, i_abc, p->dtc_ratio, p->inv_i_dtc);
-#else
-        smd_svm_deadtime_comp(out->d_abc, i_abc, p->dtc_ratio, p->i_dtc);
-#endif
         /* where a compensated duty was clipped at 0 or 1 the inverter does
          * not apply the modulator's voltage; the SMDO is given what it does
          * apply (yang2018 Fig. 7(b) at 75 r/min has 7 % of its duties at 0
          * or 1: given the modulator's voltage, 2 of 10 noise seeds lost the
          * rotor) */
-        s->du_clip = smd_svm_deadtime_clipped(out->d_abc, d_m, i_abc, p->dtc_ratio,
-                                              p->inv_i_dtc, in->u_dc);
+        s->du_clip = smd_svm_deadtime_comp_lost(out->d_abc, i_abc, p->dtc_ratio, p->i_dtc,
+                                                p->inv_i_dtc, in->u_dc);
     }
     return st;
 }

@@ -125,27 +125,33 @@ void smd_svm_deadtime_comp_r(smd_real d_abc[3], const smd_real i_abc[3], smd_rea
     }
 }
 
-smd_cplx smd_svm_deadtime_clipped(const smd_real d_c[3], const smd_real d_m[3],
-                                  const smd_real i_abc[3], smd_real t_ratio,
-                                  smd_real inv_i_lin, smd_real u_dc)
+smd_cplx smd_svm_deadtime_comp_lost(smd_real d_abc[3], const smd_real i_abc[3],
+                                    smd_real t_ratio, smd_real i_lin, smd_real inv_i_lin,
+                                    smd_real u_dc)
 {
     smd_real dd[3];
-    int k;
-    if (d_c[0] > SMD_R(0.0) && d_c[0] < SMD_R(1.0) && d_c[1] > SMD_R(0.0) &&
-        d_c[1] < SMD_R(1.0) && d_c[2] > SMD_R(0.0) && d_c[2] < SMD_R(1.0)) {
-        return smd_c(SMD_R(0.0), SMD_R(0.0)); /* (the common case: nothing clipped) */
-    }
+    int k, clipped = 0;
     for (k = 0; k < 3; k++) {
+        const smd_real d = d_abc[k];
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+        const smd_real dc = dtc_phase(d, i_abc[k] * inv_i_lin, t_ratio);
+        (void)i_lin;
+#else
+        const smd_real dc = dtc_phase(d, i_abc[k] / i_lin, t_ratio);
+#endif
         dd[k] = SMD_R(0.0);
-        if (d_c[k] <= SMD_R(0.0)) {
-            dd[k] = -d_m[k];
-        } else if (d_c[k] >= SMD_R(1.0)) {
+        if (dc <= SMD_R(0.0)) {
+            dd[k] = -d;
+            clipped = 1;
+        } else if (dc >= SMD_R(1.0)) {
             smd_real sat = i_abc[k] * inv_i_lin;
             sat = sat > SMD_R(1.0) ? SMD_R(1.0) : (sat < SMD_R(0.0) ? SMD_R(0.0) : sat);
-            dd[k] = SMD_R(1.0) - t_ratio * sat - d_m[k];
+            dd[k] = SMD_R(1.0) - t_ratio * sat - d;
+            clipped = 1;
         }
+        d_abc[k] = dc;
     }
-    return smd_cscale(smd_abc_to_ab(dd), u_dc);
+    return clipped ? smd_cscale(smd_abc_to_ab(dd), u_dc) : smd_c(SMD_R(0.0), SMD_R(0.0));
 }
 
 void smd_svm_deadtime_comp(smd_real d_abc[3], const smd_real i_abc[3], smd_real t_ratio,

@@ -238,32 +238,40 @@ static void test_deadtime_comp(void)
     CHECK_CLOSE(d2[2], 0.52, 4 * SMDT_EPS);
 }
 
-/* The voltage the clipped compensation leaves out (smd_svm_deadtime_clipped).
- * Hand values with t_dead/T = 0.02, i_lin = 1 A, u_dc = 540 V:
- *   nothing clipped, d_c = (0.52, 0.19, 0.5)            -> exactly 0
- *   d_m = (0.01, 0.5, 0.99), i = (-2, 0, 3) A, d_c = (0, 0.5, 1):
+/* The compensation that returns what its clipping leaves out
+ * (smd_svm_deadtime_comp_lost). Hand values with t_dead/T = 0.02,
+ * i_lin = 1 A, u_dc = 540 V:
+ *   d = (0.5, 0.2, 0.5), i = (10, -0.5, 0) A: duties as smd_svm_deadtime_comp
+ *     gives them, nothing clipped                      -> exactly 0
+ *   d = (0.01, 0.5, 0.99), i = (-2, 0, 3) A, compensated to (0, 0.5, 1):
  *     leg a at 0 switches nothing: 0 - 0.01 = -0.01
  *     leg c at 1 keeps its rising edge's dead time: 1 - 0.02 - 0.99 = -0.01
  *     u = 540 (2/3 (-0.01 - (0 - 0.01)/2), (0 + 0.01)/sqrt 3)
  *       = (-1.8, 3.1176914536) V
- * A leg at 1 with a current in the linear zone, i = 0.25 A: 1 - 0.005 - d_m.
+ *   d = (0.5, 0.5, 0.999), i = (0, 0, 0.25) A (the linear zone): leg c at 1,
+ *     1 - 0.02 * 0.25 - 0.999 = -0.004
  * Tolerance: 16 eps u_dc, as the reconstruction above. */
-static void test_deadtime_clipped(void)
+static void test_deadtime_comp_lost(void)
 {
-    const smd_real none[3] = {R(0.52), R(0.19), R(0.5)};
-    const smd_real d_m[3] = {R(0.01), R(0.5), R(0.99)};
-    const smd_real i[3] = {R(-2.0), R(0.0), R(3.0)};
-    const smd_real d_c[3] = {R(0.0), R(0.5), R(1.0)};
-    const smd_real i_lin[3] = {R(0.0), R(0.0), R(0.25)};
-    const smd_real d_c1[3] = {R(0.5), R(0.5), R(1.0)};
-    const smd_real d_m1[3] = {R(0.5), R(0.5), R(0.999)};
-    smd_cplx u = smd_svm_deadtime_clipped(none, d_m, i, R(0.02), R(1.0), R(UDC));
+    smd_real d[3] = {R(0.5), R(0.2), R(0.5)}, d_ref[3] = {R(0.5), R(0.2), R(0.5)};
+    const smd_real i[3] = {R(10.0), R(-0.5), R(0.0)};
+    smd_real d2[3] = {R(0.01), R(0.5), R(0.99)};
+    const smd_real i2[3] = {R(-2.0), R(0.0), R(3.0)};
+    smd_real d3[3] = {R(0.5), R(0.5), R(0.999)};
+    const smd_real i3[3] = {R(0.0), R(0.0), R(0.25)};
+    smd_cplx u = smd_svm_deadtime_comp_lost(d, i, R(0.02), R(1.0), R(1.0), R(UDC));
+    smd_svm_deadtime_comp(d_ref, i, R(0.02), R(1.0));
     CHECK_CPLX(u, 0.0, 0.0);
-    u = smd_svm_deadtime_clipped(d_c, d_m, i, R(0.02), R(1.0), R(UDC));
+    CHECK_CLOSE(d[0], d_ref[0], 0.0);
+    CHECK_CLOSE(d[1], d_ref[1], 0.0);
+    CHECK_CLOSE(d[2], d_ref[2], 0.0);
+    u = smd_svm_deadtime_comp_lost(d2, i2, R(0.02), R(1.0), R(1.0), R(UDC));
+    CHECK_CLOSE(d2[0], 0.0, 0.0);
+    CHECK_CLOSE(d2[2], 1.0, 0.0);
     CHECK_CLOSE(u.re, -1.8, 16 * SMDT_EPS * UDC);
     CHECK_CLOSE(u.im, 0.01 * INV_SQRT3_D * UDC, 16 * SMDT_EPS * UDC);
-    /* leg c alone: dd_c = 1 - 0.02 * 0.25 - 0.999 = -0.004 */
-    u = smd_svm_deadtime_clipped(d_c1, d_m1, i_lin, R(0.02), R(1.0), R(UDC));
+    u = smd_svm_deadtime_comp_lost(d3, i3, R(0.02), R(1.0), R(1.0), R(UDC));
+    CHECK_CLOSE(d3[2], 1.0, 0.0);
     CHECK_CLOSE(u.re, 2.0 / 3.0 * 0.002 * UDC, 16 * SMDT_EPS * UDC);
     CHECK_CLOSE(u.im, 0.004 * INV_SQRT3_D * UDC, 16 * SMDT_EPS * UDC);
 }
@@ -277,6 +285,6 @@ int main(void)
     RUN_TEST(test_hexagon_huge_reference);
     RUN_TEST(test_zero_vector_fallback);
     RUN_TEST(test_deadtime_comp);
-    RUN_TEST(test_deadtime_clipped);
+    RUN_TEST(test_deadtime_comp_lost);
     return smdt_summary("test_svm");
 }

@@ -38,18 +38,19 @@ void smd_svm_deadtime_comp(smd_real d_abc[3], const smd_real i_abc[3], smd_real 
  * drive), i_x * inv_i_lin in place of i_x / i_lin. */
 void smd_svm_deadtime_comp_r(smd_real d_abc[3], const smd_real i_abc[3], smd_real t_ratio,
                              smd_real inv_i_lin);
-/* What an inverter with that dead time applies of the modulator's duties
- * d_m, less them, as a voltage vector (u_dc times the amplitude-invariant
- * Clarke transform of the duties' differences), where the compensation
- * clipped the duty d_c it gave (from d_m, i_abc, t_ratio, inv_i_lin):
- * a duty of 0 switches nothing, so the leg's mean is 0, not d_m (no dead
- * time to compensate); a duty of 1 keeps its rising edge's dead time (a
- * positive current's), which the compensation could not add, so the leg's
- * mean is 1 - t_ratio sat(i_x inv_i_lin), sat to [0, 1]. Zero where no duty
- * was clipped (d_c in (0, 1) on every leg). */
-smd_cplx smd_svm_deadtime_clipped(const smd_real d_c[3], const smd_real d_m[3],
-                                  const smd_real i_abc[3], smd_real t_ratio,
-                                  smd_real inv_i_lin, smd_real u_dc);
+/* The compensation of smd_svm_deadtime_comp (i_x / i_lin; the fast build:
+ * i_x * inv_i_lin, inv_i_lin = 1 / i_lin), returning what an inverter with
+ * that dead time applies of the given duties d_abc, less them, where the
+ * compensated duty was clipped, as a voltage vector (u_dc times the
+ * amplitude-invariant Clarke transform of the duties' differences): a duty
+ * clipped to 0 switches nothing, so the leg's mean is 0, not d_x (no dead
+ * time to compensate); a duty clipped to 1 keeps its rising edge's dead
+ * time (a positive current's), which the compensation could not add, so the
+ * leg's mean is 1 - t_ratio sat(i_x inv_i_lin), sat to [0, 1]. Zero where no
+ * duty was clipped. */
+smd_cplx smd_svm_deadtime_comp_lost(smd_real d_abc[3], const smd_real i_abc[3],
+                                    smd_real t_ratio, smd_real i_lin, smd_real inv_i_lin,
+                                    smd_real u_dc);
 
 /* Duty ratios d_abc in [d_min, 1 - d_min] realising u_s_ab_ref as closely as
  * the limit allows; *u_s_ab_applied receives the realised vector (the
