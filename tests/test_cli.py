@@ -21,7 +21,9 @@ SUMMARY_KEYS = {"name", "samples", "status", "speed_rpm_mean_last_20pct",
                 "first_fault_t", "first_fault", "final_fault", "faults_expected",
                 # issue 18: phase at the end, speed-tracking error, fault history
                 "phase_end", "speed_ref_rpm_mean_last_20pct", "speed_error_rpm_last_20pct",
-                "speed_error_rel_last_20pct", "final_fault_t", "ends_in_fault"}
+                "speed_error_rel_last_20pct", "final_fault_t", "ends_in_fault",
+                # 2026-11-27: the operating point's limits
+                "voltage_limit_share_last_20pct", "current_limit_share_last_20pct"}
 
 
 def _run(src: Path, out: Path) -> dict:
@@ -140,3 +142,32 @@ def test_run_refuses_unknown_scenario_and_bad_pil_time(tmp_path):
     res = CliRunner().invoke(main, ["run", "yang2018.fig7a", "--pil", "--seconds", "-1",
                                     "--out", str(tmp_path)])
     assert res.exit_code == 2 and "--seconds" in res.output
+
+
+def test_run_says_when_the_voltage_rides_its_limit(tmp_path):
+    """Table I sensorless with L_hat = 1.5 L at 1500 r/min and rated load
+    (test_own_motor.py's row 5) holds its speed at status 0, but its voltage
+    sits on the hexagon in 99.8 % of the samples (the duties bang between its
+    vertices): the run says so, in summary.json and with a note on stderr,
+    and exits 0 (not a fault: the speed is held). The README's sensorless
+    example, which has its headroom, gets no note (its share below 1 %)."""
+    src = tmp_path / "row5.toml"
+    src.write_text("duration = 0.6\nw_M0_rpm = 1500.0\nw_M_ref_rpm = 1500.0\n"
+                   "[load]\nT_brake = 15.279\n"
+                   "[controller]\ncurrent = \"robust_dbpc\"\nposition = \"smdo_emf\"\n"
+                   "start = \"handover\"\nt_handover = 0.2\nL_s_hat = 0.035175\n")
+    res = CliRunner().invoke(main, ["run", str(src), "--out", str(tmp_path / "a")])
+    assert res.exit_code == 0, res.output
+    summary = json.loads((tmp_path / "a" / "summary.json").read_text())
+    assert summary["status"] == 0 and summary["final_fault"] == []
+    assert abs(summary["speed_error_rel_last_20pct"]) < 0.005
+    assert summary["voltage_limit_share_last_20pct"] > 0.9
+    assert "note: the voltage was on the modulator's limit in" in res.output
+    toml = (ROOT / "scenarios" / "sensorless_load_step.toml").read_text()
+    ok = tmp_path / "ok.toml"
+    ok.write_text(toml.replace("duration = 1.6", "duration = 0.6"))
+    res = CliRunner().invoke(main, ["run", str(ok), "--out", str(tmp_path / "b")])
+    assert res.exit_code == 0, res.output
+    summary = json.loads((tmp_path / "b" / "summary.json").read_text())
+    assert summary["voltage_limit_share_last_20pct"] < 0.01
+    assert "note: the voltage" not in res.output

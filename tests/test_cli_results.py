@@ -23,7 +23,8 @@ from click.testing import CliRunner
 import smodrive.engine.export
 from smodrive import report, sweep
 from smodrive.claims import Claim
-from smodrive.cli import main, run_summary
+from smodrive.analysis.summary import run_summary
+from smodrive.cli import main
 from smodrive.design.yao2022 import ObserverDesignPars
 from smodrive.model import RPM, ParameterError, Profile, Scenario
 from smodrive.scenarios import catalogue

@@ -16,7 +16,6 @@ a killed run never leaves a truncated file under its final name.
 
 from __future__ import annotations
 
-import dataclasses
 import glob
 import json
 import math
@@ -30,7 +29,6 @@ from pathlib import Path
 from typing import Any, Callable, Iterable, NoReturn
 
 import click
-import numpy as np
 from rich.console import Console
 from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
@@ -39,11 +37,13 @@ from rich.text import Text
 
 from . import firmware, plots
 from . import sweep as sw
+from .analysis.metrics import HOLD_SHARE
+from .analysis.summary import run_summary
 from .claims import count, describe_counts
-from .engine import FAULT_BITS, LATCHED_FAULTS, SimulationError, _ffi, export, log_plan, simulate
+from .engine import SimulationError, _ffi, export, log_plan, simulate
 from .engine.export import write_npz
 from .firmware import header as fw_header
-from .model import RPM, ParameterError, derive
+from .model import ParameterError, derive
 from .report import reproduce as reproduce_papers
 from .cli_identify import identify
 from .scenario_io import resolve_scenario, scenario_to_toml
@@ -418,78 +418,18 @@ def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
                   "scenario tests this fault, set faults_expected = true in it", 1)
         _say(f"faults: first {what} at t = {f.t_first:.6g} s"
              + ("" if not f.ends_in_fault else " (expected by the scenario)"))
+    share = summary["voltage_limit_share_last_20pct"]
+    if share > HOLD_SHARE:
+        _say(f"note: the voltage was on the modulator's limit in {100 * share:.1f} % of the "
+             "last 20 % of the run: the drive holds it without voltage headroom, and its "
+             "current loop does not set the voltage there (a deadbeat loop's limit cycle, or "
+             "a speed or load beyond what inverter.u_dc reaches; check the reference, the "
+             "load, inverter.u_dc and controller.L_s_hat)")
 
 
 def write_signals(path: Path, r, progress: Callable[[float], None] | None = None) -> None:
     """signals.npz (:func:`smodrive.engine.export.write_npz`)."""
     write_npz(r, path, progress)
-
-
-def _phase_end(s, r) -> str:
-    """The start-up phase of the last logged row: "forced" (I/f), "encoder"
-    (the encoder hand-over, or an encoder position source) or "observer"
-    (a sensorless position source)."""
-    k = int(r["phase"][-1])
-    source = "encoder" if s.controller.position == "encoder" else "observer"
-    return {0: "forced", 1: "encoder", 2: source}.get(k, str(k))
-
-
-def _final_fault_t(r) -> float | None:
-    """When the final fault (its latched bits, or the whole final word if
-    none is latched) was set for the last time, from the logged ``fault``
-    channel: the time of the first row of the last stretch of rows that
-    hold those bits (to the log stride); None without a final fault, or
-    when the log's last row does not hold it."""
-    final = int(r.faults.final)
-    if not final:
-        return None
-    latched = sum(FAULT_BITS[n] for n in LATCHED_FAULTS if n in FAULT_BITS)
-    bits = (final & latched) or final
-    on = (r["fault"].astype(np.int64) & bits) == bits
-    if not on[-1]:
-        return None
-    off = np.flatnonzero(~on)
-    return float(r.t[int(off[-1]) + 1 if off.size else 0])
-
-
-def run_summary(s, r, plan) -> dict[str, Any]:
-    """summary.json of a run: means over the last 20 % of the run (at least
-    the last logged row), the control samples simulated and how the log was
-    kept; the start-up phase at the end (``phase_end``: forced, encoder or
-    observer); the speed-tracking error over the last 20 % (mean true speed
-    minus mean reference, r/min, and that over the final reference's
-    magnitude; null without the speed loop, the relative one also for a
-    final reference of 0); the faults: the first (``first_fault``, its
-    time ``first_fault_t``), the final (``final_fault``, ``ends_in_fault``)
-    and when the final one was set (``final_fault_t``, from the log)."""
-    i0 = min(int(np.searchsorted(r.t, 0.8 * s.duration)), r.data.shape[0] - 1)
-    last = dataclasses.replace(r, data=r.data[i0:])  # a view of those rows
-    n_ref = last["w_M_ref"] / RPM
-    err = rel = None
-    if s.controller.speed_loop:
-        err = float(np.mean(last.n_rpm) - np.mean(n_ref))
-        ref_end = float(r["w_M_ref"][-1] / RPM)
-        rel = err / abs(ref_end) if ref_end != 0.0 else None
-    return {
-        "name": s.name,
-        "samples": int(r.samples),
-        "status": int(r.status),
-        "speed_rpm_mean_last_20pct": float(np.mean(last.n_rpm)),
-        "speed_estimate_rpm_mean_last_20pct": float(np.mean(last.n_hat_rpm)),
-        "i_d_mean_last_20pct": float(np.mean(last["i_d"])),
-        "i_q_mean_last_20pct": float(np.mean(last["i_q"])),
-        "theta_error_rms_deg_last_20pct": float(np.degrees(np.sqrt(np.mean(
-            last.theta_error ** 2)))),
-        "speed_ref_rpm_mean_last_20pct": float(np.mean(n_ref)),
-        "speed_error_rpm_last_20pct": err,
-        "speed_error_rel_last_20pct": rel,
-        "phase_end": _phase_end(s, r),
-        **r.faults.as_dict(),
-        "final_fault_t": _final_fault_t(r),
-        "ends_in_fault": bool(r.faults.ends_in_fault),
-        "faults_expected": bool(s.faults_expected),
-        "log": plan.as_dict(),
-    }
 
 
 def _run_pil(s, out: Path, seconds: float, math: str, cycles: bool = False) -> list[str]:

@@ -1,0 +1,87 @@
+"""summary.json of a run (``smodrive run``): the means of its last 20 %,
+its faults, and whether it held its operating point there."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import Any
+
+import numpy as np
+
+from ..engine import FAULT_BITS, LATCHED_FAULTS
+from ..model import RPM
+from .metrics import operating_point
+
+
+def _phase_end(s, r) -> str:
+    """The start-up phase of the last logged row: "forced" (I/f), "encoder"
+    (the encoder hand-over, or an encoder position source) or "observer"
+    (a sensorless position source)."""
+    k = int(r["phase"][-1])
+    source = "encoder" if s.controller.position == "encoder" else "observer"
+    return {0: "forced", 1: "encoder", 2: source}.get(k, str(k))
+
+
+def _final_fault_t(r) -> float | None:
+    """When the final fault (its latched bits, or the whole final word if
+    none is latched) was set for the last time, from the logged ``fault``
+    channel: the time of the first row of the last stretch of rows that
+    hold those bits (to the log stride); None without a final fault, or
+    when the log's last row does not hold it."""
+    final = int(r.faults.final)
+    if not final:
+        return None
+    latched = sum(FAULT_BITS[n] for n in LATCHED_FAULTS if n in FAULT_BITS)
+    bits = (final & latched) or final
+    on = (r["fault"].astype(np.int64) & bits) == bits
+    if not on[-1]:
+        return None
+    off = np.flatnonzero(~on)
+    return float(r.t[int(off[-1]) + 1 if off.size else 0])
+
+
+def run_summary(s, r, plan) -> dict[str, Any]:
+    """summary.json of a run: means over the last 20 % of the run (at least
+    the last logged row), the control samples simulated and how the log was
+    kept; the start-up phase at the end (``phase_end``: forced, encoder or
+    observer); the speed-tracking error over the last 20 % (mean true speed
+    minus mean reference, r/min, and that over the final reference's
+    magnitude; null without the speed loop, the relative one also for a
+    final reference of 0); the faults: the first (``first_fault``, its
+    time ``first_fault_t``), the final (``final_fault``, ``ends_in_fault``)
+    and when the final one was set (``final_fault_t``, from the log); the
+    shares of the last 20 % with the voltage command on the modulator's limit
+    and a current reference on controller.i_max
+    (:func:`smodrive.analysis.metrics.operating_point`)."""
+    i0 = min(int(np.searchsorted(r.t, 0.8 * s.duration)), r.data.shape[0] - 1)
+    op = operating_point(r, float(r.t[i0]), math.inf)
+    last = dataclasses.replace(r, data=r.data[i0:])  # a view of those rows
+    n_ref = last["w_M_ref"] / RPM
+    err = rel = None
+    if s.controller.speed_loop:
+        err = float(np.mean(last.n_rpm) - np.mean(n_ref))
+        ref_end = float(r["w_M_ref"][-1] / RPM)
+        rel = err / abs(ref_end) if ref_end != 0.0 else None
+    return {
+        "name": s.name,
+        "samples": int(r.samples),
+        "status": int(r.status),
+        "speed_rpm_mean_last_20pct": float(np.mean(last.n_rpm)),
+        "speed_estimate_rpm_mean_last_20pct": float(np.mean(last.n_hat_rpm)),
+        "i_d_mean_last_20pct": float(np.mean(last["i_d"])),
+        "i_q_mean_last_20pct": float(np.mean(last["i_q"])),
+        "theta_error_rms_deg_last_20pct": float(np.degrees(np.sqrt(np.mean(
+            last.theta_error ** 2)))),
+        "speed_ref_rpm_mean_last_20pct": float(np.mean(n_ref)),
+        "speed_error_rpm_last_20pct": err,
+        "speed_error_rel_last_20pct": rel,
+        "phase_end": _phase_end(s, r),
+        "voltage_limit_share_last_20pct": float(op.u_limit_share),
+        "current_limit_share_last_20pct": float(op.i_limit_share),
+        **r.faults.as_dict(),
+        "final_fault_t": _final_fault_t(r),
+        "ends_in_fault": bool(r.faults.ends_in_fault),
+        "faults_expected": bool(s.faults_expected),
+        "log": plan.as_dict(),
+    }
