@@ -33,6 +33,7 @@ FLOORS: dict[str, int] = {
     "smodrive.cli": 10,
     "smodrive.cli_identify": 10,
     "smodrive.commission": 4,
+    "smodrive.commission_lcl": 4,
     "smodrive.fromlog": 2,
     "smodrive": 11,
 }

@@ -24,9 +24,8 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import expm
-from scipy.optimize import minimize_scalar
 
+from .commission_lcl import N_HALF_LCL, lcl_inductance
 from .engine import LATCHED_FAULTS, _ffi, fault_names
 from .engine.run import Engine
 from .model import ParameterError, Profile
@@ -238,52 +237,6 @@ def identify_ls(s: Scenario, rs: RsResult, axis: str, i_bias: float, engine: Eng
                     L_series=float(st.L), i_bias=i_bias)
 
 
-#: step 2's half period behind an LCL filter, samples: the wave's resonance (its edges ring the
-#: filter) sampled well enough for the filter's model (yao2022's motor: L_s -0.6 % at 16,
-#: -5.0 % at 8, -3.3 % at 32)
-N_HALF_LCL = 16
-
-
-def _lcl_wave(s: Scenario, L_s: float, R_s: float, n_half: int, du: float) -> np.ndarray:
-    """The periodic current of the motor behind the filter (L1, C1, L2o of
-    s.lcl; R_s in the motor's branch, as the plant has) under step 2's
-    square wave, +-du from the command of the sample before (ZOH over each
-    sample, the exact discrete model), its mean removed."""
-    f = s.lcl
-    L2 = f.L2o + L_s
-    A = np.array([[0.0, -1.0 / f.L1, 0.0], [1.0 / f.C1, 0.0, -1.0 / f.C1],
-                  [0.0, 1.0 / L2, -R_s / L2]])
-    M = expm(np.block([[A, np.array([[1.0 / f.L1], [0.0], [0.0]])],
-                       [np.zeros((1, 4))]]) * s.T_sp)
-    Ad, Bd = M[:3, :3], M[:3, 3]
-    n2 = 2 * n_half
-    v = [du if (k - 1) % n2 < n_half else -du for k in range(n2)]
-    acc = np.zeros(3)
-    for k in range(n2):
-        acc = Ad @ acc + Bd * v[k]
-    x = np.linalg.solve(np.eye(3) - np.linalg.matrix_power(Ad, n2), acc)
-    out = np.empty(n2)
-    for k in range(n2):
-        out[k] = x[2]
-        x = Ad @ x + Bd * v[k]
-    return out - out.mean()
-
-
-def lcl_inductance(s: Scenario, R_s: float, w: np.ndarray, n_half: int, du: float) -> float:
-    """The motor's inductance behind s.lcl from step 2's averaged wave w
-    (mean removed): the L_s whose model wave (:func:`_lcl_wave`) is nearest
-    in least squares (a bounded search over 1 uH to 10 x the filter's
-    inductance; 10 nH to 10 x the filter's)."""
-    lo, hi = 1e-8, 10.0 * (s.lcl.L1 + s.lcl.L2o)
-
-    def sse(lg: float) -> float:
-        return float(np.sum((_lcl_wave(s, math.exp(lg), R_s, n_half, du) - w) ** 2))
-
-    r = minimize_scalar(sse, bounds=(math.log(lo), math.log(hi)), method="bounded",
-                        options={"xatol": 1e-6})
-    return float(math.exp(r.x))
-
-
 @dataclass(frozen=True)
 class Commissioning:
     """Steps 1 and 2 on one plant: R_s and the drop, L_d and L_q."""
@@ -327,8 +280,8 @@ def commission(s: Scenario, i_test: float | None = None, mechanics: bool = True,
     lq = identify_ls_levels(s, rs, "q", i_max, eng) if ld.ok else None
     psi = mech = None
     if lq is not None and lq.ok:
+        rs, ld, lq = sampled_current_correction(s, rs, ld, lq)
         L_s = 0.5 * (ld.L + lq.L)
-        rs = sampled_current_correction(s, rs, L_s)
         psi = identify_psi(s, rs, L_s, spin_current(s, rs), eng, slow)
         if psi.ok and mechanics:
             mech = identify_mech(s, rs.R_s, L_s, psi.psi,
@@ -342,17 +295,29 @@ def commission(s: Scenario, i_test: float | None = None, mechanics: bool = True,
 K_SAMPLE_MAX = 0.1
 
 
-def sampled_current_correction(s: Scenario, rs: RsResult, L_s: float) -> RsResult:
-    """R_s corrected for where the current is sampled: the dead time moves
-    each pulse's centre by t_d / 2 from the carrier's, and the sample is off
-    the period's mean by u t_d / (2 L_s), u = R_s i across the stator; the
-    staircase's slope is R_s (1 - R_s t_d / (2 L_s)), t_d from the measured
-    drop, L_s from step 2 (docs/commissioning.md, step 1: the micro motor's
-    slope -0.95 % a us, -1.0 % predicted). Not behind an LCL filter."""
+def sampled_current_correction(s: Scenario, rs: RsResult, ld: LsResult, lq: LsResult
+                               ) -> tuple[RsResult, LsResult, LsResult]:
+    """R_s, L_d and L_q corrected for where the current is sampled: the dead
+    time moves each pulse's centre by t_d / 2 from the carrier's. The sample
+    is off the period's mean by u t_d / (2 L_s), u = R_s i across the stator,
+    so the staircase's slope is R_s (1 - R_s t_d / (2 L_s)) (step 1: the
+    micro motor's slope -0.95 % a us, -1.0 % predicted); the square wave's
+    voltage comes t_d / 2 late to each sample, so its exact discrete model
+    reads b e^{R_s t_d / (2 L)}, and L e^{-R_s t_d / (2 L)} (step 2: the
+    micro motor's L -0.5 to -1.8 % at 0.9-1.9 us, -0.9 to -1.9 % predicted).
+    t_d from the measured drop, each level corrected as the result. Not
+    behind an LCL filter (docs/commissioning.md)."""
+    L_s = 0.5 * (ld.L + lq.L)
     k = rs.R_s * rs.t_dead() / (2.0 * L_s) if L_s > 0.0 else 0.0
     if s.lcl is not None or not (0.0 < k <= K_SAMPLE_MAX):
-        return rs
-    return dataclasses.replace(rs, R_s=rs.R_s / (1.0 - k), R_fit=rs.R_s)
+        return rs, ld, lq
+    rs = dataclasses.replace(rs, R_s=rs.R_s / (1.0 - k), R_fit=rs.R_s)
+    h = rs.R_s * rs.t_dead() / 2.0
+
+    def fix(x: LsResult) -> LsResult:
+        return dataclasses.replace(x, L=x.L * math.exp(h / x.L),
+                                   levels=tuple(fix(v) for v in x.levels))
+    return rs, fix(ld), fix(lq)
 
 
 #: step 3's defaults (assumed): 25 % and 50 % of rated speed, reached in 2 s, held 0.5 s
