@@ -362,3 +362,29 @@ def test_the_cycle_table_measures_a_fault_injection_case_over_every_sample(tmp_p
     assert [r.calls for r in rows] == [100, 150]
     assert np.isnan(faults.inputs).any()  # the faults are in the measured samples
     assert rows[1].worst <= 1.05 * rows[0].worst
+
+
+@pytest.mark.parametrize("math", ["fmath", "fast"])
+def test_a_fixed_composition_runs_the_same_drive_and_refuses_the_others(math, tmp_path):
+    """The core built with the yang2018 sensorless composition fixed at
+    compile time (smd_drive.h; T.FIXED_SENSORLESS) runs that composition's
+    cases, steady and with faults injected, bit for bit as the host's
+    generic build, and refuses every other configuration at init with
+    SMD_ERR_COMBINATION (24) where the generic build accepts it: the same
+    drive with the supervision every sample, and the encoder drive. A fixed
+    value that the step did not honour (a branch on the field left in) or
+    a refusal that did not happen would both fail here."""
+    from smodrive.scenarios import target_cases as TC
+    cases, _ = TC.cycle_cases(60)
+    keep = TC.FIXED_CASES
+    refused = ("drive robust_dbpc + smdo_emf", "drive robust_dbpc + encoder")
+    sub = [c for c in cases if c.name in keep + refused]
+    assert sorted(c.name for c in sub) == sorted(keep + refused)
+    ho, mo = T.run_both(sub, math, tmp_path, m4_extra=T.FIXED_SENSORLESS)
+    diffs = {d.name: d for d in T.compare(sub, ho, mo)}
+    for name in keep:
+        assert diffs[name].differ == 0, name
+    host, m4 = _by_name(sub, ho), _by_name(sub, mo)
+    for name in refused:
+        assert np.frombuffer(host[name][:4], "<i4")[0] == 0, name
+        assert np.frombuffer(m4[name][:4], "<i4")[0] == 24, name

@@ -16,6 +16,51 @@
 #define SMD_COLD
 #endif
 
+/* A fixed composition (smd_drive.h, "A composition fixed at compile time"):
+ * each SMD_FIX_* a firmware defines makes its part of the configuration a
+ * constant of the step, which the compiler then prunes; smd_drive_init
+ * refuses any other value. Undefined, each is the configuration's. */
+#ifdef SMD_FIX_CURRENT
+#define D_CURRENT(p) ((void)(p), SMD_FIX_CURRENT)
+#else
+#define D_CURRENT(p) ((p)->current)
+#endif
+#ifdef SMD_FIX_POSITION
+#define D_POSITION(p) ((void)(p), SMD_FIX_POSITION)
+#else
+#define D_POSITION(p) ((p)->position)
+#endif
+#ifdef SMD_FIX_LCL
+#define D_LCL(p) ((void)(p), SMD_FIX_LCL)
+#else
+#define D_LCL(p) ((p)->lcl)
+#endif
+#ifdef SMD_FIX_RLS
+#define D_USE_RLS(p) ((void)(p), SMD_FIX_RLS)
+#else
+#define D_USE_RLS(p) ((p)->use_rls)
+#endif
+#ifdef SMD_FIX_SPEED_LOOP
+#define D_SPEED_LOOP(p) ((void)(p), SMD_FIX_SPEED_LOOP)
+#else
+#define D_SPEED_LOOP(p) ((p)->speed_loop)
+#endif
+#if defined(SMD_FIX_CURRENT) && defined(SMD_FIX_POSITION)
+#define D_USE_SMDO(p) \
+    ((void)(p), SMD_FIX_CURRENT == SMD_CC_ROBUST_DBPC || SMD_FIX_POSITION == SMD_POS_SMDO_EMF)
+#else
+#define D_USE_SMDO(p) ((p)->use_smdo)
+#endif
+#ifdef SMD_FIX_SUPERVISE_EVERY
+#define D_SUP_N(p) ((void)(p), SMD_FIX_SUPERVISE_EVERY > 1 ? SMD_FIX_SUPERVISE_EVERY : 1)
+#define D_SUP_FIN(p) (2 % D_SUP_N(p))
+#define D_SUP_RIP(p) (3 % D_SUP_N(p))
+#else
+#define D_SUP_N(p) ((p)->sup_n)
+#define D_SUP_FIN(p) ((p)->sup_fin)
+#define D_SUP_RIP(p) ((p)->sup_rip)
+#endif
+
 static int is_flag(int x) { return x == 0 || x == 1; }
 
 /* ------------------------------------------------------------ position source */
@@ -106,7 +151,7 @@ static void source_reset(const smd_drive_params *p, smd_drive_state *s, smd_real
 {
     s->pos.theta_err = SMD_R(0.0);
     smd_pll_reset(&s->pos.pll, theta0, w0);
-    switch (p->position) {
+    switch (D_POSITION(p)) {
     case SMD_POS_SMDO_EMF: smd_emf_pos_reset(&s->pos.u.emf, w0); break;
     case SMD_POS_LCL_SMO_PLL:
         smd_lcl_smo_reset(&s->pos.u.smo, theta0);
@@ -127,7 +172,7 @@ static smd_status observe_lcl(const smd_drive_params *p, smd_drive_state *s, smd
                               int *ej_ok)
 {
     smd_status st;
-    if (p->position == SMD_POS_LCL_SMO_PLL) {
+    if (D_POSITION(p) == SMD_POS_LCL_SMO_PLL) {
         /* e^{j theta_o} once: the observer's transforms and, when the
          * frame of k is theta_o (on the source), the drive's (rotations()) */
         *ej_o = smd_cexpj(theta_o);
@@ -163,9 +208,9 @@ static smd_status source_observe(const smd_drive_params *p, smd_drive_state *s,
                                  smd_real w_o, smd_cplx *ej_o, int *ej_ok)
 {
     smd_status st = SMD_OK;
-    if (p->position == SMD_POS_SMDO_EMF) {
+    if (D_POSITION(p) == SMD_POS_SMDO_EMF) {
         smd_emf_pos_step(&p->emf, &s->pos.u.emf, s->smdo.u_d_hat);
-    } else if (source_is_lcl(p->position)) {
+    } else if (source_is_lcl(D_POSITION(p))) {
         st = observe_lcl(p, s, *i1_ab, *i2_ab, theta_o, w_o, ej_o, ej_ok);
     }
     return st;
@@ -177,10 +222,10 @@ static void source_frame(const smd_drive_params *p, const smd_drive_state *s,
                          const smd_drive_in *in, smd_real theta_o, smd_real w_o,
                          smd_real *theta_k, smd_real *w_k)
 {
-    if (p->position == SMD_POS_ENCODER) {
+    if (D_POSITION(p) == SMD_POS_ENCODER) {
         *theta_k = in->theta_enc;
         *w_k = in->w_enc;
-    } else if (p->position == SMD_POS_SMDO_EMF) {
+    } else if (D_POSITION(p) == SMD_POS_SMDO_EMF) {
         *theta_k = s->pos.u.emf.theta_r_hat;
         *w_k = s->pos.u.emf.w_r_hat;
     } else {
@@ -200,18 +245,18 @@ static void source_frame(const smd_drive_params *p, const smd_drive_state *s,
 static int source_agrees(const smd_drive_params *p, const smd_drive_state *s, smd_real sg,
                          smd_real theta_k, smd_real w_f)
 {
-    const smd_real th_src = p->position == SMD_POS_SMDO_EMF ? s->pos.u.emf.theta_r_hat
+    const smd_real th_src = D_POSITION(p) == SMD_POS_SMDO_EMF ? s->pos.u.emf.theta_r_hat
                                                              : theta_k + s->pos.theta_err;
     const smd_real lead = sg * smd_wrap_pi(th_src - theta_k);
     return lead > -SMD_PI / SMD_R(6.0) && lead < SMD_PI &&
-           (p->position != SMD_POS_SMDO_EMF || s->pos.u.emf.w_r_hat * w_f > SMD_R(0.0));
+           (D_POSITION(p) != SMD_POS_SMDO_EMF || s->pos.u.emf.w_r_hat * w_f > SMD_R(0.0));
 }
 
 /* The forced frame's angle theta_k seen from the source's frame. */
 static smd_real source_offset(const smd_drive_params *p, const smd_drive_state *s,
                               smd_real theta_k)
 {
-    switch (p->position) {
+    switch (D_POSITION(p)) {
     case SMD_POS_SMDO_EMF: return smd_wrap_pi(theta_k - s->pos.u.emf.theta_r_hat);
     case SMD_POS_LCL_SMO_PLL:
     case SMD_POS_LCL_LINEAR: return -s->pos.theta_err;
@@ -227,7 +272,7 @@ static void source_take_over(const smd_drive_params *p, smd_drive_state *s, smd_
                              smd_real w_k, smd_real T, smd_real *theta_next, smd_real *w_next)
 {
     smd_pll_reset(&s->pos.pll, theta_k + s->pos.theta_err + w_k * T, w_k);
-    if (source_is_lcl(p->position)) {
+    if (source_is_lcl(D_POSITION(p))) {
         *theta_next = s->pos.pll.theta;
         *w_next = s->pos.pll.w;
     }
@@ -245,7 +290,7 @@ static void source_take_over_encoder(smd_drive_state *s, smd_real theta_next, sm
 static void source_next(const smd_drive_params *p, smd_drive_state *s, smd_real theta_k,
                         smd_real w_k, smd_real *theta_next, smd_real *w_next)
 {
-    if (source_is_lcl(p->position)) {
+    if (source_is_lcl(D_POSITION(p))) {
         smd_pll_step(&p->pll, &s->pos.pll, s->pos.theta_err);
         *theta_next = s->pos.pll.theta;
         *w_next = s->pos.pll.w;
@@ -260,7 +305,7 @@ static void source_next(const smd_drive_params *p, smd_drive_state *s, smd_real 
 static void source_reframe(const smd_drive_params *p, smd_drive_state *s, smd_real theta_next,
                            smd_real theta_o, smd_real w_o, smd_real T)
 {
-    if (p->position == SMD_POS_LCL_SMO_PLL) {
+    if (D_POSITION(p) == SMD_POS_LCL_SMO_PLL) {
         smd_lcl_smo_reframe(&s->pos.u.smo, smd_wrap_pi(theta_next - theta_o - w_o * T));
     }
 }
@@ -270,7 +315,7 @@ static void source_reframe(const smd_drive_params *p, smd_drive_state *s, smd_re
 static smd_cplx source_emf_dq(const smd_drive_params *p, const smd_drive_state *s,
                               smd_cplx ej_k, smd_cplx ej_15, smd_real w_k)
 {
-    switch (p->position) {
+    switch (D_POSITION(p)) {
     case SMD_POS_LCL_SMO_PLL:
         return smd_c(s->pos.u.smo.e_hat[0], s->pos.u.smo.e_hat[1]);
     case SMD_POS_LCL_LINEAR:
@@ -289,7 +334,7 @@ static smd_cplx source_emf_dq(const smd_drive_params *p, const smd_drive_state *
 /* The source's EMF estimate magnitude, V (0 for the encoder). */
 static smd_cplx source_emf_vector(const smd_drive_params *p, const smd_drive_state *s)
 {
-    switch (p->position) {
+    switch (D_POSITION(p)) {
     case SMD_POS_SMDO_EMF: return s->smdo.u_d_hat;
     case SMD_POS_LCL_SMO_PLL: return smd_c(s->pos.u.smo.e_hat[0], s->pos.u.smo.e_hat[1]);
     case SMD_POS_LCL_LINEAR: return smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3]);
@@ -305,19 +350,19 @@ static smd_real source_emf(const smd_drive_params *p, const smd_drive_state *s)
 /* Whether the angle the source gives can jump (SMD_FAULT_ANGLE_JUMP): the
  * SMDO's (the LCL sources' PLL filters their observer's angle: no jump to
  * see there). */
-static int source_can_jump(const smd_drive_params *p) { return p->position == SMD_POS_SMDO_EMF; }
+static int source_can_jump(const smd_drive_params *p) { return D_POSITION(p) == SMD_POS_SMDO_EMF; }
 
 /* Whether the source restarts on I/f after a lost lock or a failed start
  * (SMD_FAULT_RESTART): the SMDO's. */
 static int source_can_restart(const smd_drive_params *p)
 {
-    return p->position == SMD_POS_SMDO_EMF;
+    return D_POSITION(p) == SMD_POS_SMDO_EMF;
 }
 
 /* The source from rest at a restart: the SMDO's speed estimate from zero. */
 static void source_restart(const smd_drive_params *p, smd_drive_state *s)
 {
-    if (p->position == SMD_POS_SMDO_EMF) {
+    if (D_POSITION(p) == SMD_POS_SMDO_EMF) {
         smd_emf_pos_reset(&s->pos.u.emf, SMD_R(0.0));
     }
 }
@@ -328,7 +373,7 @@ static int source_finite(const smd_drive_params *p, const smd_drive_state *s)
     /* a sum of smd_nfs (smd_types.h): finite exactly when every value is */
     smd_real nf = SMD_R(0.0);
     int k;
-    switch (p->position) {
+    switch (D_POSITION(p)) {
     case SMD_POS_SMDO_EMF: {
         const smd_emf_pos_state *e = &s->pos.u.emf;
         nf = smd_nfs(e->theta_r_hat) + smd_nfs(e->w_r_hat) + smd_nfs(e->w_r_dir) +
@@ -348,7 +393,7 @@ static int source_finite(const smd_drive_params *p, const smd_drive_state *s)
         break;
     default: break;
     }
-    if (source_is_lcl(p->position)) {
+    if (source_is_lcl(D_POSITION(p))) {
         nf += smd_nfs(s->pos.pll.theta) + smd_nfs(s->pos.pll.w) + smd_nfs(s->pos.pll.a) +
               smd_nfs(s->pos.theta_err);
     }
@@ -358,13 +403,13 @@ static int source_finite(const smd_drive_params *p, const smd_drive_state *s)
 /* The source's internals in the view (the LCL observers'). */
 static void source_view(const smd_drive_params *p, const smd_drive_state *s, smd_drive_view *v)
 {
-    if (p->position == SMD_POS_LCL_SMO_PLL) {
+    if (D_POSITION(p) == SMD_POS_LCL_SMO_PLL) {
         const smd_lcl_smo_state *o = &s->pos.u.smo;
         v->e_hat = smd_c(o->e_hat[0], o->e_hat[1]);
         v->s = smd_c(o->s[0], o->s[1]);
         v->d_hat = smd_c(o->d_hat[0], o->d_hat[1]);
         v->v = smd_c(o->v_prev[0], o->v_prev[1]);
-    } else if (p->position == SMD_POS_LCL_LINEAR) {
+    } else if (D_POSITION(p) == SMD_POS_LCL_LINEAR) {
         v->e_lin = smd_c(s->pos.u.lin.x2[2], s->pos.u.lin.x2[3]);
     }
 }
@@ -372,6 +417,34 @@ static void source_view(const smd_drive_params *p, const smd_drive_state *s, smd
 /* ------------------------------------------------------------ init */
 
 /* Which parts fit together (SMD_ERR_COMBINATION otherwise). */
+/* 1 if the configuration is the composition the core was built for (each
+ * SMD_FIX_* defined; none: any) */
+static int fixed_fits(const smd_drive_config *c)
+{
+    int ok = 1;
+    (void)c;
+#ifdef SMD_FIX_CURRENT
+    ok = ok && c->current == SMD_FIX_CURRENT;
+#endif
+#ifdef SMD_FIX_POSITION
+    ok = ok && c->position == SMD_FIX_POSITION;
+#endif
+#ifdef SMD_FIX_LCL
+    ok = ok && c->lcl == SMD_FIX_LCL;
+#endif
+#ifdef SMD_FIX_RLS
+    ok = ok && (c->rls_i_inj > SMD_R(0.0)) == (SMD_FIX_RLS != 0);
+#endif
+#ifdef SMD_FIX_SPEED_LOOP
+    ok = ok && c->speed_loop == SMD_FIX_SPEED_LOOP;
+#endif
+#ifdef SMD_FIX_SUPERVISE_EVERY
+    ok = ok && (c->supervise_every > 1 ? c->supervise_every : 1) ==
+                   (SMD_FIX_SUPERVISE_EVERY > 1 ? SMD_FIX_SUPERVISE_EVERY : 1);
+#endif
+    return ok;
+}
+
 static smd_status check_parts(const smd_drive_config *c)
 {
     if (c->current < SMD_CC_PI || c->current > SMD_CC_ROBUST_DBPC ||
@@ -380,7 +453,7 @@ static smd_status check_parts(const smd_drive_config *c)
         !is_flag(c->speed_loop) || !is_flag(c->emf_ff) || !is_flag(c->smdo_euler)) {
         return SMD_ERR_MODE;
     }
-    if (!source_fits(c)) {
+    if (!source_fits(c) || !fixed_fits(c)) {
         return SMD_ERR_COMBINATION;
     }
     if (c->lcl && c->current != SMD_CC_PI) {
@@ -497,7 +570,7 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
     p->k_i_i = c->k_i_i;
     p->L_dec = c->L_dec;
     p->R_v = c->lcl ? c->R_v : SMD_R(0.0);
-    if (p->use_smdo) {
+    if (D_USE_SMDO(p)) {
         st = smd_smdo_init(&p->smdo, c->T_sp, c->L_s_hat, c->R_s_hat, c->lambda_min, c->l,
                            c->w_c, c->rho);
         if (st != SMD_OK) {
@@ -577,17 +650,17 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
      * filter takes sup_n samples' step, 1 - (1 - osc_k)^sup_n (sup_n = 1:
      * the values as before, bit for bit) */
     p->sup_n = c->supervise_every > 1 ? c->supervise_every : 1;
-    p->sup_fin = 2 % p->sup_n;
-    p->sup_rip = 3 % p->sup_n;
-    if (p->sup_n > 1) {
+    p->sup_fin = 2 % D_SUP_N(p);
+    p->sup_rip = 3 % D_SUP_N(p);
+    if (D_SUP_N(p) > 1) {
         smd_real q = SMD_R(1.0);
         int k;
-        for (k = 0; k < p->sup_n; k++) {
+        for (k = 0; k < D_SUP_N(p); k++) {
             q *= SMD_R(1.0) - p->osc_k;
         }
         p->osc_k = SMD_R(1.0) - q;
-        p->chatter_decay *= (smd_real)p->sup_n;
-        p->hunt_decay *= (smd_real)p->sup_n;
+        p->chatter_decay *= (smd_real)D_SUP_N(p);
+        p->hunt_decay *= (smd_real)D_SUP_N(p);
     }
     p->restart_decay = c->restart_max > 0 && c->restart_window > 0
                            ? (smd_real)c->restart_max / (smd_real)c->restart_window
@@ -661,7 +734,7 @@ void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real the
     s->sup_k = 0;
     s->u_whole = 0;
     s->du_clip = zero;
-    if (p->use_rls) {
+    if (D_USE_RLS(p)) {
         smd_rls_reset(&p->rls, &s->rls);
     }
 }
@@ -679,7 +752,7 @@ void smd_drive_start_duties(const smd_drive_params *p, smd_drive_state *s, smd_r
         u_dc = SMD_R(1.0);
     }
     smd_svm_step(&p->svm, u_ab, u_dc, d_abc, &s->u_ab_next);
-    if (p->current == SMD_CC_PI) {
+    if (D_CURRENT(p) == SMD_CC_PI) {
         /* the PI's integrator holds what the steady state needs beyond the
          * decoupling (and the EMF feed-forward, when on) */
         s->x_i = smd_c(SMD_R(0.0), p->R_hat * iq + (p->emf_ff ? SMD_R(0.0) : w * p->psi_r_hat));
@@ -959,11 +1032,11 @@ static void current_reference(const smd_drive_params *p, smd_drive_state *s,
         }
     } else {
         s->i_dq_ref.re = in->i_dq_ref.re;
-        if (p->use_rls) {
+        if (D_USE_RLS(p)) {
             /* the tracker's excitation (smd_rls.h) */
             s->i_dq_ref.re += smd_rls_injection(&p->rls, &s->rls);
         }
-        if (p->speed_loop && !s->torque_in) {
+        if (D_SPEED_LOOP(p) && !s->torque_in) {
             if (s->count == 0) {
                 s->i_dq_ref.im = smd_pi_step(&p->speed_pi, &s->speed_pi, x->w_ref - x->w_k);
             }
@@ -983,7 +1056,7 @@ static smd_status observe_disturbance(const smd_drive_params *p, smd_drive_state
                                       const smd_cplx *i_s_ab, const sample *x, smd_status st_in)
 {
     smd_status st = st_in;
-    if (p->use_smdo) {
+    if (D_USE_SMDO(p)) {
         /* the voltage the inverter applies during [k-1, k): u_ab, less what
          * a clipped compensation left out (du_clip, of the last sample) */
         smd_status ss =
@@ -1018,7 +1091,7 @@ static smd_cplx current_pi(const smd_drive_params *p, smd_drive_state *s, const 
     if (p->emf_ff && s->phase != SMD_PHASE_FORCED) {
         u = smd_cadd(u, source_emf_dq(p, s, x->ej_k, x->ej_15, w_k));
     }
-    if (p->lcl) {
+    if (D_LCL(p)) {
         u = smd_csub(u, smd_cscale(smd_csub(smd_cmul(*i1_ab, ej_k_c), i2), p->R_v));
     }
     s->x_i = x_i;
@@ -1031,7 +1104,7 @@ static smd_cplx current_pi(const smd_drive_params *p, smd_drive_state *s, const 
  * not taken). */
 static void rotations(const smd_drive_params *p, sample *x)
 {
-    const int pi = p->current == SMD_CC_PI;
+    const int pi = D_CURRENT(p) == SMD_CC_PI;
     const smd_cplx one = smd_c(SMD_R(1.0), SMD_R(0.0)); /* (unused: not taken) */
     x->ej_k = pi ? ((x->ej_ok && x->theta_k == x->theta_ej) ? x->ej_o : smd_cexpj(x->theta_k))
                  : one;
@@ -1052,7 +1125,7 @@ static void rotations(const smd_drive_params *p, sample *x)
 static smd_cplx current_control(const smd_drive_params *p, smd_drive_state *s,
                                 const smd_cplx *i_s_ab, const smd_cplx *i1_ab, const sample *x)
 {
-    switch (p->current) {
+    switch (D_CURRENT(p)) {
     case SMD_CC_DBPC:
         return smd_dbpc_conventional(&p->dbpc, *i_s_ab, s->u_ab, s->i_dq_ref, x->theta_k,
                                      x->w_k);
@@ -1090,7 +1163,7 @@ static smd_status modulate(const smd_drive_params *p, smd_drive_state *s, const 
     }
     s->u_ab_ref = u_ref;
     smd_svm_step(&p->svm, u_ref, in->u_dc, out->d_abc, &s->u_ab_next);
-    if (p->current == SMD_CC_PI && p->k_i_i > SMD_R(0.0)) {
+    if (D_CURRENT(p) == SMD_CC_PI && p->k_i_i > SMD_R(0.0)) {
         /* anti-windup: keep the integrator where the limited voltage is what
          * the law would have given (without integral action there is no
          * integrator to keep: a P law must not remember a saturation) */
@@ -1156,7 +1229,7 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
                           smd_drive_out *out)
 {
     const smd_cplx i_s_ab = smd_ab2_to_ab(in->i_a, in->i_b);
-    const smd_cplx i1_ab = p->lcl ? smd_ab2_to_ab(in->i1_a, in->i1_b) : i_s_ab;
+    const smd_cplx i1_ab = D_LCL(p) ? smd_ab2_to_ab(in->i1_a, in->i1_b) : i_s_ab;
     sample x;
     smd_status st;
     take_sample(p, s, in, &i_s_ab, &x);
@@ -1174,7 +1247,7 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
     /* 6. current control, and the duties */
     rotations(p, &x);
     st = modulate(p, s, in, out, &x, current_control(p, s, &i_s_ab, &i1_ab, &x), st);
-    if (p->use_rls) {
+    if (D_USE_RLS(p)) {
         /* the tracker: i(k), the voltage of [k, k+1) and whether the inverter
          * applies it whole (computed last sample), the frame of k, which is the
          * rotor's except in the forced phase; then whether the voltage just
@@ -1207,20 +1280,20 @@ static uint32_t check_inputs(const smd_drive_params *p, const smd_drive_state *s
     const smd_real I_LIM = SMD_R(1e5), TH_LIM = SMD_R(1e4), W_LIM = SMD_R(1e7);
     int ok = in_lim(in->i_a, I_LIM) && in_lim(in->i_b, I_LIM) &&
              in->u_dc > SMD_R(0.0) && in->u_dc <= SMD_R(1e5);
-    if (p->lcl) {
+    if (D_LCL(p)) {
         ok = ok && in_lim(in->i1_a, I_LIM) && in_lim(in->i1_b, I_LIM);
     }
-    if (!source_sensorless(p->position) || s->phase == SMD_PHASE_ENCODER) {
+    if (!source_sensorless(D_POSITION(p)) || s->phase == SMD_PHASE_ENCODER) {
         ok = ok && in_lim(in->theta_enc, TH_LIM) && in_lim(in->w_enc, W_LIM);
     }
-    if (p->speed_loop || p->w_if_enter > SMD_R(0.0) || s->phase == SMD_PHASE_FORCED) {
+    if (D_SPEED_LOOP(p) || p->w_if_enter > SMD_R(0.0) || s->phase == SMD_PHASE_FORCED) {
         ok = ok && in_lim(in->w_ref, W_LIM);
     }
     if (s->phase != SMD_PHASE_FORCED) {
         /* a current reference beyond any physical range (1e30 A) is as bad
          * as a NaN */
         ok = ok && in_lim(in->i_dq_ref.re, I_LIM) &&
-             ((p->speed_loop && !s->torque_in) || in_lim(in->i_dq_ref.im, I_LIM));
+             ((D_SPEED_LOOP(p) && !s->torque_in) || in_lim(in->i_dq_ref.im, I_LIM));
     }
     return ok ? 0u : (uint32_t)SMD_FAULT_INPUT;
 }
@@ -1300,7 +1373,7 @@ static int state_finite(const smd_drive_params *p, const smd_drive_state *s)
                   smd_nfs(s->theta_f) + smd_nfs(s->w_f) + smd_cnfs(s->x_i) +
                   smd_cnfs(s->u_ab_next) + smd_cnfs(s->i_dq_ref) + smd_nfs(s->speed_pi.x_i) +
                   smd_nfs(s->speed_pi.y);
-    if (p->use_smdo) {
+    if (D_USE_SMDO(p)) {
         const smd_smdo_state *o = &s->smdo;
         nf += smd_cnfs(o->i_s_hat) + smd_cnfs(o->u_d_hat) + smd_cnfs(o->e_i_prev) +
               smd_cnfs(o->u_smo_prev) + smd_nfs(o->lambda);
@@ -1324,7 +1397,7 @@ static void recover(const smd_drive_params *p, smd_drive_state *s, smd_real thet
     int phase_samples = s->phase_samples, forced_count = s->forced_count;
     const smd_rls_state rls = s->rls;
     smd_drive_reset(p, s, theta0, w0, i_q0);
-    if (p->use_rls) {
+    if (D_USE_RLS(p)) {
         /* the tracker's estimates stay (they guard themselves against a
          * non-finite sample); its next sample starts a new interval */
         s->rls = rls;
@@ -1359,7 +1432,7 @@ static void check_lock(const smd_drive_params *p, smd_drive_state *s)
 {
     smd_real e, w = SMD_FABS(s->w_k), e_exp;
     int bad;
-    if (p->lock_samples == 0 || !source_sensorless(p->position) ||
+    if (p->lock_samples == 0 || !source_sensorless(D_POSITION(p)) ||
         s->phase != SMD_PHASE_SOURCE) {
         s->lock_count = 0;
         return;
@@ -1385,9 +1458,9 @@ static void check_lock(const smd_drive_params *p, smd_drive_state *s)
      * plausible between the slips: issue 21) */
     if (bad) {
         s->lock_count = (s->lock_count < SMD_LOCK_UP * p->lock_samples)
-                            ? s->lock_count + SMD_LOCK_UP * p->sup_n : s->lock_count;
+                            ? s->lock_count + SMD_LOCK_UP * D_SUP_N(p) : s->lock_count;
     } else if (s->lock_count > 0) {
-        s->lock_count = s->lock_count > p->sup_n ? s->lock_count - p->sup_n : 0;
+        s->lock_count = s->lock_count > D_SUP_N(p) ? s->lock_count - D_SUP_N(p) : 0;
     }
     /* a jump of the angle (check_jump): no rotor moves 45 deg in a sample,
      * so the estimate lost the rotor there, whatever came before (a drive
@@ -1408,9 +1481,9 @@ static void supervise_criteria(const smd_drive_params *p, smd_drive_state *s)
 {
     const smd_real i_lim = SMD_R(0.999) * p->i_max;
     /* speed tracking: away from the reference with the speed PI at its limit */
-    if (p->track_samples > 0 && p->speed_loop && s->phase != SMD_PHASE_FORCED &&
+    if (p->track_samples > 0 && D_SPEED_LOOP(p) && s->phase != SMD_PHASE_FORCED &&
         SMD_FABS(s->w_ref_r - s->w_k) > p->w_track && SMD_FABS(s->i_dq_ref.im) >= i_lim) {
-        if ((s->track_count += p->sup_n) >= p->track_samples) {
+        if ((s->track_count += D_SUP_N(p)) >= p->track_samples) {
             s->fault |= (uint32_t)SMD_FAULT_SPEED_TRACKING;
         }
     } else {
@@ -1419,7 +1492,7 @@ static void supervise_criteria(const smd_drive_params *p, smd_drive_state *s)
     /* hunting: a leaky count of the speed PI's swings from one current
      * limit to the other (the forced phase has no speed PI) */
     if (p->hunt_max > 0) {
-        if (p->speed_loop && s->phase != SMD_PHASE_FORCED) {
+        if (D_SPEED_LOOP(p) && s->phase != SMD_PHASE_FORCED) {
             const int rail = s->i_dq_ref.im >= i_lim ? 1 : (s->i_dq_ref.im <= -i_lim ? -1 : 0);
             if (rail != 0) {
                 if (rail == -s->hunt_rail) {
@@ -1446,17 +1519,17 @@ static void supervise_criteria(const smd_drive_params *p, smd_drive_state *s)
         if (SMD_FABS(s->w_f) >= p->w_handover) {
             /* at the handover speed and still forced: the source disagrees */
             if (p->forced_samples > 0 &&
-                (s->forced_count += p->sup_n) >= p->forced_samples) {
+                (s->forced_count += D_SUP_N(p)) >= p->forced_samples) {
                 s->fault |= (uint32_t)SMD_FAULT_FORCED;
             }
         }
         /* start-up failed: the source's EMF against the forced speed, where
          * the EMF is large enough to estimate */
         w_chk = p->w_if_enter > SMD_R(0.0) ? p->w_if_enter : SMD_R(0.5) * p->w_handover;
-        if (p->lock_samples > 0 && source_sensorless(p->position) && SMD_FABS(s->w_f) >= w_chk) {
+        if (p->lock_samples > 0 && source_sensorless(D_POSITION(p)) && SMD_FABS(s->w_f) >= w_chk) {
             smd_real e = source_emf(p, s), e_exp = SMD_FABS(s->w_f) * p->psi_r_hat;
             if (e > p->lock_ratio * e_exp || e * p->lock_ratio < e_exp) {
-                if ((s->start_count += p->sup_n) >= p->lock_samples) {
+                if ((s->start_count += D_SUP_N(p)) >= p->lock_samples) {
                     s->fault |= (uint32_t)SMD_FAULT_START;
                 }
             } else {
@@ -1502,7 +1575,7 @@ static void supervise_ripple(const smd_drive_params *p, smd_drive_state *s)
              * half the sampling rate) beyond lim */
             if (s->osc_ms > SMD_R(4.0) * lim * lim) {
                 if (s->osc_count < p->osc_samples) {
-                    s->osc_count += p->sup_n;
+                    s->osc_count += D_SUP_N(p);
                 }
             } else {
                 s->osc_count = 0;
@@ -1605,14 +1678,14 @@ static smd_status supervise_piece(const smd_drive_params *p, smd_drive_state *s,
                                   smd_drive_out *out, smd_status st)
 {
     const int piece = s->sup_k;
-    s->sup_k = piece + 1 >= p->sup_n ? 0 : piece + 1;
+    s->sup_k = piece + 1 >= D_SUP_N(p) ? 0 : piece + 1;
     if (piece == 0 || s->jumped) {
         check_lock(p, s);
     }
     if (piece == 1) {
         supervise_criteria_only(p, s);
     }
-    if (piece == p->sup_rip) {
+    if (piece == D_SUP_RIP(p)) {
         supervise_ripple_only(p, s);
     }
     s->warn &= (uint32_t)SMD_FAULT_OSCILLATION;
@@ -1654,7 +1727,7 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
          * safe state */
         held = hold_inputs(s, T);
         use = &held;
-        if (p->position == SMD_POS_LCL_SMO_PLL && p->smo.decimation >= 4) {
+        if (D_POSITION(p) == SMD_POS_LCL_SMO_PLL && p->smo.decimation >= 4) {
             s->pos.u.smo.defer = 1; /* (its spread refresh waits a sample) */
         }
     }
@@ -1670,7 +1743,7 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
     /* (the state's finiteness: every sample, or its piece's with the
      * supervision spread, supervise_piece) */
     if (st == SMD_ERR_NONFINITE ||
-        ((p->sup_n == 1 || s->sup_k == p->sup_fin) && !state_finite(p, s))) {
+        ((D_SUP_N(p) == 1 || s->sup_k == D_SUP_FIN(p)) && !state_finite(p, s))) {
         /* a computed value was not finite: restart every block from the last
          * good frame, one step on */
         if (!(isfinite(theta0) && isfinite(w0))) {
@@ -1686,7 +1759,7 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
     if (now != 0u) {
         return apply_safe(p, s, out, now);
     }
-    if (p->sup_n > 1) {
+    if (D_SUP_N(p) > 1) {
         return supervise_piece(p, s, out, st);
     }
     check_lock(p, s);
@@ -1718,12 +1791,12 @@ smd_drive_view smd_drive_get_view(const smd_drive_params *p, const smd_drive_sta
     smd_drive_view v;
     smd_cplx zero = smd_c(SMD_R(0.0), SMD_R(0.0));
     v.i_dq_ref = s->i_dq_ref;
-    v.i_dq = p->current == SMD_CC_PI ? s->i_dq : zero; /* DBPC has no Park transform */
+    v.i_dq = D_CURRENT(p) == SMD_CC_PI ? s->i_dq : zero; /* DBPC has no Park transform */
     v.u_ab = s->u_ab_next;
     v.u_ab_ref = s->u_ab_ref;
-    v.i_s_hat = p->use_smdo ? s->smdo.i_s_hat : zero;
-    v.u_d_hat = p->use_smdo ? s->smdo.u_d_hat : zero;
-    v.lambda = p->use_smdo ? s->smdo.lambda : SMD_R(0.0);
+    v.i_s_hat = D_USE_SMDO(p) ? s->smdo.i_s_hat : zero;
+    v.u_d_hat = D_USE_SMDO(p) ? s->smdo.u_d_hat : zero;
+    v.lambda = D_USE_SMDO(p) ? s->smdo.lambda : SMD_R(0.0);
     v.theta = s->theta_k;
     v.w = s->w_k;
     v.theta_err = s->pos.theta_err;
@@ -1733,8 +1806,8 @@ smd_drive_view smd_drive_get_view(const smd_drive_params *p, const smd_drive_sta
     v.v = zero;
     v.e_lin = zero;
     source_view(p, s, &v);
-    v.R_s_rls = p->use_rls ? s->rls.R_hat : SMD_R(0.0);
-    v.psi_rls = p->use_rls ? s->rls.psi_hat : SMD_R(0.0);
+    v.R_s_rls = D_USE_RLS(p) ? s->rls.R_hat : SMD_R(0.0);
+    v.psi_rls = D_USE_RLS(p) ? s->rls.psi_hat : SMD_R(0.0);
     v.phase = s->phase;
     v.fault = s->fault;
     return v;

@@ -31,6 +31,22 @@
  * LCL-filtered drive needs SMD_CC_PI (deadbeat control of i_2 through the
  * filter is not what yang2018 designs).
  *
+ * A composition fixed at compile time. A firmware runs one composition; it
+ * may say which when it compiles smd_drive.c, and the step then carries it
+ * as constants, not as fields it reads and branches on (the compiler prunes
+ * the other parts: the yang2018 sensorless step with supervise_every = 4,
+ * about 135 Cortex-M4F cycles less, docs/firmware.md). Each is optional:
+ *   SMD_FIX_CURRENT          an smd_current_ctrl value (config.current)
+ *   SMD_FIX_POSITION         an smd_pos_source value (config.position)
+ *   SMD_FIX_LCL              0 or 1 (config.lcl)
+ *   SMD_FIX_RLS              0 or 1: the tracker off (rls_i_inj = 0) or on
+ *   SMD_FIX_SPEED_LOOP       0 or 1 (config.speed_loop)
+ *   SMD_FIX_SUPERVISE_EVERY  config.supervise_every (0 and 1 alike)
+ * e.g. -DSMD_FIX_CURRENT=SMD_CC_ROBUST_DBPC -DSMD_FIX_POSITION=SMD_POS_SMDO_EMF.
+ * smd_drive_init returns SMD_ERR_COMBINATION for a configuration that
+ * differs from any of them; a configuration it accepts runs the same step,
+ * bit for bit, as the build without them (tests/test_target.py).
+ *
  * Delay convention (every part): samples at t_k = k T_sp; the voltage
  * computed at k is applied during [t_{k+1}, t_{k+2}); the one applied during
  * [t_k, t_{k+1}) was computed at k-1 and is what the observers are fed.

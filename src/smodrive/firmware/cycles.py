@@ -373,19 +373,19 @@ def _row(name: str, paper: str, ws: list[Window]) -> CycleRow:
 
 def cycle_table(cases: list, paper: dict[str, str], math: str = "fmath",
                 work: Path | None = None, samples: int = 150,
-                whole: Collection[str] = ()) -> list[CycleRow]:
+                whole: Collection[str] = (), extra: tuple[str, ...] = ()) -> list[CycleRow]:
     """Cycles per call on the Cortex-M4F (QEMU instruction trace weighted by
     the Cortex-M4 timings) for every case of `cases` (drive cases of
     `samples` samples, measured after their first third; blocks over their
     first 100 calls), each row labelled with its paper from `paper`
     (:func:`smodrive.scenarios.target_cases.cycle_cases` makes both); the
     drive cases named in `whole` are measured over every sample (those with
-    injected faults)."""
+    injected faults); `extra` flags go to the build (:func:`build`)."""
     work = Path(work) if work else _cache_dir()
     work.mkdir(parents=True, exist_ok=True)
     vec = work / f"cycles_{math}.bin"
     write_vectors(vec, cases)
-    wins = trace_windows(build("m4", math), vec, work)
+    wins = trace_windows(build("m4", math, extra=extra), vec, work)
     rows: list[CycleRow] = []
     pos = 0
 

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..engine import drive_config
 from ..firmware import cycles
-from ..firmware.build import IN_WORDS
+from ..firmware.build import FIXED_SENSORLESS, IN_WORDS
 from ..firmware.run import drive_case
 from ..firmware.vectors import BlockCase, DriveCase, TablesCase, variants
 from ..model import Profile
@@ -191,3 +191,18 @@ def cycle_table(math: str = "fmath", work=None, samples: int = 150):
     cases, paper = cycle_cases(samples)
     return cycles.cycle_table(cases, paper, math, work, samples,
                               whole={n for n in paper if n.endswith(FAULTS)})
+
+
+#: the cases the fixed sensorless composition runs (build.FIXED_SENSORLESS)
+FIXED_CASES = (f"drive robust_dbpc + smdo_emf{SPREAD}", f"drive robust_dbpc + smdo_emf{SPREAD}{FAULTS}")
+
+
+def fixed_cycle_table(math: str = "fast", work=None, samples: int = 150):
+    """The yang2018 sensorless step of :func:`cycle_table` (steady, and with
+    faults injected) with its composition fixed at compile time
+    (smd_drive.h; :data:`smodrive.firmware.build.FIXED_SENSORLESS`)."""
+    cases, paper = cycle_cases(samples)
+    cases = [c for c in cases if c.name in FIXED_CASES]
+    return cycles.cycle_table(cases, paper, math, work, samples,
+                              whole={n for n in FIXED_CASES if n.endswith(FAULTS)},
+                              extra=FIXED_SENSORLESS)
