@@ -57,14 +57,15 @@ def main() -> None:
             share = max(r.worst_flash(k) / (period * T.FLASH[k].f_cpu) for k in mems)
             print(f"{r.name:50s}{r.nominal:7.0f} {f'[{r.low:.0f}, {r.high:.0f}]':>14s} "
                   f"{r.p99:6.0f} {r.worst:6d}{fl} {100 * share:6.1f}%")
-    fixed = {m: target_cases.fixed_cycle_table(m) for m in maths if m != "libm"}
+    fixed = {m: [r for p in T.FIXED for r in target_cases.fixed_cycle_table(p, m)]
+             for m in maths if m != "libm"}
     for m, rows in fixed.items():
         print(f"\n{m} math, the composition fixed at compile time (smd_drive.h; "
-              f"{' '.join(T.FIXED_SENSORLESS)}):")
+              "smodrive.firmware.FIXED):")
         for r in rows:
             fl = "".join(f" {k} {r.flash[k]['mean_warm']:.0f} / {r.flash[k]['worst_cold']:.0f}"
                          for k in mems)
-            print(f"{r.name + ', fixed':62s}{r.nominal:7.0f} p99 {r.p99:6.0f} worst {r.worst:6d};"
+            print(f"{r.name + ', fixed':90s}{r.nominal:7.0f} p99 {r.p99:6.0f} worst {r.worst:6d};"
                   f" in flash (mean / worst):{fl}")
     t6 = {m: {r.name.split(".")[1]: r.nominal for r in tables[m] if r.name.startswith("table6.")}
           for m in maths}

@@ -364,23 +364,30 @@ def test_the_cycle_table_measures_a_fault_injection_case_over_every_sample(tmp_p
     assert rows[1].worst <= 1.05 * rows[0].worst
 
 
-@pytest.mark.parametrize("math", ["fmath", "fast"])
-def test_a_fixed_composition_runs_the_same_drive_and_refuses_the_others(math, tmp_path):
-    """The core built with the yang2018 sensorless composition fixed at
-    compile time (smd_drive.h; T.FIXED_SENSORLESS) runs that composition's
-    cases, steady and with faults injected, bit for bit as the host's
-    generic build, and refuses every other configuration at init with
-    SMD_ERR_COMBINATION (24) where the generic build accepts it: the same
-    drive with the supervision every sample, and the encoder drive. A fixed
-    value that the step did not honour (a branch on the field left in) or
-    a refusal that did not happen would both fail here."""
+#: per fixed composition: configurations the generic build accepts and the
+#: fixed one must refuse (another supervision rate; another position source)
+FIXED_REFUSED = {"yang2018": ("drive robust_dbpc + smdo_emf", "drive robust_dbpc + encoder"),
+                 "yao2022": ("drive pi + LCL + lcl_smo_pll (proposed, refresh / 8)",
+                             "drive pi + LCL + lcl_linear")}
+
+
+@pytest.mark.parametrize("paper,math", [("yang2018", "fmath"), ("yang2018", "fast"),
+                                        ("yao2022", "fast")])
+def test_a_fixed_composition_runs_the_same_drive_and_refuses_the_others(paper, math, tmp_path):
+    """The core built with a paper's sensorless composition fixed at compile
+    time (smd_drive.h; T.FIXED) runs that composition's cases, steady and
+    with faults injected, bit for bit as the host's generic build, and
+    refuses at init with SMD_ERR_COMBINATION (24) configurations the generic
+    build accepts: the same drive with the supervision every sample, and
+    another position source. A fixed value that the step did not honour (a
+    branch on the field left in) or a refusal that did not happen would both
+    fail here."""
     from smodrive.scenarios import target_cases as TC
     cases, _ = TC.cycle_cases(60)
-    keep = TC.FIXED_CASES
-    refused = ("drive robust_dbpc + smdo_emf", "drive robust_dbpc + encoder")
+    keep, refused = TC.FIXED_CASES[paper], FIXED_REFUSED[paper]
     sub = [c for c in cases if c.name in keep + refused]
     assert sorted(c.name for c in sub) == sorted(keep + refused)
-    ho, mo = T.run_both(sub, math, tmp_path, m4_extra=T.FIXED_SENSORLESS)
+    ho, mo = T.run_both(sub, math, tmp_path, m4_extra=T.FIXED[paper])
     diffs = {d.name: d for d in T.compare(sub, ho, mo)}
     for name in keep:
         assert diffs[name].differ == 0, name

@@ -48,12 +48,16 @@ FAST_DEFINES = ["-DSMD_FAST", '-DSMD_MATH_HEADER="smodrive/smd_fastmath.h"',
                 "-DSMD_ATAN2F=smd_fast_atan2f", "-DSMD_EXPF=smd_expf", "-DSMD_EXPM1F=smd_expm1f"]
 #: the math variants: each platform's C library, the portable exact math, the fast math
 MATH_DEFINES = {"libm": [], "fmath": FMATH_DEFINES, "fast": FAST_DEFINES}
-#: the yang2018 sensorless composition fixed at compile time (smd_drive.h, "A
-#: composition fixed at compile time"): robust DBPC, the SMDO's angle, no
-#: filter, no tracker, the speed loop, the supervision spread over 4 samples
-FIXED_SENSORLESS = ("-DSMD_FIX_CURRENT=SMD_CC_ROBUST_DBPC", "-DSMD_FIX_POSITION=SMD_POS_SMDO_EMF",
-                    "-DSMD_FIX_LCL=0", "-DSMD_FIX_RLS=0", "-DSMD_FIX_SPEED_LOOP=1",
-                    "-DSMD_FIX_SUPERVISE_EVERY=4")
+#: the papers' sensorless compositions fixed at compile time (smd_drive.h, "A
+#: composition fixed at compile time"), each with the speed loop, no tracker and
+#: the supervision spread over 4 samples: yang2018's robust DBPC on the SMDO's
+#: angle without a filter, yao2022's PI behind the LCL filter on its
+#: sliding-mode observer and PLL
+_FIX_COMMON = ("-DSMD_FIX_RLS=0", "-DSMD_FIX_SPEED_LOOP=1", "-DSMD_FIX_SUPERVISE_EVERY=4")
+FIXED = {"yang2018": ("-DSMD_FIX_CURRENT=SMD_CC_ROBUST_DBPC", "-DSMD_FIX_POSITION=SMD_POS_SMDO_EMF",
+                      "-DSMD_FIX_LCL=0") + _FIX_COMMON,
+         "yao2022": ("-DSMD_FIX_CURRENT=SMD_CC_PI", "-DSMD_FIX_POSITION=SMD_POS_LCL_SMO_PLL",
+                     "-DSMD_FIX_LCL=1") + _FIX_COMMON}
 M4_FLAGS = ["-mcpu=cortex-m4", "-mthumb", "-mfpu=fpv4-sp-d16", "-mfloat-abi=hard"]
 #: -O3 as CMake's Release build of the core gives a firmware project (2,890 -> 2,690 cycles for
 #: the yang2018 sensorless step, 7,289 -> 6,342 for yao2022's, 11 % more code than -O2);

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..engine import drive_config
 from ..firmware import cycles
-from ..firmware.build import FIXED_SENSORLESS, IN_WORDS
+from ..firmware.build import FIXED, IN_WORDS
 from ..firmware.run import drive_case
 from ..firmware.vectors import BlockCase, DriveCase, TablesCase, variants
 from ..model import Profile
@@ -193,16 +193,21 @@ def cycle_table(math: str = "fmath", work=None, samples: int = 150):
                               whole={n for n in paper if n.endswith(FAULTS)})
 
 
-#: the cases the fixed sensorless composition runs (build.FIXED_SENSORLESS)
-FIXED_CASES = (f"drive robust_dbpc + smdo_emf{SPREAD}", f"drive robust_dbpc + smdo_emf{SPREAD}{FAULTS}")
+#: the cases each fixed composition runs (build.FIXED), steady and with faults
+#: injected
+_YANG, _YAO = "drive robust_dbpc + smdo_emf", "drive pi + LCL + lcl_smo_pll (proposed, refresh / 8)"
+FIXED_CASES = {"yang2018": (f"{_YANG}{SPREAD}", f"{_YANG}{SPREAD}{FAULTS}"),
+               "yao2022": (f"{_YAO}{SPREAD}", f"{_YAO}{SPREAD}{FAULTS}")}
 
 
-def fixed_cycle_table(math: str = "fast", work=None, samples: int = 150):
-    """The yang2018 sensorless step of :func:`cycle_table` (steady, and with
-    faults injected) with its composition fixed at compile time
-    (smd_drive.h; :data:`smodrive.firmware.build.FIXED_SENSORLESS`)."""
+def fixed_cycle_table(paper_name: str, math: str = "fast", work=None, samples: int = 150):
+    """The sensorless step of `paper_name` ("yang2018" or "yao2022") of
+    :func:`cycle_table` (steady, and with faults injected) with its
+    composition fixed at compile time (smd_drive.h;
+    :data:`smodrive.firmware.build.FIXED`)."""
+    names = FIXED_CASES[paper_name]
     cases, paper = cycle_cases(samples)
-    cases = [c for c in cases if c.name in FIXED_CASES]
+    cases = [c for c in cases if c.name in names]
     return cycles.cycle_table(cases, paper, math, work, samples,
-                              whole={n for n in FIXED_CASES if n.endswith(FAULTS)},
-                              extra=FIXED_SENSORLESS)
+                              whole={n for n in names if n.endswith(FAULTS)},
+                              extra=FIXED[paper_name])
