@@ -171,3 +171,39 @@ def test_run_says_when_the_voltage_rides_its_limit(tmp_path):
     summary = json.loads((tmp_path / "b" / "summary.json").read_text())
     assert summary["voltage_limit_share_last_20pct"] < 0.01
     assert "note: the voltage" not in res.output
+
+
+def test_run_profile_usual_runs_the_motor_sensorless_and_judges_it(tmp_path, monkeypatch):
+    """`smodrive run MOTOR.toml --profile usual` (the README's commissioning
+    flow, identify -> design -> run): a motor file alone ran the default
+    scenario, 1 s at 0 r/min on the encoder, which shows nothing; with the
+    profile it runs the motor sensorless from rest through the usual profile
+    (smodrive.scenarios.trials: I/f start, +50 % and +100 % of rated speed,
+    the rated load on and off, -50 % and -100 %), writes the verdict into
+    summary.json and says it. The servo reaches its end (speed within 2 %,
+    the angle within 10 deg RMS). A run the judge calls silent (ended wrong
+    without a fault, here forced by replacing the judge) exits 1, naming how
+    far off it ended: never a wrong end at exit code 0."""
+    from smodrive.scenarios import trials
+    src = ROOT / "scenarios" / "motors" / "servo_48v_200w.toml"
+    res = CliRunner().invoke(main, ["run", str(src), "--profile", "usual",
+                                    "--out", str(tmp_path / "a")])
+    assert res.exit_code == 0, res.output
+    summary = json.loads((tmp_path / "a" / "summary.json").read_text())
+    m = load_scenario(src).motor
+    assert summary["profile"]["verdict"] == "reached"
+    assert summary["profile"]["speed_error_rel_end"] <= trials.SPEED_TOL
+    assert summary["phase_end"] == "observer"
+    ran = load_scenario(tmp_path / "a" / "scenario.toml")
+    assert ran.controller.position == "smdo_emf" and ran.controller.start == "if"
+    assert ran.w_M_ref.y[-1] == -m.w_M_N and ran.load.T_brake.y[2] == m.T_N
+    assert "usual profile: reached" in res.output
+
+    def silent(r):
+        return trials.Outcome("silent", 0.31, 42.0, (), 2)
+
+    monkeypatch.setattr(trials, "judge", silent)
+    res = CliRunner().invoke(main, ["run", str(src), "--profile", "usual",
+                                    "--out", str(tmp_path / "b")])
+    assert res.exit_code == 1
+    assert "ended wrong without a fault" in res.output and "31.0 % off" in res.output

@@ -47,7 +47,7 @@ from .model import ParameterError, derive
 from .report import reproduce as reproduce_papers
 from .cli_identify import identify
 from .scenario_io import resolve_scenario, scenario_to_toml
-from .scenarios import PAPERS, catalogue
+from .scenarios import PAPERS, catalogue, trials
 from .sweep import plot_all
 
 console = Console(stderr=True)
@@ -347,8 +347,13 @@ def _load(scenario: str):
               help="replace the files of an earlier run in OUT (without it a run refuses an "
                    "OUT that holds any: summary.json, scenario.toml, signals.*, pil.json or "
                    "a run's figure)")
+@click.option("--profile", type=click.Choice(["usual"]), default=None,
+              help="usual: the SCENARIO's motor, inverter and ADC, sensorless from rest on "
+                   "the usual profile (I/f start, +50 % and +100 % of rated speed, rated load "
+                   "on and off, reversal to -50 % and -100 %; smodrive.scenarios.trials), "
+                   "judged at its end: reached, or exit code 1 saying why not")
 def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
-        math: str, cycles: bool, formats: str, force: bool) -> None:
+        math: str, cycles: bool, formats: str, force: bool, profile: str | None) -> None:
     """Simulate one SCENARIO (a TOML file or a catalogue name); write
     signals.npz (or the --format files), summary.json and a figure (with
     --pil: pil.json and the comparison figure) into OUT, which must not hold
@@ -362,6 +367,8 @@ def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
         except ImportError:
             _fail("--format parquet needs pyarrow: pip install pyarrow", 2)
     s = _load(scenario)
+    if profile is not None:
+        s = trials.profile_scenario(s)
     if pil:
         if not 0.0 < seconds <= 10.0:
             _fail(f"--seconds {seconds}: must be in (0, 10] s", 2)
@@ -395,6 +402,11 @@ def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
         written = [p.name for p in export.write(r, out, fmts,
                                                 lambda f: prog.update(t_npz, completed=f))]
         summary = run_summary(s, r, plan)
+        if profile is not None:
+            o = trials.judge(r)
+            summary["profile"] = {"name": profile, "verdict": o.verdict,
+                                  "speed_error_rel_end": o.speed_error,
+                                  "theta_error_rms_deg_end": o.angle_rms_deg}
         export.write_text(out / "scenario.toml", scenario_to_toml(s))
         export.write_text(out / "summary.json", _json(summary))
         written += ["scenario.toml", "summary.json"]
@@ -418,6 +430,16 @@ def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
                   "scenario tests this fault, set faults_expected = true in it", 1)
         _say(f"faults: first {what} at t = {f.t_first:.6g} s"
              + ("" if not f.ends_in_fault else " (expected by the scenario)"))
+    if profile is not None:
+        o = summary["profile"]
+        if o["verdict"] == "silent":
+            _fail(f"the {profile} profile ended wrong without a fault: the speed "
+                  f"{100 * o['speed_error_rel_end']:.1f} % off its reference (within "
+                  f"{100 * trials.SPEED_TOL:g} % expected), the angle error "
+                  f"{o['theta_error_rms_deg_end']:.1f} deg RMS (within {trials.ANGLE_TOL_DEG:g}) "
+                  f"at its end; the outputs are in {out}", 1)
+        _say(f"{profile} profile: {o['verdict']} (speed {100 * o['speed_error_rel_end']:.2f} % "
+             f"off, angle {o['theta_error_rms_deg_end']:.2f} deg RMS at its end)")
     share = summary["voltage_limit_share_last_20pct"]
     if share > HOLD_SHARE:
         _say(f"note: the voltage was on the modulator's limit in {100 * share:.1f} % of the "
