@@ -40,7 +40,6 @@ import math
 from typing import Any
 
 from .fields import RPM, ParameterError
-from .margins import SPEED_PM_MIN, speed_loop_margin
 from .pars import ControllerCfg, MotorPars
 
 #: the reference motor: yang2018 Table I (the MotorPars defaults)
@@ -62,7 +61,6 @@ DERIVED_FIELDS: tuple[str, ...] = (
 SPEED_BW_MAX_RATIO = 5.0
 #: ... and never below this one (a slower loop only lengthens the transients)
 SPEED_BW_MIN_RATIO = 0.25
-
 #: the derived ADC: full scale 25 A x I_N / I_N(Table I), noise this fraction of it
 ADC_NOISE_FS = 0.02 / 25.0
 #: the speed reference's slew limit takes this fraction of the torque at the current limit
@@ -278,27 +276,9 @@ def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any =
         # the speed filter stays below a third of the SMDO's filter w_c
         k_c = min(k_c, c.w_c / (3.0 * 100.0)) if c.w_c > 0 else k_c
         k_c = 1.0 if k_c == 1.0 else k_c
-        why = (f"{ref_v:g} rad/s x T_N / (J w_M_N) over Table I's (the same load-step dip), "
-               f"within [{SPEED_BW_MIN_RATIO:g}, {SPEED_BW_MAX_RATIO:g}] and w_lpf <= w_c / 3")
-        if name == "speed_bw" and c.position == "smdo_emf":
-            # the sensorless loop's phase margin no less than Table I's (SPEED_PM_MIN)
-            w_lpf = c.w_lpf if c.w_lpf is not None else 100.0 * k_c
-            dec = c.speed_decimation
-
-            def pm(bw: float) -> float:
-                return speed_loop_margin(bw, w_lpf, c.w_c, T_sp, dec)
-
-            bw = ref_v * k_c
-            if pm(bw) < SPEED_PM_MIN - 1e-6:
-                lo, hi = 0.0, bw
-                for _ in range(60):
-                    mid = 0.5 * (lo + hi)
-                    lo, hi = (mid, hi) if pm(mid) >= SPEED_PM_MIN else (lo, mid)
-                return lo, (f"{why}, lowered to keep the sensorless speed loop's phase margin "
-                            f"at Table I's {SPEED_PM_MIN:.1f} deg (speed_loop_margin: the "
-                            f"speed filter w_lpf = {w_lpf:.4g} rad/s, the SMDO's w_c and "
-                            "the delay)")
-        return ref_v * k_c, why
+        return ref_v * k_c, (f"{ref_v:g} rad/s x T_N / (J w_M_N) over Table I's (the same "
+                             f"load-step dip), within [{SPEED_BW_MIN_RATIO:g}, "
+                             f"{SPEED_BW_MAX_RATIO:g}] and w_lpf <= w_c / 3")
     if name in ("lambda_min", "rho"):
         k = _ratio(rated_emf(m) / m.L_s, rated_emf(ref) / ref.L_s)
         if k is None:

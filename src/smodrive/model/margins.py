@@ -1,5 +1,5 @@
-"""The loops of a drive as smodrive designs them, in closed form: what
-:mod:`smodrive.model.derive` keeps when it scales a design to another motor."""
+"""The loops of a drive as smodrive designs them, in closed form (`smodrive
+design` prints the sensorless speed loop's phase margin)."""
 
 from __future__ import annotations
 
@@ -34,10 +34,6 @@ def speed_loop_margin(speed_bw: float, w_lpf: float, w_c: float, T_sp: float,
     return phase(lo)
 
 
-#: the sensorless speed loop's least phase margin, deg: Table I's own design's
-#: (speed_loop_margin(60, 100, 1500, 100e-6)). Scaled up for a light rotor
-#: (SPEED_BW_MAX_RATIO), its bandwidth nears the SMDO's filter w_c, which stays, and the
-#: delay, and the margin shrinks: at 5 x Table I's, 9 deg, and a 48 V servo's current
-#: swung by +-2 A at 85 Hz at no load, a 14-pole-pair joint motor's speed by 5 %, at
-#: status 0 (2026-11-27); the bandwidth is lowered until the margin is Table I's
-SPEED_PM_MIN = speed_loop_margin(60.0, 100.0, 1500.0, 100e-6)
+#: Table I's design's margin, deg (speed_loop_margin(60, 100, 1500, 100e-6)): the
+#: reference `smodrive design` prints a sensorless design's margin beside
+TABLE1_SPEED_PM = speed_loop_margin(60.0, 100.0, 1500.0, 100e-6)
