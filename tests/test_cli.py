@@ -171,6 +171,7 @@ def test_run_says_when_the_voltage_rides_its_limit(tmp_path):
     summary = json.loads((tmp_path / "b" / "summary.json").read_text())
     assert summary["voltage_limit_share_last_20pct"] < 0.01
     assert "note: the voltage" not in res.output
+    assert "sensorless speed loop" not in res.output  # Table I's margin (24.9 deg)
 
 
 def test_run_profile_usual_runs_the_motor_sensorless_and_judges_it(tmp_path, monkeypatch):
@@ -198,6 +199,9 @@ def test_run_profile_usual_runs_the_motor_sensorless_and_judges_it(tmp_path, mon
     assert ran.controller.position == "smdo_emf" and ran.controller.start == "if"
     assert ran.w_M_ref.y[-1] == -m.w_M_N and ran.load.T_brake.y[2] == m.T_N
     assert "usual profile: reached" in res.output
+    # the servo's light rotor: its sensorless speed loop keeps 9 deg of margin and rings
+    # (docs/design_from_motor.md); the run says so (Table I's does not: the test above)
+    assert "note: the sensorless speed loop has 9.0 deg of phase margin" in res.output
 
     def silent(r):
         return trials.Outcome("silent", 0.31, 42.0, (), 2)
