@@ -382,7 +382,16 @@ def test_a_fixed_composition_runs_the_same_drive_and_refuses_the_others(paper, m
     another position source. A fixed value that the step did not honour (a
     branch on the field left in) or a refusal that did not happen would both
     fail here."""
+    from smodrive.engine import drive_config
+    from smodrive.scenarios import drive, yao2022
     from smodrive.scenarios import target_cases as TC
+    # the flags are the composition's own (the header `smodrive design` writes names them)
+    s = (drive._table1_steady("x").with_controller(current="robust_dbpc", position="smdo_emf",
+                                                   supervise_every=4)
+         if paper == "yang2018" else
+         yao2022.steady(100e3).with_controller(position="lcl_smo_pll", smo_decimation=8,
+                                               supervise_every=4))
+    assert T.fixed_flags(drive_config(s)) == T.FIXED[paper]
     cases, _ = TC.cycle_cases(60)
     keep, refused = TC.FIXED_CASES[paper], FIXED_REFUSED[paper]
     sub = [c for c in cases if c.name in keep + refused]

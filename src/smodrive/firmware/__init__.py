@@ -8,7 +8,7 @@ model; the scenarios it runs are given to it
 (:mod:`smodrive.scenarios.target_cases` names the standard ones).
 """
 
-from .build import FAST_DEFINES, FIXED, FMATH_DEFINES, MATH_DEFINES, MATH_FUNCS, TargetError, build, c_root
+from .build import FAST_DEFINES, FIXED, FMATH_DEFINES, fixed_flags, MATH_DEFINES, MATH_FUNCS, TargetError, build, c_root
 from .cycles import (
     BUDGET,
     FLASH,
@@ -32,7 +32,7 @@ from .vectors import (
                       write_vectors,
 )
 
-__all__ = ["FAST_DEFINES", "FIXED", "FMATH_DEFINES", "MATH_DEFINES", "MATH_FUNCS", "TargetError", "build",
+__all__ = ["FAST_DEFINES", "FIXED", "fixed_flags", "FMATH_DEFINES", "MATH_DEFINES", "MATH_FUNCS", "TargetError", "build",
            "c_root", "BUDGET", "FLASH", "Flash", "TABLE6_PAPER", "CycleRow", "cycle_table", "sizes", "table6_cycles", "trace_windows",
            "PilResult", "pil", "compare", "drive_case", "record", "run_both", "run_host", "run_m4",
            "ulp_distance", "BlockCase", "DriveCase", "TablesCase", "drive_outputs",

@@ -53,6 +53,21 @@ MATH_DEFINES = {"libm": [], "fmath": FMATH_DEFINES, "fast": FAST_DEFINES}
 #: the supervision spread over 4 samples: yang2018's robust DBPC on the SMDO's
 #: angle without a filter, yao2022's PI behind the LCL filter on its
 #: sliding-mode observer and PLL
+_CURRENTS = ("SMD_CC_PI", "SMD_CC_DBPC", "SMD_CC_ROBUST_DBPC")
+_POSITIONS = ("SMD_POS_ENCODER", "SMD_POS_SMDO_EMF", "SMD_POS_LCL_SMO_PLL", "SMD_POS_LCL_LINEAR")
+
+
+def fixed_flags(cfg) -> tuple[str, ...]:
+    """The compiler flags that fix the composition of drive configuration
+    `cfg` (an smd_drive_config, :func:`smodrive.engine.drive_config`) in
+    smd_drive.c (smd_drive.h, "A composition fixed at compile time")."""
+    return (f"-DSMD_FIX_CURRENT={_CURRENTS[cfg.current]}",
+            f"-DSMD_FIX_POSITION={_POSITIONS[cfg.position]}", f"-DSMD_FIX_LCL={int(cfg.lcl)}",
+            f"-DSMD_FIX_RLS={int(cfg.rls_i_inj > 0.0)}",
+            f"-DSMD_FIX_SPEED_LOOP={int(cfg.speed_loop)}",
+            f"-DSMD_FIX_SUPERVISE_EVERY={max(int(cfg.supervise_every), 1)}")
+
+
 _FIX_COMMON = ("-DSMD_FIX_RLS=0", "-DSMD_FIX_SPEED_LOOP=1", "-DSMD_FIX_SUPERVISE_EVERY=4")
 FIXED = {"yang2018": ("-DSMD_FIX_CURRENT=SMD_CC_ROBUST_DBPC", "-DSMD_FIX_POSITION=SMD_POS_SMDO_EMF",
                       "-DSMD_FIX_LCL=0") + _FIX_COMMON,

@@ -17,6 +17,7 @@ from ..engine import TABLE_RPM, drive_config, lcl_observer_tables
 from ..model import ControllerCfg, LclFilterPars, ParameterError
 from ..model.derive import DERIVED_FIELDS
 from ..model.margins import TABLE1_SPEED_PM, speed_loop_margin
+from .build import fixed_flags
 
 # ------------------------------------------------------- the whole design --
 
@@ -145,6 +146,9 @@ def drive_header(s: Any, name: str = "SMD") -> str:
            f"{s.motor.psi_r!r} Wb, n_p = {s.motor.n_p}, J = {s.motor.J!r} kg m^2.",
            " * The smd_drive_config fields (core/include/smodrive/smd_drive.h), SI units,",
            " * electrical speeds; derived from the motor: " + (", ".join(sorted(derived)) or "-"),
+           " * A firmware that runs only this composition may compile the core's smd_drive.c",
+           " * with it fixed (smd_drive.h, \"A composition fixed at compile time\"):",
+           " *   " + " ".join(fixed_flags(cfg)),
            " */", f"#ifndef {name.upper()}_DRIVE_CONFIG_H", f"#define {name.upper()}_DRIVE_CONFIG_H",
            ""]
     for field, _ in cfg._fields_:
