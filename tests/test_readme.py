@@ -53,3 +53,5 @@ def test_the_commissioning_commands_do_what_the_readme_says(tmp_path, monkeypatc
     assert "R_s" in outs[0] and Path(cmds[0][cmds[0].index("--out") + 1]).exists()
     assert "speed PI" in outs[1]
     assert "usual profile: reached" in outs[2]
+    # and, as the README says, the note on the servo's ringing speed loop
+    assert "the sensorless speed loop has 9.0 deg of phase margin" in outs[2]
