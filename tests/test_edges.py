@@ -481,3 +481,18 @@ def test_figures_draw_at_most_max_points_per_curve():
                            max_points=1000)
     for line in ax[0, 0].get_lines():
         assert 500 < line.get_xdata().size <= 1000
+
+
+def test_a_dead_time_zone_whose_reciprocal_overflows_is_refused_by_name():
+    """controller.i_dtc = 1e-39 A is within its range (0, 1e5] but a
+    subnormal float: the core's 1 / i_dtc overflows, and a zero phase current
+    times it is NaN (fuzz_blocks found the compensation's lost voltage NaN
+    there, 2026-11-27; its input is in fuzz/corpus). The core's init refuses
+    it (SMD_ERR_DEADTIME), named with the field; 1e-37 A still runs."""
+    from smodrive.engine import simulate
+    from smodrive.model import ParameterError, Scenario
+
+    s = Scenario().replace(duration=0.005)
+    with pytest.raises(ParameterError, match="controller.i_dtc = 1e-39"):
+        simulate(s.with_controller(i_dtc=1e-39))
+    assert simulate(s.with_controller(i_dtc=1e-37)).status == 0

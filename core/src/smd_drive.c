@@ -530,7 +530,10 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
         return SMD_ERR_DECIMATION;
     }
     if (!smd_in_range(c->t_dead_comp, SMD_R(0.0), SMD_R(0.25) * c->T_sp) ||
-        !(smd_in_range(c->i_dtc, SMD_R(0.0), SMD_R(1e5)) && c->i_dtc > SMD_R(0.0))) {
+        !(smd_in_range(c->i_dtc, SMD_R(0.0), SMD_R(1e5)) && c->i_dtc > SMD_R(0.0)) ||
+        !isfinite(SMD_R(1.0) / c->i_dtc)) {
+        /* (an i_dtc whose reciprocal overflows, below 2.9e-39 A in single
+         * precision: the compensation's current over it would be 0 x inf) */
         return SMD_ERR_DEADTIME;
     }
     if (!smd_in_range(c->psi_r_hat, SMD_R(0.0), SMD_R(100.0))) {

@@ -145,7 +145,10 @@ smd_cplx smd_svm_deadtime_comp_lost(smd_real d_abc[3], const smd_real i_abc[3],
             clipped = 1;
         } else if (dc >= SMD_R(1.0)) {
             smd_real sat = i_abc[k] * inv_i_lin;
-            sat = sat > SMD_R(1.0) ? SMD_R(1.0) : (sat < SMD_R(0.0) ? SMD_R(0.0) : sat);
+            /* (in [0, 1], NaN to 1: a zero current over an i_lin whose
+             * reciprocal overflowed is 0 x inf; the clip left the duty at 1
+             * and the lost voltage stays finite, fuzz_blocks) */
+            sat = sat < SMD_R(1.0) ? (sat > SMD_R(0.0) ? sat : SMD_R(0.0)) : SMD_R(1.0);
             dd[k] = SMD_R(1.0) - t_ratio * sat - d;
             clipped = 1;
         }
