@@ -44,7 +44,7 @@ from .engine import SimulationError, _ffi, export, log_plan, simulate
 from .engine.export import write_npz
 from .firmware import header as fw_header
 from .model import ParameterError, derive
-from .model.margins import TABLE1_SPEED_PM, speed_loop_margin
+from .model.margins import TABLE1_SPEED_PM, sensorless_margin
 from .report import reproduce as reproduce_papers
 from .cli_identify import identify
 from .scenario_io import resolve_scenario, scenario_to_toml
@@ -441,13 +441,11 @@ def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
                   f"at its end; the outputs are in {out}", 1)
         _say(f"{profile} profile: {o['verdict']} (speed {100 * o['speed_error_rel_end']:.2f} % "
              f"off, angle {o['theta_error_rms_deg_end']:.2f} deg RMS at its end)")
-    c = s.controller
-    if c.position == "smdo_emf" and c.speed_loop:
-        pm = speed_loop_margin(c.speed_bw, c.w_lpf, c.w_c, s.T_sp, c.speed_decimation)
-        if pm < TABLE1_SPEED_PM - 0.05:
-            _say(f"note: the sensorless speed loop has {pm:.1f} deg of phase margin (Table I's "
-                 f"design: {TABLE1_SPEED_PM:.1f} deg; w_c, w_lpf and the delay against "
-                 "speed_bw): its speed rings on the ADC's noise (docs/design_from_motor.md)")
+    margin = sensorless_margin(s)
+    if margin is not None and margin[1]:
+        _say(f"note: the sensorless speed loop has {margin[0]:.1f} deg of phase margin (Table "
+             f"I's design: {TABLE1_SPEED_PM:.1f} deg; w_c, w_lpf and the delay against "
+             "speed_bw): its speed rings on the ADC's noise (docs/design_from_motor.md)")
     share = summary["voltage_limit_share_last_20pct"]
     if share > HOLD_SHARE:
         _say(f"note: the voltage was on the modulator's limit in {100 * share:.1f} % of the "

@@ -16,7 +16,7 @@ from ..design import yao2022 as dz
 from ..engine import TABLE_RPM, drive_config, lcl_observer_tables
 from ..model import ControllerCfg, LclFilterPars, ParameterError
 from ..model.derive import DERIVED_FIELDS
-from ..model.margins import TABLE1_SPEED_PM, speed_loop_margin
+from ..model.margins import TABLE1_SPEED_PM, sensorless_margin
 from .build import fixed_flags
 
 # ------------------------------------------------------- the whole design --
@@ -63,14 +63,14 @@ def design_rows(s: Any) -> list[DesignRow]:
                           f"2 speed_bw / b, b = 1.5 n_p^2 psi_r_pi / J_hat, speed_bw = "
                           f"{c.speed_bw:g} rad/s"))
     rows.append(DesignRow("speed PI k_i_w", k_iw, "A/rad", "speed_bw^2 / b"))
-    if c.position == "smdo_emf" and c.speed_loop:
-        pm = speed_loop_margin(c.speed_bw, c.w_lpf, c.w_c, s.T_sp, c.speed_decimation)
+    margin = sensorless_margin(s)
+    if margin is not None:
         rows.append(DesignRow(
-            "speed loop phase margin", pm, "deg",
+            "speed loop phase margin", margin[0], "deg",
             f"the PI on the rotor, w_lpf, the SMDO's w_c as a lag and the delay "
             f"(smodrive.model.margins); Table I's design: {TABLE1_SPEED_PM:.1f} deg"
             + ("; below it the speed rings on the ADC's noise (docs/design_from_motor.md)"
-               if pm < TABLE1_SPEED_PM - 0.05 else "")))
+               if margin[1] else "")))
     rows.append(DesignRow("overcurrent trip i_trip", min(2.5 * c.i_max, 1e5)
                           if c.i_trip is None else c.i_trip, "A",
                           "2.5 i_max" if c.i_trip is None else "set"))

@@ -37,3 +37,14 @@ def speed_loop_margin(speed_bw: float, w_lpf: float, w_c: float, T_sp: float,
 #: Table I's design's margin, deg (speed_loop_margin(60, 100, 1500, 100e-6)): the
 #: reference `smodrive design` prints a sensorless design's margin beside
 TABLE1_SPEED_PM = speed_loop_margin(60.0, 100.0, 1500.0, 100e-6)
+
+
+def sensorless_margin(s) -> tuple[float, bool] | None:
+    """Scenario `s`'s sensorless speed loop (the SMDO's angle, the speed
+    loop on): its phase margin, deg, and whether it is below Table I's
+    design's (the loop rings on the ADC's noise); None for another drive."""
+    c = s.controller
+    if c.position != "smdo_emf" or not c.speed_loop:
+        return None
+    pm = speed_loop_margin(c.speed_bw, c.w_lpf, c.w_c, s.T_sp, c.speed_decimation)
+    return pm, pm < TABLE1_SPEED_PM - 0.05
