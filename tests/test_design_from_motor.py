@@ -104,7 +104,13 @@ def test_table1_motor_derives_exactly_todays_values():
     assert {n: getattr(c, n) for n in TODAY} == TODAY
     assert c.w_M_if_enter == pytest.approx(2.0 * _U_ERR / 1.6, rel=1e-12)
     assert c.w_M_handover == pytest.approx(4.0 * _U_ERR / 1.6, rel=1e-12)
-    assert all(not src.startswith("reference, unused") for _, _, src in c.derived)
+    # (every one used but the tracker's square wave, derived only with the tracker: with
+    # the SMDO's angle 5 times faster than the speed loop, pi / (5 x 60 rad/s))
+    assert all(not src.startswith("reference, unused") for n, _, src in c.derived
+               if n != "rls_t_half")
+    assert s.controller.rls_t_half == 0.02
+    assert s.with_controller(rls_i_inj=1.0).controller.rls_t_half == \
+        pytest.approx(math.pi / 300.0, rel=1e-12)
     explicit = s.replace(controller=ControllerCfg(current="robust_dbpc", position="smdo_emf",
                                                   start="if", **TODAY))
     assert not {n for n, _, _ in explicit.controller.derived} & set(TODAY)

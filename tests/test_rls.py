@@ -57,7 +57,7 @@ TOL = 0.02
 
 def tracked(s0, seed: int, rng, i_inj_rel: float = 0.4, sensors: int = 3, gains_only=False,
             duration: float = 4.0, speed: float = 0.5, stale_ok: bool = False,
-            T_sp: float = 100e-6, **ctl):
+            T_sp: float = 100e-6, position: str = "encoder", **ctl):
     """One draw of the issue's conditions on motor scenario `s0` (or, with
     `gains_only`, of its sensor gains alone), the drive's dead-time
     compensation from commissioning's step 1; the run's times, R_s and psi_r
@@ -73,7 +73,7 @@ def tracked(s0, seed: int, rng, i_inj_rel: float = 0.4, sensors: int = 3, gains_
                       w_M0=speed * m.w_M_N, w_M_ref=Profile((0.0,), (speed * m.w_M_N,)),
                       R_s_scale=Profile((0.0, 1.0, 1.5), (1.0, 1.0, RISE)),
                       load=LoadCfg(T_ext=Profile((0.0,), (0.5 * m.T_N,))))
-    s = s.with_controller(current="robust_dbpc", position="encoder", start="handover",
+    s = s.with_controller(current="robust_dbpc", position=position, start="handover",
                           t_dead_comp=min(rs.t_dead(), 0.25 * s.T_sp),
                           rls_i_inj=i_inj_rel * m.T_N / m.k_t, **ctl)
     r = simulate(s)
@@ -123,6 +123,36 @@ def test_the_micro_motor_at_its_own_40_khz():
         assert np.all(np.abs(R[before] / m.R_s - 1.0) <= TOL), (seed, R[before][-1])
         assert np.all(np.abs(R[after] / (RISE * m.R_s) - 1.0) <= TOL), (seed, R[after].min())
         assert np.all(np.abs(psi[t >= 0.8] / m.psi_r - 1.0) <= 0.04), seed
+
+
+def test_the_micro_motor_without_a_position_sensor():
+    """The micro motor at its own 25 us with the SMDO's angle. Its SMDO is
+    designed at the edge of its error loop (l + lambda_min / rho = 1.2 R_s /
+    L_s_hat, docs/design_from_motor.md): fed the tracker's R_s, 40 % above
+    the design's, the loop was slower than the stator's pole and the angle
+    turned 36 deg after the rise, at status 0 (2026-11-28). The drive feeds
+    the SMDO an R_s only as far as that loop stays 1.2 times faster
+    (smd_drive.c; here not at all), and the tracker's frame alone keeps R_s
+    (measured within 0.92 % over the 10 draws, the square wave derived 20
+    ms long) and the angle (0.2 deg off on average after the rise). psi_r,
+    as with the encoder (test_the_micro_motor_at_its_own_40_khz), reads 1.7-
+    2.6 % off: bounded at 4 %."""
+    from test_commission import CASES
+
+    s0 = CASES["micro 1 ohm, 50 uH (invented)"]
+    m = s0.motor
+    rng = np.random.default_rng(2026)
+    for seed in range(1, 11):
+        t, R, psi, s = tracked(s0, seed, rng, T_sp=s0.T_sp, position="smdo_emf")
+        before = (t >= 0.8) & (t < 1.0)
+        after = t >= 3.0
+        assert np.all(np.abs(R[before] / m.R_s - 1.0) <= TOL), (seed, R[before].min())
+        assert np.all(np.abs(R[after] / (RISE * m.R_s) - 1.0) <= TOL), (seed, R[after].min())
+        assert np.all(np.abs(psi[t >= 0.8] / m.psi_r - 1.0) <= 0.04), seed
+        if seed == 1:
+            r = simulate(s)
+            err = np.angle(np.exp(1j * (r["theta_hat"] - r["theta_r"])))
+            assert abs(np.degrees(np.mean(err[r["t"] >= 2.0]))) < 3.0
 
 
 def test_without_its_square_wave_R_s_is_not_tracked():
@@ -212,14 +242,45 @@ def test_a_bad_tracker_setting_is_named(field, value, why):
         simulate(s.replace(duration=0.01))
 
 
-def test_the_tracker_without_a_position_sensor_is_refused():
-    """With the SMDO's angle the fit reads the SMDO's own R_s (smd_rls.h):
-    a +40 % rise ended 30 % low, with status 0. The tracker now needs the
-    encoder, and says so by name instead of giving a wrong R_s."""
-    s0 = load_scenario(MOTORS["yang2018 Table I"])
-    s = s0.with_controller(position="smdo_emf", start="handover", rls_i_inj=1.0)
-    with pytest.raises(ParameterError, match="rls_i_inj.*encoder"):
-        simulate(s.replace(duration=0.01))
+@pytest.mark.parametrize("name", list(MOTORS))
+def test_without_a_position_sensor_a_40_percent_rise_within_2_percent_in_under_2_s(name):
+    """The same criterion with the SMDO's angle (position = 'smdo_emf').
+    Fitted in the SMDO's own frame, the tracker read the SMDO's model R_s: a
+    resistance dR above it turns the SMDO's angle by about dR i_d / (w
+    psi_r), the d axis's EMF then cancels dR i_d, and a +40 % rise ended 30 %
+    low at status 0 (Table I's motor; before 2026-11-28 the tracker was
+    refused without an encoder). The tracker now fits in the line through
+    the angle's means over whole periods of its square wave (which the
+    wave's periodic effect on the angle does not move), with the injection
+    as the instrument, leaving out the intervals near a phase current's zero
+    crossing (the dead-time compensation's residual: +5 % on the 600 V
+    motor at 5 ms halves), and the SMDO and the robust DBPC take its R_s
+    (without it the hub motor lost its rotor after the rise). The square
+    wave is derived pi / (5 speed_bw) long (at 20 ms the 48 V servo's speed
+    loop turned it into torque, and R_s ran 57 % off)."""
+    s0 = load_scenario(MOTORS[name])
+    m = s0.motor
+    rng = np.random.default_rng(2026)
+    for seed in range(1, 11):
+        t, R, psi, _ = tracked(s0, seed, rng, position="smdo_emf")
+        before = (t >= 0.8) & (t < 1.0)
+        after = t >= 3.0
+        assert np.all(np.abs(R[before] / m.R_s - 1.0) <= TOL), (seed, R[before].min(),
+                                                               R[before].max())
+        assert np.all(np.abs(R[after] / (RISE * m.R_s) - 1.0) <= TOL), (seed, R[after].min(),
+                                                                        R[after].max())
+        assert np.all(np.abs(psi[t >= 0.8] / m.psi_r - 1.0) <= TOL), seed
+
+
+def test_the_tracker_behind_an_lcl_filter_is_refused():
+    """The tracker's model (yang2018 eq. (1)) has no filter: behind yao2022's
+    LCL filter it is refused by name, with any position source."""
+    from smodrive.scenarios import yao2022
+
+    for pos in ("encoder", "lcl_smo_pll"):
+        s = yao2022.steady(60e3).with_controller(position=pos, rls_i_inj=1.0)
+        with pytest.raises(ParameterError, match="rls_i_inj"):
+            simulate(s.replace(duration=0.01))
 
 
 def test_a_bad_heating_profile_is_named():

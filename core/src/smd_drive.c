@@ -602,9 +602,8 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
     /* the R_s / psi_r tracker: off at rls_i_inj = 0; its model has no filter */
     p->use_rls = 0;
     if (!smd_in_range(c->rls_i_inj, SMD_R(0.0), SMD_R(1e5)) ||
-        (c->rls_i_inj > SMD_R(0.0) && (c->lcl || c->position != SMD_POS_ENCODER))) {
-        /* (with an observer's angle the angle takes the resistance's change
-         * in, and the fit reads the observer's own R_s: smd_rls.h) */
+        (c->rls_i_inj > SMD_R(0.0) && (c->lcl || (c->position != SMD_POS_ENCODER &&
+                                                  c->position != SMD_POS_SMDO_EMF)))) {
         return SMD_ERR_RLS;
     }
     if (c->rls_i_inj > SMD_R(0.0)) {
@@ -613,6 +612,28 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
                           c->psi_r_hat);
         if (st == SMD_OK && c->t_dead_comp > SMD_R(0.0)) {
             st = smd_rls_set_dead_time(&p->rls, c->t_dead_comp);
+        }
+        if (st == SMD_OK) {
+            /* a winding 250 K colder or 390 K warmer than the model's: not a
+             * resistance, a fit gone wrong (smd_rls_set_range) */
+            st = smd_rls_set_range(&p->rls, SMD_R(0.5) * c->R_s_hat, SMD_R(2.5) * c->R_s_hat);
+        }
+        if (st == SMD_OK && c->position == SMD_POS_SMDO_EMF) {
+            /* the SMDO's angle: the fit in its means' frame (smd_rls.h), and
+             * the SMDO's R_s from the fit up to 2.5 R_s_hat, and as far as
+             * its error loop stays 1.2 times faster than the stator's pole
+             * (l + lambda_min / rho >= 1.2 R / L_s_hat, the design's rule:
+             * docs/design_from_motor.md; on the 1 ohm, 50 uH micro motor,
+             * designed at it, a fed R_s 40 % higher turned the angle 36 deg) */
+            const smd_real r_loop = (c->l + c->lambda_min / c->rho) * c->L_s_hat / SMD_R(1.2);
+            p->R_fb_max = r_loop < SMD_R(2.5) * c->R_s_hat ? r_loop : SMD_R(2.5) * c->R_s_hat;
+            if (p->R_fb_max < c->R_s_hat) {
+                p->R_fb_max = c->R_s_hat;
+            }
+            st = smd_rls_set_observer(&p->rls, 1);
+            if (st == SMD_OK && c->t_dead_comp > SMD_R(0.0)) {
+                st = smd_rls_set_band(&p->rls, SMD_R(1.0) * c->i_dtc);
+            }
         }
         if (st != SMD_OK) {
             return st;
@@ -732,6 +753,7 @@ void smd_drive_reset(const smd_drive_params *p, smd_drive_state *s, smd_real the
     s->i_prev1 = zero;
     s->warn = 0u;
     s->warn_rls = 0u;
+    s->R_smdo = D_USE_SMDO(p) ? p->smdo.R_s_hat : SMD_R(0.0);
     s->restarts = SMD_R(0.0);
     s->jumped = 0;
     s->sup_k = 0;
@@ -1062,8 +1084,19 @@ static smd_status observe_disturbance(const smd_drive_params *p, smd_drive_state
     if (D_USE_SMDO(p)) {
         /* the voltage the inverter applies during [k-1, k): u_ab, less what
          * a clipped compensation left out (du_clip, of the last sample) */
-        smd_status ss =
-            smd_smdo_step(&p->smdo, &s->smdo, *i_s_ab, smd_cadd(s->u_ab, s->du_clip), x->w_k);
+        smd_status ss;
+        if (D_USE_RLS(p) && p->rls.observer) {
+            /* the tracker's R_s is the SMDO's model (and the robust DBPC's,
+             * current_control): its angle does not take the resistance's
+             * change in (smd_rls.h); within [0.5 R_s_hat, R_fb_max]; R_s_hat
+             * while the estimate is stale (rls_stale: not a value to steer by) */
+            const smd_real R0 = p->smdo.R_s_hat;
+            const smd_real R = smd_rls_stale(&p->rls, &s->rls) ? R0 : s->rls.R_hat;
+            s->R_smdo = R > p->R_fb_max ? p->R_fb_max
+                                        : (R > SMD_R(0.5) * R0 ? R : SMD_R(0.5) * R0);
+        }
+        ss = smd_smdo_step_r(&p->smdo, &s->smdo, *i_s_ab, smd_cadd(s->u_ab, s->du_clip),
+                             x->w_k, s->R_smdo);
         if (ss != SMD_OK) {
             st = ss;
         }
@@ -1145,6 +1178,12 @@ static smd_cplx current_control(const smd_drive_params *p, smd_drive_state *s,
 #else
         const smd_cplx i_ref_k2 = smd_dbpc_ref_k2(&p->dbpc, s->i_dq_ref, x->theta_k, x->w_k);
 #endif
+        if (D_USE_RLS(p)) {
+            /* the SMDO's R_s (observe_disturbance; + 0 without the SMDO's angle) */
+            return smd_cadd(smd_dbpc_robust(&p->dbpc, s->smdo.i_s_hat, s->smdo.u_d_hat,
+                                            i_ref_k2),
+                            smd_cscale(s->smdo.i_s_hat, s->R_smdo - p->smdo.R_s_hat));
+        }
         return smd_dbpc_robust(&p->dbpc, s->smdo.i_s_hat, s->smdo.u_d_hat, i_ref_k2);
     }
     default: return current_pi(p, s, i_s_ab, i1_ab, x);

@@ -66,12 +66,16 @@ void smd_smdo_reset(smd_smdo_state *s, smd_cplx i_s_hat0, smd_cplx u_d_hat0)
     s->lambda = SMD_R(0.0);
 }
 
-smd_status smd_smdo_step(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i_s_ab,
-                         smd_cplx u_s_ab, smd_real w_r)
+/* (out of line in smd_smdo_step, GCC and Clang: one copy of the step in a
+ * firmware, whose core fills a 32 kB CCM SRAM: core/target/stm32g4) */
+#if defined(__GNUC__)
+__attribute__((noinline))
+#endif
+smd_status smd_smdo_step_r(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i_s_ab,
+                           smd_cplx u_s_ab, smd_real w_r, smd_real R)
 {
     const smd_real T = p->T_sp;
     const smd_real L = p->L_s_hat;
-    const smd_real R = p->R_s_hat;
     const smd_cplx i_prev = s->i_s_hat;
     smd_cplx e_i = smd_csub(i_s_ab, s->i_s_hat); /* eq. (20) */
     smd_cplx e_u, sgn, u_smo, di, du;
@@ -117,4 +121,10 @@ smd_status smd_smdo_step(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i
         return SMD_ERR_NONFINITE;
     }
     return SMD_OK;
+}
+
+smd_status smd_smdo_step(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i_s_ab,
+                         smd_cplx u_s_ab, smd_real w_r)
+{
+    return smd_smdo_step_r(p, s, i_s_ab, u_s_ab, w_r, p->R_s_hat);
 }

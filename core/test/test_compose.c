@@ -164,12 +164,22 @@ static void test_values_rejected(void)
     c = c0; c.emf_ff = 2;                        CHECK_INT(init_status(&c), SMD_ERR_MODE);
     c = c0; c.svm_limit = 2;                     CHECK_INT(init_status(&c), SMD_ERR_MODE);
 
-    /* the R_s / psi_r tracker needs the rotor's angle: with the encoder it
-     * initialises, with the SMDO's angle it is refused (smd_rls.h) */
+    /* the R_s / psi_r tracker: with the encoder and with the SMDO's angle it
+     * initialises (smd_rls.h), behind the LCL filter (its model has none) it
+     * is refused with any position source */
     c = drive_config(SMD_CC_ROBUST_DBPC, SMD_POS_ENCODER, SMD_START_RUNNING);
     c.rls_i_inj = R(1.0); c.rls_tau = R(0.3); c.rls_half = 200;
     CHECK_INT(init_status(&c), SMD_OK);
-    c.position = SMD_POS_SMDO_EMF;               CHECK_INT(init_status(&c), SMD_ERR_RLS);
+    c.position = SMD_POS_SMDO_EMF;               CHECK_INT(init_status(&c), SMD_OK);
+    for (k = SMD_POS_ENCODER; k <= SMD_POS_LCL_LINEAR; k++) {
+        if (k == SMD_POS_SMDO_EMF) {
+            continue; /* (refused behind the filter on its own: SMD_ERR_MODE) */
+        }
+        c = lcl_config(k, SMD_START_RUNNING, smo_tab, lin_tab);
+        CHECK_INT(init_status(&c), SMD_OK);
+        c.rls_i_inj = R(1.0); c.rls_tau = R(0.3); c.rls_half = 200;
+        CHECK_INT(init_status(&c), SMD_ERR_RLS);
+    }
 
     /* current PI: k_p_i in [0, 1e4], k_i_i in [0, 1e9], L_dec in [0, 10],
      * R_v in [0, 1e4] (with the filter), each also NaN; the bounds pass */

@@ -396,6 +396,8 @@ typedef struct smd_drive_params {
     smd_svm_params svm;
     int use_rls;          /* the R_s / psi_r tracker runs (rls_i_inj > 0) */
     smd_rls_params rls;
+    smd_real R_fb_max;    /* with the SMDO's angle: the largest R_s of the tracker's the
+                           * SMDO takes, ohm (smd_drive_init) */
 } smd_drive_params;
 
 typedef struct smd_drive_in {
@@ -472,6 +474,8 @@ typedef struct smd_drive_state {
     smd_cplx i_prev1;     /* measured current of k-1 */
     uint32_t warn;        /* warning bits of the last sample (SMD_FAULT_WARNINGS) */
     uint32_t warn_rls;    /* SMD_FAULT_RLS_STALE while the tracker's R_s is stale (smd_rls.h) */
+    smd_real R_smdo;      /* the SMDO's (and the robust DBPC's) R_s, ohm: R_s_hat, or the
+                           * tracker's with the SMDO's angle (smd_drive.c) */
     smd_real restarts;    /* leaky count of automatic restarts */
     int jumped;           /* 1: the source's angle jumped this sample */
     int sup_k;            /* the supervision's piece due (supervise_every > 1) */

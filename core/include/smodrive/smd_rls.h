@@ -52,15 +52,36 @@
  * passes 0 in the forced phase of an I/f start) and so did the one
  * before. C99, no allocation, single precision by default.
  *
- * It needs the rotor's angle (the drive refuses it with another position
- * source). With the SMDO's angle, a resistance dR above the SMDO's model
- * puts dR i on the disturbance, whose d part turns the angle estimate by
- * about dR i_d / (w psi_r); in that frame the fit reads the SMDO's own R_s
- * (y_d = R_s i_d + dR i_d - dR i_d), and a +40 % rise ended 30 % low. An
- * integral loop correcting the SMDO's R_s from the angle's step at the
- * square wave's edges was tried (2026-11-27) and left out: within 2 % on
- * two motors, it ran away on the 48 V servo (R_s read negative) and lost
- * the rotor of the hub motor and of Table I's with 40 ms halves. */
+ * With an observer's angle (smd_rls_set_observer; the drive's SMDO), the
+ * square wave turns the angle: a resistance dR above the observer's model
+ * puts dR i on its disturbance, whose d part turns the angle by about
+ * dR i_d / (w psi_r), and fitted in that frame the d axis's EMF cancels dR
+ * i_d: the fit reads the observer's own R_s (a +40 % rise ended 30 % low).
+ * Three changes make R_s observable without a position sensor:
+ *  - the frame: the line through the angle's means over whole periods of
+ *    the square wave (2 n_half samples each; the speed from two means),
+ *    which a periodic response of the angle to the wave does not move; a
+ *    sample counts from the third period after the angle became valid;
+ *  - the instrument: the slope is cov(z, y_d) / cov(z, i_d) with z the
+ *    injection (of the sample before), not y_d's regression on i_d: the
+ *    frame's own noise eps enters i_d as -i_q eps and y_d as -w psi_r eps,
+ *    and the regression read w psi_r i_q var(eps) / var(i_d) more (+3.5 %
+ *    on the 48 V servo), which z, uncorrelated with eps, does not; the
+ *    first 4 samples of each half (the current's step) do not count;
+ *  - with the band (smd_rls_set_band, the drive: its i_dtc), intervals
+ *    near a phase current's zero crossing do not count: there a clamped
+ *    phase's voltage is the motor's, and the compensation's residual,
+ *    correlated with the wave, read +2 % to +5 % on the 600 V motor;
+ *    samples that do not count forget as those that do (tau stays a time).
+ * The drive then gives the SMDO (and the robust DBPC) the tracker's R_s,
+ * so that the wave stops turning the angle: without it the hub motor lost
+ * its rotor after the rise. What remains is the rotor's own motion with
+ * the wave (the speed loop turns the angle's steps into torque): the drive
+ * derives n_half so that the wave is 5 times faster than its speed loop
+ * (at 20 ms the 48 V servo's R_s ran 57 % off). An integral loop correcting
+ * the SMDO's R_s from the angle's step at the square wave's edges was
+ * tried (2026-11-27) and left out: within 2 % on two motors, it ran away on
+ * the 48 V servo (R_s read negative). */
 #ifndef SMD_RLS_H
 #define SMD_RLS_H
 
@@ -81,6 +102,12 @@ typedef struct smd_rls_params {
     int n_stale;        /* R_hat not taken for more than this many samples (2 tau): stale */
     smd_real k_td;      /* t_dc / (2 L_s_hat), 1/ohm: where the current is sampled
                          * (smd_rls_set_dead_time; 0: not corrected) */
+    smd_real R_lo, R_hi; /* an R_s outside [R_lo, R_hi] is not taken, ohm
+                          * (smd_rls_set_range; 0 and 1e30 after init) */
+    smd_real i_band;    /* an interval counts only when every phase current at both ends
+                         * is at least this far from zero, A (smd_rls_set_dead_time) */
+    int observer;       /* 1: the angle given is an observer's, the fit's frame is
+                         * its means over the injection's periods (smd_rls_set_observer) */
 } smd_rls_params;
 
 typedef struct smd_rls_state {
@@ -93,6 +120,11 @@ typedef struct smd_rls_state {
     smd_real M_i, M_y, S_ii, S_iy, S_yy; /* d axis: weighted sums of i_d, y_d, i_d^2,
                                            i_d y_d, y_d^2 */
     smd_real S_ww, S_wy, S_wi;     /* q axis: of w^2, w y_q, w i_q */
+    smd_real M_z, S_zy, S_zi;      /* with an observer's angle: of the instrument z (the
+                                    * injection of the sample before), z y_d, z i_d */
+    int z_sgn;          /* the injection's sign at the sample before */
+    smd_real Wt;        /* with an observer's angle: the weight sum of every sample in
+                         * its frame, counted or not (W: of those counted) */
     smd_real R_hat;     /* R_s estimate, ohm */
     smd_real R_slope;   /* the d-axis line's slope it was taken from, ohm: what the
                          * sampled currents show, and what the q axis's fit subtracts */
@@ -100,6 +132,12 @@ typedef struct smd_rls_state {
     smd_real psi_hat;   /* psi_r estimate, Wb */
     int age;            /* samples since R_hat was last taken (or since reset), at most
                          * n_stale + 1 */
+    /* with an observer's angle (smd_rls_set_observer): the fit's frame */
+    smd_real th_f, w_f; /* its angle (rad) and speed (rad/s) at this sample */
+    smd_real dev;       /* sum of the observer's angle minus th_f over this period, rad */
+    smd_real A_prev;    /* the last period's mean angle, at its middle, rad */
+    int n_dev;          /* samples in dev */
+    int n_per;          /* whole periods averaged since the angle was last not valid */
 } smd_rls_state;
 
 /* tau: forgetting time constant, s, in [10 T_sp, 1e3]; n_half in
@@ -116,6 +154,25 @@ smd_status smd_rls_init(smd_rls_params *p, smd_real T_sp, smd_real L_s_hat, smd_
  * first-order model's reach), the slope itself beyond. SMD_ERR_RLS for a
  * t_dc not in [0, T_sp]. */
 smd_status smd_rls_set_dead_time(smd_rls_params *p, smd_real t_dc);
+/* The range of R_s the fit's may take (ohm, 0 <= lo <= hi): one outside is
+ * not taken, and the estimate goes stale after 2 tau (the drive: [0.5, 2.5]
+ * R_s_hat, a winding 250 K colder or 390 K warmer than at commissioning;
+ * with the SMDO's angle a fit that ran away, as one did at 10 ms halves on
+ * an invented 400 V motor, R_s 0.09 of its value at status 0, says so).
+ * SMD_ERR_RLS for a range not within [0, 1e30]. */
+smd_status smd_rls_set_range(smd_rls_params *p, smd_real lo, smd_real hi);
+/* Intervals whose phase currents come within i_band of zero at either end
+ * do not count (i_band >= 0, A; 0 after init): there a clamped phase's
+ * voltage is the motor's, not the inverter's, and the dead-time
+ * compensation's residual moves with the operating point
+ * (docs/commissioning.md). SMD_ERR_RLS for an i_band not in [0, 1e5]. */
+smd_status smd_rls_set_band(smd_rls_params *p, smd_real i_band);
+/* The angle smd_rls_step is given is an observer's (on = 1; 0 after init):
+ * the fit's frame is the line through the angle's means over the last two
+ * whole periods of the injection, so that what the square wave does to the
+ * observer's angle does not turn the frame with it (the header). A sample
+ * counts from the third whole period after the angle became valid. */
+smd_status smd_rls_set_observer(smd_rls_params *p, int on);
 void smd_rls_reset(const smd_rls_params *p, smd_rls_state *s);
 /* The injected d-axis current for sample k, A: +-i_inj. */
 smd_real smd_rls_injection(const smd_rls_params *p, const smd_rls_state *s);

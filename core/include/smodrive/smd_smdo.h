@@ -59,6 +59,10 @@ void smd_smdo_reset(smd_smdo_state *s, smd_cplx i_s_hat0, smd_cplx u_d_hat0);
  * Returns SMD_ERR_NONFINITE (and resets the state) if NaN/Inf appeared. */
 smd_status smd_smdo_step(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i_s_ab,
                          smd_cplx u_s_ab, smd_real w_r);
+/* The same step with the model's R_s given (ohm) in place of R_s_hat: a
+ * drive whose R_s tracker feeds it (smd_rls.h, smd_drive.c). */
+smd_status smd_smdo_step_r(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i_s_ab,
+                           smd_cplx u_s_ab, smd_real w_r, smd_real R);
 
 #ifdef __cplusplus
 }

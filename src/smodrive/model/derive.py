@@ -52,7 +52,7 @@ REFERENCE: dict[str, float] = {
 #: fields derived from the motor (and the filter and inverter), in the order they are resolved
 DERIVED_FIELDS: tuple[str, ...] = (
     "w_c", "L_s_hat", "R_s_hat", "psi_r_hat", "J_hat", "psi_r_pi", "speed_bw", "w_lpf",
-    "lambda_min", "rho", "w_M_max",
+    "rls_t_half", "lambda_min", "rho", "w_M_max",
     "i_max", "i_start", "a_M_start", "w_M_if_enter", "w_M_handover", "t_dead_comp", "i_dtc",
     "k_p_i", "k_i_i", "a_M_ref", "t_dwell", "t_chatter", "t_hunt", "w_M_track", "t_track",
     "t_forced", "osc_i")
@@ -61,6 +61,12 @@ DERIVED_FIELDS: tuple[str, ...] = (
 SPEED_BW_MAX_RATIO = 5.0
 #: ... and never below this one (a slower loop only lengthens the transients)
 SPEED_BW_MIN_RATIO = 0.25
+#: the tracker's square wave with the SMDO's angle: its angular frequency pi / rls_t_half
+#: this many times the speed loop's bandwidth (slower, the speed loop turns what the
+#: wave does to the angle into torque and the rotor moves with it: a 48 V servo's R_s
+#: ran 57 % off at 20 ms), within [RLS_MIN_HALF T_sp, 20 ms]
+RLS_BW_RATIO = 5.0
+RLS_MIN_HALF = 16
 #: the derived ADC: full scale 25 A x I_N / I_N(Table I), noise this fraction of it
 ADC_NOISE_FS = 0.02 / 25.0
 #: the speed reference's slew limit takes this fraction of the torque at the current limit
@@ -211,6 +217,7 @@ def _uses(c: ControllerCfg, get: Any = None) -> dict[str, str | None]:
         "L_s_hat": None, "R_s_hat": None, "psi_r_hat": None, "i_max": None,
         "speed_bw": None if c.speed_loop else "speed_loop = false",
         "w_lpf": None if c.position == "smdo_emf" else "position is not smdo_emf",
+        "rls_t_half": None if c.rls_i_inj > 0.0 else "no R_s tracker (rls_i_inj = 0)",
         "J_hat": None if c.speed_loop else "speed_loop = false",
         "psi_r_pi": None if c.speed_loop else "speed_loop = false",
         "w_c": no_smdo, "lambda_min": no_smdo, "rho": no_smdo,
@@ -279,6 +286,13 @@ def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any =
         return ref_v * k_c, (f"{ref_v:g} rad/s x T_N / (J w_M_N) over Table I's (the same "
                              f"load-step dip), within [{SPEED_BW_MIN_RATIO:g}, "
                              f"{SPEED_BW_MAX_RATIO:g}] and w_lpf <= w_c / 3")
+    if name == "rls_t_half":
+        if c.position != "smdo_emf" or not c.speed_loop:
+            return 0.02, "20 ms"
+        v = math.pi / (RLS_BW_RATIO * get("speed_bw"))
+        v = min(max(v, RLS_MIN_HALF * T_sp), 0.02)
+        return v, (f"pi / ({RLS_BW_RATIO:g} speed_bw) within [{RLS_MIN_HALF} T_sp, 20 ms] "
+                   "(the speed loop does not follow the square wave; smd_rls.h)")
     if name in ("lambda_min", "rho"):
         k = _ratio(rated_emf(m) / m.L_s, rated_emf(ref) / ref.L_s)
         if k is None:
@@ -453,7 +467,7 @@ def derive(name: str, m: MotorPars, c: ControllerCfg, *, T_sp: float, lcl: Any =
 REFERENCE_MODEL = {"psi_r_pi": REF_MOTOR.psi_r}
 #: the value a field the composition does not use keeps (the yang2018 drive's)
 REFERENCE_UNUSED = {**REFERENCE, "J_hat": REF_MOTOR.J, "psi_r_pi": REF_MOTOR.psi_r,
-                    "speed_bw": 60.0, "w_lpf": 100.0,
+                    "speed_bw": 60.0, "w_lpf": 100.0, "rls_t_half": 0.02,
                     "w_M_if_enter": 0.0, "t_dead_comp": DEFAULT_PLANT["t_dead"],
                     "a_M_ref": 0.0, "t_dwell": 0.0, "t_chatter": 1.0, "t_hunt": 1.0,
                     "w_M_track": 0.1 * REF_MOTOR.w_M_N, "t_track": 0.0, "t_forced": 0.0}

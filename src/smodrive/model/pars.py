@@ -328,12 +328,13 @@ class ControllerCfg(_Validated):
                            "many within t_restart (0: latch at once)", integer=True)
     t_restart: float = num(2.0, 0.0, 1e3, "s", "the window of the restart count")
     rls_i_inj: float = num(0.0, 0.0, 1e5, "A", "online R_s / psi_r tracker (smd_rls.h; with "
-                           "position = 'encoder'): its d-axis square wave of +-rls_i_inj (0: no "
-                           "tracker) ...")
+                           "position = 'encoder' or 'smdo_emf'): its d-axis square wave of "
+                           "+-rls_i_inj (0: no tracker) ...")
     rls_tau: float = num(0.3, 0.0, 1e3, "s", "... the time constant of its forgetting ...",
                          lo_open=True)
-    rls_t_half: float = num(0.02, 0.0, 1e3, "s", "... the half period of its square wave ...",
-                            lo_open=True)
+    rls_t_half: float | None = num(None, 0.0, 1e3, "s", "... the half period of its square "
+                                   "wave (None: 20 ms; with the SMDO's angle pi / (5 "
+                                   "speed_bw) within [16 T_sp, 20 ms]) ...", lo_open=True)
     rls_w_M_min: float = num(0.0, 0.0, 1e6, "rad/s", "... psi_r fitted only at |w_M| >= this "
                              "(mechanical)")
     # record of the design from the motor (not a parameter)

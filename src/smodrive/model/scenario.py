@@ -132,12 +132,11 @@ class Scenario(_Validated):
             raise ParameterError(
                 "controller.position = 'smdo_emf' with the LCL filter: the SMDO's model "
                 "(yang2018 eq. (15)) has no filter; choose lcl_smo_pll, lcl_linear or encoder")
-        if c.rls_i_inj > 0.0 and c.position != "encoder":
+        if c.rls_i_inj > 0.0 and c.position not in ("encoder", "smdo_emf"):
             raise ParameterError(
                 f"controller.rls_i_inj = {c.rls_i_inj!r} with position = {c.position!r}: the "
-                "R_s / psi_r tracker needs the rotor's angle (position = 'encoder'); with an "
-                "observer's angle the angle takes the resistance's change in and the fit reads "
-                "the observer's own R_s (docs/commissioning.md)")
+                "R_s / psi_r tracker's model has no LCL filter (position = 'encoder' or "
+                "'smdo_emf' without a filter; docs/commissioning.md)")
         if self.lcl is None and c.R_v > 0.0:
             raise ParameterError(
                 f"controller.R_v = {c.R_v!r}: active damping needs the LCL filter's current "

@@ -44,20 +44,23 @@ def mode_scenarios() -> list[tuple[str, object]]:
         out.append((f"lcl.pi.lcl_smo_pll.running.{law}",
                     yao2022.steady(60e3).with_controller(law=law)))
     out.append(("robust_dbpc.encoder.running.rls", tracker_scenario()))
+    out.append(("robust_dbpc.smdo_emf.running.rls", tracker_scenario("smdo_emf")))
     return out
 
 
-def tracker_scenario():
+def tracker_scenario(position: str = "encoder"):
     """Table I's drive with the online R_s / psi_r tracker (smd_rls.h), its
-    square wave (3 A) flipping every 5 ms and forgetting over 20 ms, so that
-    a few hundred samples see the fit take its values; at half rated speed
-    (at rated speed and torque the deadbeat voltage, chasing the ADC's noise,
-    reaches the hexagon on many samples, which the tracker leaves out)."""
+    square wave (3 A) flipping every 5 ms (2 ms with the SMDO's angle, whose
+    frame is made of three whole periods first) and forgetting over 20 ms,
+    so that a few hundred samples see the fit take its values; at half rated
+    speed (at rated speed and torque the deadbeat voltage, chasing the ADC's
+    noise, reaches the hexagon on many samples, which the tracker leaves
+    out)."""
     s = drive._table1_steady("x")
     w = 0.5 * s.motor.w_M_N
     return s.replace(w_M0=w, w_M_ref=Profile.const(w)).with_controller(
-        current="robust_dbpc", position="encoder", rls_i_inj=3.0, rls_t_half=0.005,
-        rls_tau=0.02)
+        current="robust_dbpc", position=position, rls_i_inj=3.0,
+        rls_t_half=0.005 if position == "encoder" else 0.002, rls_tau=0.02)
 
 
 
