@@ -21,6 +21,21 @@ def test_python_example_prints_what_the_readme_says():
     assert out.getvalue().strip() == quoted
 
 
+def test_the_tracker_example_prints_what_the_readme_says():
+    """The tracker's example (with the encoder, then without it) prints the
+    two lines quoted in its comments."""
+    text = README.read_text()
+    code = next(b for b in re.findall(r"```python\n(.*?)```", text, re.S) if "rls_i_inj" in b)
+    quoted = [ln[2:] for ln in code.splitlines() if ln.startswith("# R_s")]
+    assert len(quoted) == 2
+    head = ("from smodrive.engine import simulate\n"
+            "from smodrive.model import LoadCfg, Profile, Scenario\n")
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        exec(compile(head + code, str(README), "exec"), {"__name__": "readme_example"})
+    assert out.getvalue().strip().splitlines() == quoted
+
+
 def test_the_commissioning_commands_do_what_the_readme_says(tmp_path, monkeypatch):
     """README "Commission your motor": its three commands, run as written
     from the repository's root (the files they write go to a scratch copy

@@ -51,11 +51,17 @@ smd_cplx smd_dbpc_conventional(const smd_dbpc_params *p, smd_cplx i_s_ab, smd_cp
     return smd_cadd(u, e);
 }
 
-smd_cplx smd_dbpc_robust(const smd_dbpc_params *p, smd_cplx i_s_ab_k1, smd_cplx u_d_ab_k1,
-                         smd_cplx i_ref_ab_k2)
+smd_cplx smd_dbpc_robust_r(const smd_dbpc_params *p, smd_cplx i_s_ab_k1, smd_cplx u_d_ab_k1,
+                           smd_cplx i_ref_ab_k2, smd_real R)
 {
     /* yang2018 eq. (42) */
     smd_cplx u = smd_cscale(smd_csub(i_ref_ab_k2, i_s_ab_k1), p->L_T);
-    u = smd_cadd(u, smd_cscale(i_s_ab_k1, p->R_s_hat));
+    u = smd_cadd(u, smd_cscale(i_s_ab_k1, R));
     return smd_csub(u, u_d_ab_k1);
+}
+
+smd_cplx smd_dbpc_robust(const smd_dbpc_params *p, smd_cplx i_s_ab_k1, smd_cplx u_d_ab_k1,
+                         smd_cplx i_ref_ab_k2)
+{
+    return smd_dbpc_robust_r(p, i_s_ab_k1, u_d_ab_k1, i_ref_ab_k2, p->R_s_hat);
 }

@@ -1084,18 +1084,8 @@ static smd_status observe_disturbance(const smd_drive_params *p, smd_drive_state
     if (D_USE_SMDO(p)) {
         /* the voltage the inverter applies during [k-1, k): u_ab, less what
          * a clipped compensation left out (du_clip, of the last sample) */
-        smd_status ss;
-        if (D_USE_RLS(p) && p->rls.observer) {
-            /* the tracker's R_s is the SMDO's model (and the robust DBPC's,
-             * current_control): its angle does not take the resistance's
-             * change in (smd_rls.h); within [0.5 R_s_hat, R_fb_max]; R_s_hat
-             * while the estimate is stale (rls_stale: not a value to steer by) */
-            const smd_real R0 = p->smdo.R_s_hat;
-            const smd_real R = smd_rls_stale(&p->rls, &s->rls) ? R0 : s->rls.R_hat;
-            s->R_smdo = R > p->R_fb_max ? p->R_fb_max
-                                        : (R > SMD_R(0.5) * R0 ? R : SMD_R(0.5) * R0);
-        }
-        ss = smd_smdo_step_r(&p->smdo, &s->smdo, *i_s_ab, smd_cadd(s->u_ab, s->du_clip),
+        /* (its R_s: R_s_hat, or the tracker's, rls_feed) */
+        smd_status ss = smd_smdo_step_r(&p->smdo, &s->smdo, *i_s_ab, smd_cadd(s->u_ab, s->du_clip),
                              x->w_k, s->R_smdo);
         if (ss != SMD_OK) {
             st = ss;
@@ -1178,13 +1168,9 @@ static smd_cplx current_control(const smd_drive_params *p, smd_drive_state *s,
 #else
         const smd_cplx i_ref_k2 = smd_dbpc_ref_k2(&p->dbpc, s->i_dq_ref, x->theta_k, x->w_k);
 #endif
-        if (D_USE_RLS(p)) {
-            /* the SMDO's R_s (observe_disturbance; + 0 without the SMDO's angle) */
-            return smd_cadd(smd_dbpc_robust(&p->dbpc, s->smdo.i_s_hat, s->smdo.u_d_hat,
-                                            i_ref_k2),
-                            smd_cscale(s->smdo.i_s_hat, s->R_smdo - p->smdo.R_s_hat));
-        }
-        return smd_dbpc_robust(&p->dbpc, s->smdo.i_s_hat, s->smdo.u_d_hat, i_ref_k2);
+        /* (with the SMDO's R_s: rls_feed) */
+        return smd_dbpc_robust_r(&p->dbpc, s->smdo.i_s_hat, s->smdo.u_d_hat, i_ref_k2,
+                                 s->R_smdo);
     }
     default: return current_pi(p, s, i_s_ab, i1_ab, x);
     }
@@ -1265,6 +1251,18 @@ static void end_sample(const smd_drive_params *p, smd_drive_state *s, const samp
     }
 }
 
+/* With the SMDO's angle, the tracker's R_s is the SMDO's model from the next
+ * sample on (and the robust DBPC's, whose model must be the SMDO's): its
+ * angle then does not take the resistance's change in (smd_rls.h); within
+ * [0.5 R_s_hat, R_fb_max], and R_s_hat while the estimate is stale
+ * (rls_stale: not a value to steer by). */
+static void rls_feed(const smd_drive_params *p, smd_drive_state *s)
+{
+    const smd_real R0 = p->smdo.R_s_hat;
+    const smd_real R = s->warn_rls != 0u ? R0 : s->rls.R_hat;
+    s->R_smdo = R > p->R_fb_max ? p->R_fb_max : (R > SMD_R(0.5) * R0 ? R : SMD_R(0.5) * R0);
+}
+
 /* One sample of the composed drive on good inputs (smd_drive_step checks
  * them before and the state after), in its steps. */
 static smd_status control(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
@@ -1303,6 +1301,9 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
         }
         s->u_whole = whole;
         s->warn_rls = smd_rls_stale(&p->rls, &s->rls) ? (uint32_t)SMD_FAULT_RLS_STALE : 0u;
+        if (p->rls.observer) {
+            rls_feed(p, s);
+        }
     }
     end_sample(p, s, &x);
     return st;

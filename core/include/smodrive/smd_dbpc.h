@@ -47,6 +47,10 @@ smd_cplx smd_dbpc_conventional(const smd_dbpc_params *p, smd_cplx i_s_ab, smd_cp
  * with i^{k+1} and u_d^{k+1} the SMDO predictions of eq. (35)-(36). */
 smd_cplx smd_dbpc_robust(const smd_dbpc_params *p, smd_cplx i_s_ab_k1, smd_cplx u_d_ab_k1,
                          smd_cplx i_ref_ab_k2);
+/* The same with the model's R_s given (ohm) in place of R_s_hat: the SMDO's,
+ * when a drive's R_s tracker feeds it (smd_drive.c). */
+smd_cplx smd_dbpc_robust_r(const smd_dbpc_params *p, smd_cplx i_s_ab_k1, smd_cplx u_d_ab_k1,
+                           smd_cplx i_ref_ab_k2, smd_real R);
 
 #ifdef __cplusplus
 }

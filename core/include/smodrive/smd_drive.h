@@ -148,9 +148,12 @@
  *                            1.5 L, a diverging observer)
  *     SMD_FAULT_RLS_STALE    the R_s / psi_r tracker's R_s was not taken for
  *                            more than 2 rls_tau (smd_rls.h): no sample
- *                            counted or the fit could not tell it; the
+ *                            counted, the fit could not tell it, or its
+ *                            R_s was outside [0.5, 2.5] R_s_hat; the
  *                            estimate is its last (a warning: the drive
- *                            runs on, its control law does not read it)
+ *                            runs on; with the encoder its control law
+ *                            does not read it, with the SMDO's angle the
+ *                            SMDO and the robust DBPC have R_s_hat)
  * The step returns SMD_ERR_FAULT while any latched bit is set (SMD_ERR_NONFINITE
  * for an INTERNAL one).
  *
