@@ -11,6 +11,11 @@
 #define RLS_OUT_OF_LINE
 #endif
 
+/* with an observer's angle, the first samples of each half of the square
+ * wave do not count: the deadbeat current's step (two samples) and the
+ * observer's answer to it */
+#define RLS_SKIP 4
+
 smd_status smd_rls_init(smd_rls_params *p, smd_real T_sp, smd_real L_s_hat, smd_real i_inj,
                         smd_real tau, int n_half, smd_real w_min, smd_real R0, smd_real psi0)
 {
@@ -125,9 +130,11 @@ void smd_rls_reset(const smd_rls_params *p, smd_rls_state *s)
  * th_f + w_f t corrected once a period of the injection (2 n_half samples)
  * from the angle's mean over it, which a periodic response to the square
  * wave does not move. The mean sits at the period's middle; two means give
- * the speed (unwrapped with the last speed). Returns 1 when the frame is
- * made of two whole periods. */
-RLS_OUT_OF_LINE static int frame(const smd_rls_params *p, smd_rls_state *s, smd_real theta, smd_real w)
+ * the speed (unwrapped with the last speed). Returns 1 once three whole
+ * periods have made it (the first mean, the speed from the second, once
+ * refined). */
+RLS_OUT_OF_LINE static int frame(const smd_rls_params *p, smd_rls_state *s, smd_real theta,
+                                 smd_real w)
 {
     const smd_real T = p->T_sp;
     const int n = 2 * p->n_half;
@@ -277,7 +284,7 @@ void smd_rls_step(const smd_rls_params *p, smd_rls_state *s, smd_cplx i_ab, smd_
         }
     }
     int counted = 0;
-    if (ok && s->have_prev && (!p->observer || s->k_half >= 4) &&
+    if (ok && s->have_prev && (!p->observer || s->k_half >= RLS_SKIP) &&
         (p->i_band <= SMD_R(0.0) || (clear_of_zero(i_ab, p->i_band) &&
                                      clear_of_zero(s->i_prev, p->i_band)))) {
         /* the interval [k-1, k): its middle, its mean current, eq. (1) */
