@@ -1607,7 +1607,13 @@ static void supervise_ripple(const smd_drive_params *p, smd_drive_state *s)
      * gives 0, white noise of sigma a phase about sigma) */
     s->warn = s->jumped ? (uint32_t)SMD_FAULT_ANGLE_JUMP : 0u;
     if (p->osc_samples > 0) {
-        if (s->osc_n >= 1) {
+        if (D_USE_RLS(p) && smd_rls_edge(&s->rls)) {
+            /* (the tracker's square wave steps the current by 2 rls_i_inj: not
+             * a ripple; at 21 samples a half it read as one on the 48 V servo) */
+            if (s->osc_count >= p->osc_samples) {
+                s->warn |= (uint32_t)SMD_FAULT_OSCILLATION;
+            }
+        } else if (s->osc_n >= 1) {
             const smd_real x = s->w_k * p->T_sp, x2 = x * x;
             const smd_cplx rot = smd_c(SMD_R(1.0) - SMD_R(0.5) * x2,
                                        x * (SMD_R(1.0) - x2 * SMD_R(0.16666667)));

@@ -11,11 +11,6 @@
 #define RLS_OUT_OF_LINE
 #endif
 
-/* with an observer's angle, the first samples of each half of the square
- * wave do not count: the deadbeat current's step (two samples) and the
- * observer's answer to it */
-#define RLS_SKIP 4
-
 smd_status smd_rls_init(smd_rls_params *p, smd_real T_sp, smd_real L_s_hat, smd_real i_inj,
                         smd_real tau, int n_half, smd_real w_min, smd_real R0, smd_real psi0)
 {
@@ -284,7 +279,7 @@ void smd_rls_step(const smd_rls_params *p, smd_rls_state *s, smd_cplx i_ab, smd_
         }
     }
     int counted = 0;
-    if (ok && s->have_prev && (!p->observer || s->k_half >= RLS_SKIP) &&
+    if (ok && s->have_prev && (!p->observer || s->k_half >= SMD_RLS_SKIP) &&
         (p->i_band <= SMD_R(0.0) || (clear_of_zero(i_ab, p->i_band) &&
                                      clear_of_zero(s->i_prev, p->i_band)))) {
         /* the interval [k-1, k): its middle, its mean current, eq. (1) */
@@ -311,6 +306,11 @@ void smd_rls_step(const smd_rls_params *p, smd_rls_state *s, smd_cplx i_ab, smd_
         s->k_half = 0;
         s->sgn = -s->sgn;
     }
+}
+
+int smd_rls_edge(const smd_rls_state *s)
+{
+    return s->k_half < SMD_RLS_SKIP;
 }
 
 int smd_rls_stale(const smd_rls_params *p, const smd_rls_state *s)

@@ -185,6 +185,14 @@ smd_real smd_rls_injection(const smd_rls_params *p, const smd_rls_state *s);
  * non-finite inputs or results leave the estimates as they were. */
 void smd_rls_step(const smd_rls_params *p, smd_rls_state *s, smd_cplx i_ab, smd_cplx u_next,
                   int u_ok, smd_real theta_k, smd_real w_k, int valid);
+/* With an observer's angle the first SMD_RLS_SKIP samples of each half of
+ * the square wave do not count: the deadbeat current's step (two samples)
+ * and the observer's answer to it. */
+#define SMD_RLS_SKIP 4
+/* 1 during the first SMD_RLS_SKIP samples after an edge of the square wave
+ * (the current steps by 2 i_inj: the drive's ripple measure leaves them
+ * out), else 0. */
+int smd_rls_edge(const smd_rls_state *s);
 /* 1 when R_hat was not taken for more than 2 tau (the header), else 0. */
 int smd_rls_stale(const smd_rls_params *p, const smd_rls_state *s);
 
