@@ -632,7 +632,7 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
             }
             st = smd_rls_set_observer(&p->rls, 1);
             if (st == SMD_OK && c->t_dead_comp > SMD_R(0.0)) {
-                st = smd_rls_set_band(&p->rls, SMD_R(1.0) * c->i_dtc);
+                st = smd_rls_set_band(&p->rls, c->i_dtc);
             }
         }
         if (st != SMD_OK) {
@@ -1083,10 +1083,10 @@ static smd_status observe_disturbance(const smd_drive_params *p, smd_drive_state
     smd_status st = st_in;
     if (D_USE_SMDO(p)) {
         /* the voltage the inverter applies during [k-1, k): u_ab, less what
-         * a clipped compensation left out (du_clip, of the last sample) */
-        /* (its R_s: R_s_hat, or the tracker's, rls_feed) */
-        smd_status ss = smd_smdo_step_r(&p->smdo, &s->smdo, *i_s_ab, smd_cadd(s->u_ab, s->du_clip),
-                             x->w_k, s->R_smdo);
+         * a clipped compensation left out (du_clip, of the last sample); the
+         * model's R_s: R_s_hat, or the tracker's (rls_feed) */
+        smd_status ss = smd_smdo_step_r(&p->smdo, &s->smdo, *i_s_ab,
+                                        smd_cadd(s->u_ab, s->du_clip), x->w_k, s->R_smdo);
         if (ss != SMD_OK) {
             st = ss;
         }
@@ -1609,10 +1609,8 @@ static void supervise_ripple(const smd_drive_params *p, smd_drive_state *s)
     if (p->osc_samples > 0) {
         if (D_USE_RLS(p) && smd_rls_edge(&s->rls)) {
             /* (the tracker's square wave steps the current by 2 rls_i_inj: not
-             * a ripple; at 21 samples a half it read as one on the 48 V servo) */
-            if (s->osc_count >= p->osc_samples) {
-                s->warn |= (uint32_t)SMD_FAULT_OSCILLATION;
-            }
+             * a ripple; at 21 samples a half it read as one on the 48 V servo;
+             * the measure holds, and so does its warning) */
         } else if (s->osc_n >= 1) {
             const smd_real x = s->w_k * p->T_sp, x2 = x * x;
             const smd_cplx rot = smd_c(SMD_R(1.0) - SMD_R(0.5) * x2,
@@ -1629,11 +1627,11 @@ static void supervise_ripple(const smd_drive_params *p, smd_drive_state *s)
             } else {
                 s->osc_count = 0;
             }
-            if (s->osc_count >= p->osc_samples) {
-                s->warn |= (uint32_t)SMD_FAULT_OSCILLATION;
-            }
         } else {
             s->osc_n++;
+        }
+        if (s->osc_count >= p->osc_samples) {
+            s->warn |= (uint32_t)SMD_FAULT_OSCILLATION;
         }
     }
 }
