@@ -507,6 +507,37 @@ static smd_status check_protection(const smd_drive_config *c)
     return SMD_OK;
 }
 
+#if !defined(SMD_REAL_DOUBLE)
+/* A float's bits (C99: through a union). */
+static uint32_t fbits(smd_real x)
+{
+    union {
+        smd_real f;
+        uint32_t u;
+    } v;
+    v.f = x;
+    return v.u;
+}
+#endif
+
+/* The bounds of inputs_plain: the phase currents within min(1e5, i_trip)
+ * (a trip of 0 is off), the DC link within [max(u_dc_min, the smallest
+ * positive float), min(1e5, u_dc_max)]: the positive floats' bit patterns
+ * are in the order of their values. */
+static void plain_bounds(smd_drive_params *p)
+{
+#if !defined(SMD_REAL_DOUBLE)
+    const smd_real i_lim = p->i_trip > SMD_R(0.0) ? p->i_trip : SMD_R(1e5);
+    const smd_real u_hi = p->u_dc_max > SMD_R(0.0) ? p->u_dc_max : SMD_R(1e5);
+    const uint32_t lo = p->u_dc_min > SMD_R(0.0) ? fbits(p->u_dc_min) : 1u;
+    p->plain_i2 = fbits(i_lim) << 1;
+    p->plain_ulo = lo;
+    p->plain_uspan = fbits(u_hi) - lo;
+#else
+    (void)p;
+#endif
+}
+
 smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
 {
     smd_status st;
@@ -643,6 +674,7 @@ smd_status smd_drive_init(smd_drive_params *p, const smd_drive_config *c)
     p->i_trip = c->i_trip;
     p->u_dc_min = c->u_dc_min;
     p->u_dc_max = c->u_dc_max;
+    plain_bounds(p);
     p->safe_state = c->safe_state;
     p->lock_samples = c->lock_samples;
     p->lock_ratio = c->lock_ratio;
@@ -1315,6 +1347,43 @@ static smd_status control(const smd_drive_params *p, smd_drive_state *s, const s
  * compare itself */
 static int in_lim(smd_real x, smd_real lim) { return SMD_FABS(x) <= lim; }
 
+/* Whether the inputs are plain: every input check_inputs may look at
+ * finite and within its range, the phase currents (the third one too) within
+ * the overcurrent trip and the DC link within its trips; then check_inputs
+ * finds nothing and protect trips nothing, and neither runs. A float's bits
+ * doubled (its sign shifted out) are in the order of its magnitude, with
+ * the NaNs above infinity: one integer compare each, no VMRS and no branch.
+ * The double build, or inputs beyond these bounds, take the full checks. */
+static int inputs_plain(const smd_drive_params *p, const smd_drive_state *s,
+                        const smd_drive_in *in)
+{
+#if !defined(SMD_REAL_DOUBLE)
+    const uint32_t i2 = p->plain_i2;
+    /* (check_inputs' ranges: constants the compiler folds) */
+    const uint32_t R2 = fbits(SMD_R(1e5)) << 1, W2 = fbits(SMD_R(1e7)) << 1,
+                   TH2 = fbits(SMD_R(1e4)) << 1;
+    uint32_t bad = (uint32_t)(fbits(in->u_dc) - p->plain_ulo > p->plain_uspan) |
+                   (uint32_t)((fbits(in->i_a) << 1) > i2) | (uint32_t)((fbits(in->i_b) << 1) > i2) |
+                   (uint32_t)((fbits(-in->i_a - in->i_b) << 1) > i2) |
+                   (uint32_t)((fbits(in->w_ref) << 1) > W2) |
+                   (uint32_t)((fbits(in->i_dq_ref.re) << 1) > R2) |
+                   (uint32_t)((fbits(in->i_dq_ref.im) << 1) > R2);
+    if (D_LCL(p)) {
+        bad |= (uint32_t)((fbits(in->i1_a) << 1) > R2) | (uint32_t)((fbits(in->i1_b) << 1) > R2);
+    }
+    if (!source_sensorless(D_POSITION(p)) || s->phase == SMD_PHASE_ENCODER) {
+        bad |= (uint32_t)((fbits(in->theta_enc) << 1) > TH2) |
+               (uint32_t)((fbits(in->w_enc) << 1) > W2);
+    }
+    return bad == 0u;
+#else
+    (void)p;
+    (void)s;
+    (void)in;
+    return 0;
+#endif
+}
+
 /* SMD_FAULT_INPUT if an input the configuration uses is not finite or
  * beyond any physical range (smd_drive.h). */
 static uint32_t check_inputs(const smd_drive_params *p, const smd_drive_state *s,
@@ -1343,21 +1412,44 @@ static uint32_t check_inputs(const smd_drive_params *p, const smd_drive_state *s
 
 /* The inputs of a bad sample: the last good ones one sample on, the
  * encoder angle advanced at its speed and the phase currents rotated at the
- * frame's speed (a steady state's currents turn with the rotor). */
-static smd_drive_in hold_inputs(const smd_drive_state *s, smd_real T)
+ * frame's speed (a steady state's currents turn with the rotor); the
+ * inputs a composition does not read (the inverter-side currents without
+ * the filter, the encoder without one) are left as they were. */
+static smd_drive_in hold_inputs(const smd_drive_params *p, const smd_drive_state *s, smd_real T)
 {
     smd_drive_in u = s->last_in;
     smd_real abc[3];
     /* (one sample's turn: the fast build's series below a radian) */
     smd_cplx r = smd_cexpj_unit(s->w_k * T);
-    u.theta_enc = smd_wrap_pi(u.theta_enc + u.w_enc * T);
+    if (!source_sensorless(D_POSITION(p)) || s->phase == SMD_PHASE_ENCODER) {
+        u.theta_enc = smd_wrap_pi(u.theta_enc + u.w_enc * T);
+    }
     smd_ab_to_abc(smd_cmul(smd_ab2_to_ab(u.i_a, u.i_b), r), abc);
     u.i_a = abc[0];
     u.i_b = abc[1];
-    smd_ab_to_abc(smd_cmul(smd_ab2_to_ab(u.i1_a, u.i1_b), r), abc);
-    u.i1_a = abc[0];
-    u.i1_b = abc[1];
+    if (D_LCL(p)) {
+        smd_ab_to_abc(smd_cmul(smd_ab2_to_ab(u.i1_a, u.i1_b), r), abc);
+        u.i1_a = abc[0];
+        u.i1_b = abc[1];
+    }
     return u;
+}
+
+/* Whether every duty is in [0, 1] (a NaN is not). The float build compares
+ * bit patterns: those of +0 to 1 are the integers up to 1's, -0 is the sign
+ * bit alone, and every other pattern (a negative value, one above 1, a NaN)
+ * is neither; three integer compares without a VMRS each. */
+static int duties_in_range(const smd_real d[3])
+{
+#if !defined(SMD_REAL_DOUBLE)
+    const uint32_t one = fbits(SMD_R(1.0)), m0 = fbits(SMD_R(-0.0));
+    const uint32_t a = fbits(d[0]), b = fbits(d[1]), c = fbits(d[2]);
+    return ((uint32_t)(a <= one || a == m0) & (uint32_t)(b <= one || b == m0) &
+            (uint32_t)(c <= one || c == m0)) != 0u;
+#else
+    return d[0] >= SMD_R(0.0) && d[0] <= SMD_R(1.0) && d[1] >= SMD_R(0.0) &&
+           d[1] <= SMD_R(1.0) && d[2] >= SMD_R(0.0) && d[2] <= SMD_R(1.0);
+#endif
 }
 
 /* Overcurrent and DC-link trips (latched into s->fault). */
@@ -1750,7 +1842,7 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
     const smd_drive_in *use = in;
     smd_drive_in held;
     smd_status st;
-    int k;
+    int plain;
     if (p == 0 || s == 0 || in == 0 || out == 0) {
         if (out != 0) {
             out->d_abc[0] = out->d_abc[1] = out->d_abc[2] = SMD_R(0.5);
@@ -1763,16 +1855,19 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
     theta0 = s->theta_k;
     w0 = s->w_k;
     i_q0 = s->i_dq_ref.im;
-    now = check_inputs(p, s, in);
+    plain = inputs_plain(p, s, in);
+    now = plain ? 0u : check_inputs(p, s, in);
     out->fault = 0u;
     out->pwm_off = 0;
     if (now == 0u) {
-        protect(p, s, in);
+        if (!plain) {
+            protect(p, s, in);
+        }
     } else if (s->have_last) {
         /* a bad sample: run on the last good inputs (the encoder moved on at
          * its speed), so that every block keeps its timeline, and apply the
          * safe state */
-        held = hold_inputs(s, T);
+        held = hold_inputs(p, s, T);
         use = &held;
         if (D_POSITION(p) == SMD_POS_LCL_SMO_PLL && p->smo.decimation >= 4) {
             s->pos.u.smo.defer = 1; /* (its spread refresh waits a sample) */
@@ -1782,10 +1877,8 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
         return hold_safe(p, s, out, now);
     }
     st = control(p, s, use, out);
-    for (k = 0; k < 3; k++) {
-        if (!(out->d_abc[k] >= SMD_R(0.0) && out->d_abc[k] <= SMD_R(1.0))) {
-            st = SMD_ERR_NONFINITE; /* NaN duties (the dead-time compensation's clamp) */
-        }
+    if (!duties_in_range(out->d_abc)) {
+        st = SMD_ERR_NONFINITE; /* NaN duties (the dead-time compensation's clamp) */
     }
     /* (the state's finiteness: every sample, or its piece's with the
      * supervision spread, supervise_piece) */

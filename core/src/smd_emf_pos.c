@@ -40,7 +40,7 @@ void smd_emf_pos_reset(smd_emf_pos_state *s, smd_real w_r0)
     s->primed = 0;
 }
 
-void smd_emf_pos_step(const smd_emf_pos_params *p, smd_emf_pos_state *s, smd_cplx u_d_hat)
+SMD_FIXED_INLINE void smd_emf_pos_step(const smd_emf_pos_params *p, smd_emf_pos_state *s, smd_cplx u_d_hat)
 {
     smd_real phi = SMD_ATAN2(u_d_hat.im, u_d_hat.re);
     smd_real d_sign;

@@ -66,6 +66,20 @@ void smd_smdo_reset(smd_smdo_state *s, smd_cplx i_s_hat0, smd_cplx u_d_hat0)
     s->lambda = SMD_R(0.0);
 }
 
+/* A value of the step was not finite: restart from the sample if it is
+ * usable, else from the last estimate, else from zero; never keep a NaN in
+ * the state (out of line: the step keeps no registers for it). */
+#if defined(__GNUC__)
+__attribute__((noinline, cold))
+#endif
+static smd_status restart(smd_smdo_state *s, const smd_cplx *i_s_ab, const smd_cplx *i_prev)
+{
+    smd_cplx i0 = smd_cfinite(*i_s_ab) ? *i_s_ab
+                  : (smd_cfinite(*i_prev) ? *i_prev : smd_c(SMD_R(0.0), SMD_R(0.0)));
+    smd_smdo_reset(s, i0, smd_c(SMD_R(0.0), SMD_R(0.0)));
+    return SMD_ERR_NONFINITE;
+}
+
 /* (out of line in smd_smdo_step, GCC and Clang: one copy of the step in a
  * firmware, whose core fills a 32 kB CCM SRAM: core/target/stm32g4) */
 #if defined(__GNUC__)
@@ -112,13 +126,8 @@ smd_status smd_smdo_step_r(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx
     s->u_smo_prev = u_smo;
     s->u_smo = u_smo;
     s->lambda = lambda;
-    if (!smd_cfinite(s->i_s_hat) || !smd_cfinite(s->u_d_hat) || !isfinite(lambda)) {
-        /* restart from the sample if it is usable, else from the last
-         * estimate, else from zero: never keep a NaN in the state */
-        smd_cplx i0 = smd_cfinite(i_s_ab) ? i_s_ab
-                      : (smd_cfinite(i_prev) ? i_prev : smd_c(SMD_R(0.0), SMD_R(0.0)));
-        smd_smdo_reset(s, i0, smd_c(SMD_R(0.0), SMD_R(0.0)));
-        return SMD_ERR_NONFINITE;
+    if (!(smd_nf(smd_cnfs(s->i_s_hat) + smd_cnfs(s->u_d_hat) + smd_nfs(lambda)) == SMD_R(0.0))) {
+        return restart(s, &i_s_ab, &i_prev);
     }
     return SMD_OK;
 }

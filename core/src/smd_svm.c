@@ -29,7 +29,7 @@ static smd_real min3(const smd_real x[3])
     return m < x[2] ? m : x[2];
 }
 
-void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
+SMD_FIXED_INLINE void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
                   smd_real d_abc[3], smd_cplx *u_s_ab_applied)
 {
     smd_real u_abc[3];
@@ -37,7 +37,7 @@ void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
     smd_real u_avail = (SMD_R(1.0) - SMD_R(2.0) * p->d_min) * u_dc;
     smd_real u_0;
 #if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
-    smd_real inv_dc;
+    smd_real inv_dc, d_hi, d_lo;
 #endif
     int k, overflow;
 
@@ -85,6 +85,19 @@ void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
     u_0 = SMD_R(-0.5) * (mx + mn);
 #if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
     inv_dc = SMD_R(1.0) / u_dc; /* the fast build: one division, not three */
+    /* The duties of the largest and the smallest phase first: every phase's
+     * duty lies between them, bit for bit (each operation rounds
+     * monotonically), so when both are within [d_min, 1 - d_min], as they
+     * are but by rounding, no phase needs the clamps below. */
+    d_hi = SMD_R(0.5) + (mx + u_0) * inv_dc;
+    d_lo = SMD_R(0.5) + (mn + u_0) * inv_dc;
+    if (d_lo >= p->d_min && d_hi <= SMD_R(1.0) - p->d_min) {
+        for (k = 0; k < 3; k++) {
+            d_abc[k] = SMD_R(0.5) + (u_abc[k] + u_0) * inv_dc;
+        }
+        *u_s_ab_applied = u_s_ab_ref;
+        return;
+    }
 #endif
     for (k = 0; k < 3; k++) {
 #if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
@@ -125,7 +138,7 @@ void smd_svm_deadtime_comp_r(smd_real d_abc[3], const smd_real i_abc[3], smd_rea
     }
 }
 
-smd_cplx smd_svm_deadtime_comp_lost(smd_real d_abc[3], const smd_real i_abc[3],
+SMD_FIXED_INLINE smd_cplx smd_svm_deadtime_comp_lost(smd_real d_abc[3], const smd_real i_abc[3],
                                     smd_real t_ratio, smd_real i_lin, smd_real inv_i_lin,
                                     smd_real u_dc)
 {
@@ -134,11 +147,31 @@ smd_cplx smd_svm_deadtime_comp_lost(smd_real d_abc[3], const smd_real i_abc[3],
     for (k = 0; k < 3; k++) {
         const smd_real d = d_abc[k];
 #if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
-        const smd_real dc = dtc_phase(d, i_abc[k] * inv_i_lin, t_ratio);
+        /* the fast build: dtc_phase's value, with its clamp's compares
+         * shared by the test for a clip below (two compares, not four, for
+         * a duty inside (0, 1)) */
+        smd_real sat = i_abc[k] * inv_i_lin, dc;
         (void)i_lin;
+        sat = sat > SMD_R(1.0) ? SMD_R(1.0) : (sat < SMD_R(-1.0) ? SMD_R(-1.0) : sat);
+        dc = d + t_ratio * sat;
+        if (dc > SMD_R(0.0) && dc < SMD_R(1.0)) {
+            dd[k] = SMD_R(0.0);
+        } else if (dc <= SMD_R(0.0)) {
+            dc = dc < SMD_R(0.0) ? SMD_R(0.0) : dc;
+            dd[k] = -d;
+            clipped = 1;
+        } else if (dc >= SMD_R(1.0)) {
+            dc = dc > SMD_R(1.0) ? SMD_R(1.0) : dc;
+            /* (in [0, 1], NaN to 1: see below) */
+            sat = i_abc[k] * inv_i_lin;
+            sat = sat < SMD_R(1.0) ? (sat > SMD_R(0.0) ? sat : SMD_R(0.0)) : SMD_R(1.0);
+            dd[k] = SMD_R(1.0) - t_ratio * sat - d;
+            clipped = 1;
+        } else {
+            dd[k] = SMD_R(0.0); /* NaN: kept, for the caller's check */
+        }
 #else
         const smd_real dc = dtc_phase(d, i_abc[k] / i_lin, t_ratio);
-#endif
         dd[k] = SMD_R(0.0);
         if (dc <= SMD_R(0.0)) {
             dd[k] = -d;
@@ -152,6 +185,7 @@ smd_cplx smd_svm_deadtime_comp_lost(smd_real d_abc[3], const smd_real i_abc[3],
             dd[k] = SMD_R(1.0) - t_ratio * sat - d;
             clipped = 1;
         }
+#endif
         d_abc[k] = dc;
     }
     return clipped ? smd_cscale(smd_abc_to_ab(dd), u_dc) : smd_c(SMD_R(0.0), SMD_R(0.0));

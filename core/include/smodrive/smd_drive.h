@@ -376,6 +376,10 @@ typedef struct smd_drive_params {
     smd_real i_dtc;
     smd_real inv_i_dtc;   /* 1 / i_dtc (the fast build's compensation) */
     smd_real i_trip, u_dc_min, u_dc_max, lock_ratio, w_lock_min, w_if_enter;
+    /* the inputs' plain case as bit patterns (float build, inputs_plain in
+     * smd_drive.c): twice the bits of the phase currents' bound, min(1e5,
+     * i_trip); the DC link's lowest pattern and the span of its patterns */
+    uint32_t plain_i2, plain_ulo, plain_uspan;
     int safe_state, lock_samples;
     smd_real w_src_max;   /* largest |w| the sensorless source can estimate */
     smd_real R_hat, L_hat; /* the steady state of a (warm) start: R_s_hat, L_dec or L_s_hat */

@@ -99,6 +99,18 @@ typedef float smd_real;
 #define SMD_SQRT3 SMD_R(1.73205080756887729353)
 #define SMD_INV_SQRT3 SMD_R(0.57735026918962576451)
 
+/* A block's step that the drive calls once a sample: inlined into the
+ * drive's step where the composition is fixed at compile time (SMD_FIX_*,
+ * smd_drive.h; GCC and Clang, the core built as one unit), which then runs
+ * the block's code without a call's saved registers and arguments; an
+ * ordinary external function elsewhere (one copy for every composition of
+ * the generic drive). */
+#if defined(__GNUC__) && defined(SMD_FIX_POSITION)
+#define SMD_FIXED_INLINE __attribute__((always_inline)) inline
+#else
+#define SMD_FIXED_INLINE
+#endif
+
 /* Status returned by every init and setter. Each parameter error names the
  * offending field so that a caller (or the Python binding) can report it;
  * @scenario(...) lists the fields of a smodrive scenario behind an init's
