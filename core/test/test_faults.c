@@ -8,6 +8,7 @@
  * compensation on (t_dead_comp = 2 us), the part whose clamp let NaN through
  * before.
  */
+#include <math.h>
 #include <stdint.h>
 
 #include "drive_fixture.h"
@@ -312,6 +313,85 @@ static void test_lost_lock(void)
 
 /* Protection settings out of range name themselves (SMD_ERR_PROTECTION),
  * and the return to I/f needs a sensorless source (SMD_ERR_COMBINATION). */
+/* the next value of the real type up and down */
+#ifdef SMD_REAL_DOUBLE
+#define NEXT_UP(x) nextafter((x), HUGE_VAL)
+#define NEXT_DOWN(x) nextafter((x), -HUGE_VAL)
+#else
+#define NEXT_UP(x) nextafterf((x), HUGE_VALF)
+#define NEXT_DOWN(x) nextafterf((x), -HUGE_VALF)
+#endif
+
+/* The sample a drive at 300 rad/s (robust DBPC, encoder) gives after 20
+ * good ones, with one input of the last set to v: its fault bits. */
+static uint32_t edge_fault(smd_drive_config c, int field, smd_real v, smd_real v2)
+{
+    smd_drive_params p;
+    smd_drive_state s;
+    smd_drive_in in;
+    smd_drive_out out;
+    plant pl;
+    double complex u = 0.0, idq = 5.0 * JD;
+    int k;
+    CHECK_INT(smd_drive_init(&p, &c), SMD_OK);
+    pl.i = 0.0;
+    pl.th = 1.0;
+    pl.w = 300.0;
+    smd_drive_reset(&p, &s, R(pl.th), R(pl.w), R(0.0));
+    for (k = 0; k <= 20; k++) {
+        fill_in(&in, &pl, idq);
+        if (k == 20) {
+            set_field(&in, field, v);
+            if (field == 0) {
+                in.i_b = v2; /* (i_c = -i_a - i_b) */
+            }
+        }
+        (void)smd_drive_step(&p, &s, &in, &out);
+        CHECK(k == 20 || out.fault == 0u);
+        plant_step(&pl, u);
+        u = realised(out.d_abc);
+    }
+    return out.fault;
+}
+
+/* The trips and the input ranges at their edges (the step tests its inputs
+ * as bit patterns first, inputs_plain, and runs the full checks only beyond
+ * them): a phase current at i_trip does not trip and the next float up
+ * does, the third phase's too (i_a and i_b each below the trip); the DC
+ * link at u_dc_min and u_dc_max does not and the next floats out do; with
+ * the trips off, a current at the range's 1e5 A passes and the next float
+ * up is an input fault, while a third phase's 1.2e5 A from two in range is
+ * neither; a DC link of +0 or -0 is an input fault. */
+static void test_trip_edges(void)
+{
+    smd_drive_config c = fault_config(MODE_ROBUST);
+    const uint32_t OC = (uint32_t)SMD_FAULT_OVERCURRENT, UV = (uint32_t)SMD_FAULT_UNDERVOLTAGE,
+                   OV = (uint32_t)SMD_FAULT_OVERVOLTAGE, IN = (uint32_t)SMD_FAULT_INPUT;
+    c.i_trip = R(20.0);
+    c.u_dc_min = R(300.0);
+    c.u_dc_max = R(700.0);
+    CHECK_INT(edge_fault(c, 0, R(20.0), R(0.0)), 0);
+    CHECK_INT(edge_fault(c, 0, NEXT_UP(R(20.0)), R(0.0)), OC);
+    CHECK_INT(edge_fault(c, 0, R(-20.0), R(0.0)), 0);
+    CHECK_INT(edge_fault(c, 0, NEXT_DOWN(R(-20.0)), R(0.0)), OC);
+    CHECK_INT(edge_fault(c, 0, R(10.0), R(10.0)), 0);
+    CHECK_INT(edge_fault(c, 0, NEXT_UP(R(10.0)), NEXT_UP(R(10.0))), OC); /* (i_c: 20 + its ulp) */
+    CHECK_INT(edge_fault(c, 6, R(300.0), R(0.0)), 0);
+    CHECK_INT(edge_fault(c, 6, NEXT_DOWN(R(300.0)), R(0.0)), UV);
+    CHECK_INT(edge_fault(c, 6, R(700.0), R(0.0)), 0);
+    CHECK_INT(edge_fault(c, 6, NEXT_UP(R(700.0)), R(0.0)), OV);
+    c.i_trip = R(0.0);
+    c.u_dc_min = R(0.0);
+    c.u_dc_max = R(0.0);
+    CHECK_INT(edge_fault(c, 0, R(1e5), R(0.0)), 0);
+    CHECK_INT(edge_fault(c, 0, NEXT_UP(R(1e5)), R(0.0)), IN);
+    CHECK_INT(edge_fault(c, 0, R(6e4), R(6e4)), 0);
+    CHECK_INT(edge_fault(c, 6, R(1e5), R(0.0)), 0);
+    CHECK_INT(edge_fault(c, 6, NEXT_UP(R(1e5)), R(0.0)), IN);
+    CHECK_INT(edge_fault(c, 6, R(0.0), R(0.0)), IN);
+    CHECK_INT(edge_fault(c, 6, R(-0.0), R(0.0)), IN);
+}
+
 static void test_protection_settings(void)
 {
     smd_drive_params p;
@@ -345,6 +425,7 @@ int main(void)
 {
     RUN_TEST(test_bad_inputs);
     RUN_TEST(test_latched_trips);
+    RUN_TEST(test_trip_edges);
     RUN_TEST(test_lost_lock);
     RUN_TEST(test_protection_settings);
     return smdt_summary("test_faults");
