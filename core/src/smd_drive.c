@@ -855,6 +855,10 @@ typedef struct sample {
     smd_cplx ej_o;
     smd_real theta_ej;
     int ej_ok;
+    /* the fast build's e^{j w_k T / 2} (step 5, observe_disturbance): the
+     * SMDO's rotation of eq. (19) is its square, and the robust DBPC's
+     * reference of eq. (7) turns by it */
+    smd_cplx ej_half;
 } sample;
 
 /* The speed reference of the sample: the input, or slew-limited at a_ref. */
@@ -1110,15 +1114,24 @@ static void current_reference(const smd_drive_params *p, smd_drive_state *s,
 /* 5. The SMDO, eq. (34)-(39), when robust DBPC or the smdo_emf source needs
  * it: i_hat^{k+1}, u_d_hat^{k+1}. Returns st_in, or the SMDO's error. */
 static smd_status observe_disturbance(const smd_drive_params *p, smd_drive_state *s,
-                                      const smd_cplx *i_s_ab, const sample *x, smd_status st_in)
+                                      const smd_cplx *i_s_ab, sample *x, smd_status st_in)
 {
     smd_status st = st_in;
-    if (D_USE_SMDO(p)) {
+    if (D_USE_SMDO(p)) { /* (with the robust DBPC, always) */
         /* the voltage the inverter applies during [k-1, k): u_ab, less what
          * a clipped compensation left out (du_clip, of the last sample); the
-         * model's R_s: R_s_hat, or the tracker's (rls_feed) */
-        smd_status ss = smd_smdo_step_r(&p->smdo, &s->smdo, *i_s_ab,
-                                        smd_cadd(s->u_ab, s->du_clip), x->w_k, s->R_smdo);
+         * model's R_s: R_s_hat, or the tracker's (rls_feed); the rotation
+         * e^{j w_k T} (the fast build: the square of e^{j w_k T / 2}, one
+         * series for both of its uses) */
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+        smd_cplx rot;
+        x->ej_half = smd_cexpj_small(SMD_R(0.5) * x->w_k * x->T);
+        rot = smd_cmul(x->ej_half, x->ej_half);
+#else
+        const smd_cplx rot = smd_cexpj_small(x->w_k * x->T);
+#endif
+        smd_status ss = smd_smdo_step_rot(&p->smdo, &s->smdo, *i_s_ab,
+                                          smd_cadd(s->u_ab, s->du_clip), x->w_k, s->R_smdo, rot);
         if (ss != SMD_OK) {
             st = ss;
         }
@@ -1194,8 +1207,7 @@ static smd_cplx current_control(const smd_drive_params *p, smd_drive_state *s,
          * 0.5 w_k T (smd_cexpj_small), not a second argument reduction */
         const smd_cplx i_ref_k2 =
             p->dtc_ratio > SMD_R(0.0)
-                ? smd_cmul(s->i_dq_ref,
-                           smd_cmul(x->ej_15, smd_cexpj_small(SMD_R(0.5) * x->w_k * x->T)))
+                ? smd_cmul(s->i_dq_ref, smd_cmul(x->ej_15, x->ej_half))
                 : smd_dbpc_ref_k2(&p->dbpc, s->i_dq_ref, x->theta_k, x->w_k);
 #else
         const smd_cplx i_ref_k2 = smd_dbpc_ref_k2(&p->dbpc, s->i_dq_ref, x->theta_k, x->w_k);
@@ -1433,6 +1445,23 @@ static smd_drive_in hold_inputs(const smd_drive_params *p, const smd_drive_state
         u.i1_b = abc[1];
     }
     return u;
+}
+
+/* The inputs kept for a bad sample (hold_inputs): the whole sample, or
+ * the fields the composition reads: a sensorless drive without the filter
+ * reads neither the inverter-side currents nor, outside the encoder's
+ * handover (which a reset, clearing have_last, begins), the encoder. */
+static void keep_inputs(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in)
+{
+    if (D_LCL(p) || !source_sensorless(D_POSITION(p)) || s->phase == SMD_PHASE_ENCODER) {
+        s->last_in = *in;
+    } else {
+        s->last_in.i_a = in->i_a;
+        s->last_in.i_b = in->i_b;
+        s->last_in.u_dc = in->u_dc;
+        s->last_in.w_ref = in->w_ref;
+        s->last_in.i_dq_ref = in->i_dq_ref;
+    }
 }
 
 /* Whether every duty is in [0, 1] (a NaN is not). The float build compares
@@ -1894,7 +1923,7 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
                 isfinite(i_q0) ? clampr(i_q0, p->i_max) : SMD_R(0.0));
         return apply_safe(p, s, out, now | (uint32_t)SMD_FAULT_INTERNAL);
     }
-    s->last_in = *use;
+    keep_inputs(p, s, use);
     s->have_last = 1;
     if (now != 0u) {
         return apply_safe(p, s, out, now);

@@ -85,8 +85,8 @@ static smd_status restart(smd_smdo_state *s, const smd_cplx *i_s_ab, const smd_c
 #if defined(__GNUC__)
 __attribute__((noinline))
 #endif
-smd_status smd_smdo_step_r(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i_s_ab,
-                           smd_cplx u_s_ab, smd_real w_r, smd_real R)
+smd_status smd_smdo_step_rot(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i_s_ab,
+                             smd_cplx u_s_ab, smd_real w_r, smd_real R, smd_cplx rot)
 {
     const smd_real T = p->T_sp;
     const smd_real L = p->L_s_hat;
@@ -119,7 +119,7 @@ smd_status smd_smdo_step_r(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx
         s->u_d_hat = smd_cadd(s->u_d_hat, smd_cscale(du, T));
     } else {
         /* eq. (19) discretised with the exact rotation e^{j w T} of (17) */
-        du = smd_cmul(s->u_d_hat, smd_cexpj_small(w_r * T));
+        du = smd_cmul(s->u_d_hat, rot);
         s->u_d_hat = smd_cadd(du, smd_cscale(u_smo, p->w_c * T));
     }
     s->e_i_prev = e_i;
@@ -130,6 +130,12 @@ smd_status smd_smdo_step_r(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx
         return restart(s, &i_s_ab, &i_prev);
     }
     return SMD_OK;
+}
+
+smd_status smd_smdo_step_r(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i_s_ab,
+                           smd_cplx u_s_ab, smd_real w_r, smd_real R)
+{
+    return smd_smdo_step_rot(p, s, i_s_ab, u_s_ab, w_r, R, smd_cexpj_small(w_r * p->T_sp));
 }
 
 smd_status smd_smdo_step(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i_s_ab,

@@ -63,6 +63,11 @@ smd_status smd_smdo_step(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i
  * drive whose R_s tracker feeds it (smd_rls.h, smd_drive.c). */
 smd_status smd_smdo_step_r(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i_s_ab,
                            smd_cplx u_s_ab, smd_real w_r, smd_real R);
+/* The same step with e^{j w_r T_sp} of eq. (19)'s rotation given too (a
+ * drive that has it from its own rotations: smd_drive.c); the forward-Euler
+ * filter (36) reads w_r. */
+smd_status smd_smdo_step_rot(const smd_smdo_params *p, smd_smdo_state *s, smd_cplx i_s_ab,
+                             smd_cplx u_s_ab, smd_real w_r, smd_real R, smd_cplx rot);
 
 #ifdef __cplusplus
 }
