@@ -881,6 +881,9 @@ static void take_sample(const smd_drive_params *p, smd_drive_state *s, const smd
 {
     x->T = p->T_sp;
     x->ej_ok = 0;
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+    x->ej_half = smd_c(SMD_R(1.0), SMD_R(0.0)); /* (step 5 sets it where it is used) */
+#endif
     x->theta_o = s->theta;
     x->w_o = s->w;
     x->settled = s->phase_samples >= p->dwell;
