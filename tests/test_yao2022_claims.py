@@ -12,6 +12,8 @@ import itertools
 import json
 import math
 import re
+import tempfile
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -530,6 +532,42 @@ def test_table6_without_the_target_toolchain_is_not_measured(monkeypatch):
     for c in claims:
         assert c.status == "not measured", c.id
         assert "arm-none-eabi-gcc not found" in c.statement
+
+
+def test_table6_names_a_failed_build_by_its_first_error_in_one_line(monkeypatch):
+    """A firmware build that fails (a core that does not compile for the
+    M4F) leaves the Table VI claim 'not measured' with the first compiler
+    error as its reason, in one line: not the compiler's whole output (up to
+    3,000 characters) in the claim's statement and the report's table."""
+    import importlib
+
+    from smodrive import firmware as target
+
+    fb = importlib.import_module("smodrive.firmware.build")  # (the module, not its function)
+    stderr = ("In file included from core/src/smd_drive.c:1:\n"
+              "core/src/smd_drive.c:1210:19: error: 'x.ej_half.im' may be used uninitialized\n"
+              + "  | context line of the compiler's report\n" * 80)
+
+    Failed = type("Failed", (), {"returncode": 1, "stderr": stderr})
+
+    monkeypatch.setattr(fb.subprocess, "run", lambda *a, **k: Failed())
+    monkeypatch.setattr(fb, "_cache_dir", lambda: Path(tempfile.mkdtemp()))
+    with pytest.raises(target.TargetError) as err:
+        fb.build("m4", "fast")
+    first = str(err.value).splitlines()[0]
+    assert "error: 'x.ej_half.im' may be used uninitialized" in first
+
+    def build_fails(*_a, **_k):
+        raise err.value
+
+    monkeypatch.setattr(target, "table6_cycles", build_fails)
+    exp = next(e for e in y.EXPERIMENTS if e.id == "yao2022.table6")
+    (c,) = exp.run(lambda name, frac: None).claims
+    assert c.status == "not measured"
+    assert "\n" not in c.statement and "context line" not in c.statement
+    assert "may be used uninitialized" in c.statement
+    reason = c.statement.split("NOT MEASURED: ", 1)[1]
+    assert reason.startswith("building the m4 runner failed: ") and len(reason) <= 240
 
 
 def test_table6_judges_the_worst_call_against_the_period(claims, monkeypatch):

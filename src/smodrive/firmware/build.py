@@ -172,7 +172,11 @@ def build(kind: str, math: str = "fmath", out_dir: Path | None = None,
     finally:
         unity.unlink(missing_ok=True)
     if res.returncode != 0:
-        raise TargetError(f"building the {kind} runner failed:\n{res.stderr[-3000:]}")
+        # the first error on the first line (a claim's statement shows that
+        # line), the compiler's last words below it
+        errors = [ln.strip() for ln in res.stderr.splitlines() if "error" in ln.lower()]
+        first = errors[0] if errors else f"exit status {res.returncode}"
+        raise TargetError(f"building the {kind} runner failed: {first}\n{res.stderr[-3000:]}")
     os.replace(tmp, exe)
     return exe
 
