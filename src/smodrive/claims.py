@@ -61,6 +61,10 @@ class Claim:
             if v is not None:
                 setattr(self, name, float(v))
         if self.not_measured:
+            # the reason as one line of at most 240 characters (a failed
+            # build's first compiler error, not the compiler's whole output)
+            first = (str(self.not_measured).strip().splitlines() or ["not measured"])[0].strip()
+            self.not_measured = first if len(first) <= 240 else first[:237] + "..."
             self.reproduced = float("nan")
             self.passed = False
             if "NOT MEASURED" not in self.statement:

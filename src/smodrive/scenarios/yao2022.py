@@ -588,15 +588,6 @@ def table6_worst(rows: dict) -> dict[str, float]:
     return out
 
 
-def _first_line(exc: BaseException, limit: int = 240) -> str:
-    """The reason a measurement could not run, as one line for a claim's
-    statement: the exception's first line (a failed build's first compiler
-    error, not the compiler's whole output), at most `limit` characters."""
-    lines = str(exc).strip().splitlines() or [type(exc).__name__]
-    first = lines[0].strip()
-    return first if len(first) <= limit else first[:limit - 3] + "..."
-
-
 @EXPERIMENTS("yao2022.table6", "Execution cost")
 def run_table6(progress: ProgressFn) -> Outcome:
     budget = firmware.BUDGET["yao2022"]
@@ -610,7 +601,7 @@ def run_table6(progress: ProgressFn) -> Outcome:
     except (firmware.TargetError, OSError, subprocess.SubprocessError) as exc:
         # toolchain or emulator missing: not measured (neither pass nor fail),
         # with the reason
-        missing, rows, rows_exact, by_fn = _first_line(exc), {}, {}, {}
+        missing, rows, rows_exact, by_fn = str(exc), {}, {}, {}
     progress("yao2022.table6", 1.0)
     nan = float("nan")
     exact_step = flash_fast = flash_exact = nan
