@@ -1429,14 +1429,15 @@ static uint32_t check_inputs(const smd_drive_params *p, const smd_drive_state *s
  * encoder angle advanced at its speed and the phase currents rotated at the
  * frame's speed (a steady state's currents turn with the rotor); the
  * inputs a composition does not read (the inverter-side currents without
- * the filter, the encoder without one) are left as they were. In place:
- * they are the inputs the sample runs on and then the last ones kept. */
-static void hold_inputs(const smd_drive_params *p, smd_drive_state *s, smd_real T)
+ * the filter, the encoder without one) are left as they were; into *u
+ * (not returned: a copy fewer). */
+static void hold_inputs(const smd_drive_params *p, const smd_drive_state *s, smd_real T,
+                        smd_drive_in *u)
 {
-    smd_drive_in *u = &s->last_in;
     smd_real abc[3];
     /* (one sample's turn: the fast build's series below a radian) */
     smd_cplx r = smd_cexpj_unit(s->w_k * T);
+    *u = s->last_in;
     if (!source_sensorless(D_POSITION(p)) || s->phase == SMD_PHASE_ENCODER) {
         u->theta_enc = smd_wrap_pi(u->theta_enc + u->w_enc * T);
     }
@@ -1456,9 +1457,6 @@ static void hold_inputs(const smd_drive_params *p, smd_drive_state *s, smd_real 
  * handover (which a reset, clearing have_last, begins), the encoder. */
 static void keep_inputs(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in)
 {
-    if (in == &s->last_in) {
-        return; /* (a bad sample's: held in place) */
-    }
     if (D_LCL(p) || !source_sensorless(D_POSITION(p)) || s->phase == SMD_PHASE_ENCODER) {
         s->last_in = *in;
     } else {
@@ -1875,6 +1873,7 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
     smd_real T, theta0, w0, i_q0;
     uint32_t now;
     const smd_drive_in *use = in;
+    smd_drive_in held;
     smd_status st;
     int plain;
     if (p == 0 || s == 0 || in == 0 || out == 0) {
@@ -1901,8 +1900,8 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
         /* a bad sample: run on the last good inputs (the encoder moved on at
          * its speed), so that every block keeps its timeline, and apply the
          * safe state */
-        hold_inputs(p, s, T);
-        use = &s->last_in;
+        hold_inputs(p, s, T, &held);
+        use = &held;
         if (D_POSITION(p) == SMD_POS_LCL_SMO_PLL && p->smo.decimation >= 4) {
             s->pos.u.smo.defer = 1; /* (its spread refresh waits a sample) */
         }
