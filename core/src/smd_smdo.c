@@ -72,10 +72,10 @@ void smd_smdo_reset(smd_smdo_state *s, smd_cplx i_s_hat0, smd_cplx u_d_hat0)
 #if defined(__GNUC__)
 __attribute__((noinline, cold))
 #endif
-static smd_status restart(smd_smdo_state *s, const smd_cplx *i_s_ab, const smd_cplx *i_prev)
+static smd_status restart(smd_smdo_state *s, smd_cplx i_s_ab)
 {
-    smd_cplx i0 = smd_cfinite(*i_s_ab) ? *i_s_ab
-                  : (smd_cfinite(*i_prev) ? *i_prev : smd_c(SMD_R(0.0), SMD_R(0.0)));
+    smd_cplx i0 = smd_cfinite(i_s_ab) ? i_s_ab
+                  : (smd_cfinite(s->i_s_hat) ? s->i_s_hat : smd_c(SMD_R(0.0), SMD_R(0.0)));
     smd_smdo_reset(s, i0, smd_c(SMD_R(0.0), SMD_R(0.0)));
     return SMD_ERR_NONFINITE;
 }
@@ -90,9 +90,8 @@ smd_status smd_smdo_step_rot(const smd_smdo_params *p, smd_smdo_state *s, smd_cp
 {
     const smd_real T = p->T_sp;
     const smd_real L = p->L_s_hat;
-    const smd_cplx i_prev = s->i_s_hat;
     smd_cplx e_i = smd_csub(i_s_ab, s->i_s_hat); /* eq. (20) */
-    smd_cplx e_u, sgn, u_smo, di, du;
+    smd_cplx e_u, sgn, u_smo, di, du, i_hat, u_d;
     smd_real lambda;
 
     /* eq. (38): e_u from the discrete error dynamics (23) */
@@ -112,23 +111,27 @@ smd_status smd_smdo_step_rot(const smd_smdo_params *p, smd_smdo_state *s, smd_cp
     /* eq. (35), with R_hat (the paper prints R_s; see docs/errata.md) */
     di = smd_cadd(smd_cadd(u_s_ab, s->u_d_hat), u_smo);
     di = smd_csub(di, smd_cscale(s->i_s_hat, R));
-    s->i_s_hat = smd_cadd(s->i_s_hat, smd_cscale(di, p->T_L));
+    i_hat = smd_cadd(s->i_s_hat, smd_cscale(di, p->T_L));
     if (p->euler) {
         /* eq. (36) as printed: forward-Euler complex-coefficient filter */
         du = smd_cadd(smd_cscale(smd_cj(s->u_d_hat), w_r), smd_cscale(u_smo, p->w_c));
-        s->u_d_hat = smd_cadd(s->u_d_hat, smd_cscale(du, T));
+        u_d = smd_cadd(s->u_d_hat, smd_cscale(du, T));
     } else {
         /* eq. (19) discretised with the exact rotation e^{j w T} of (17) */
         du = smd_cmul(s->u_d_hat, rot);
-        s->u_d_hat = smd_cadd(du, smd_cscale(u_smo, p->w_c * T));
+        u_d = smd_cadd(du, smd_cscale(u_smo, p->w_c * T));
     }
+    /* (checked before the state is written: a restart reads the last
+     * estimate there, and the step keeps no copy of it) */
+    if (!(smd_nf(smd_cnfs(i_hat) + smd_cnfs(u_d) + smd_nfs(lambda)) == SMD_R(0.0))) {
+        return restart(s, i_s_ab);
+    }
+    s->i_s_hat = i_hat;
+    s->u_d_hat = u_d;
     s->e_i_prev = e_i;
     s->u_smo_prev = u_smo;
     s->u_smo = u_smo;
     s->lambda = lambda;
-    if (!(smd_nf(smd_cnfs(s->i_s_hat) + smd_cnfs(s->u_d_hat) + smd_nfs(lambda)) == SMD_R(0.0))) {
-        return restart(s, &i_s_ab, &i_prev);
-    }
     return SMD_OK;
 }
 

@@ -331,6 +331,10 @@ static void test_nonfinite_measurement(void)
     CHECK_INT(smd_smdo_step(&p, &s, smd_c(R(NAN), R(0.0)), smd_c(R(0.0), R(0.0)), R(100.0)),
               SMD_ERR_NONFINITE);
     CHECK(state_finite(&s));
+    /* restarted from the last estimate (the measurement is not usable), the
+     * disturbance from zero: the step checks before it writes its state */
+    CHECK(s.i_s_hat.re == R(1.0) && s.i_s_hat.im == R(0.0));
+    CHECK(s.u_d_hat.re == R(0.0) && s.u_d_hat.im == R(0.0));
     CHECK_INT(smd_smdo_step(&p, &s, smd_c(R(1.0), R(0.0)), smd_c(R(0.0), R(0.0)), R(100.0)),
               SMD_OK);
     CHECK(state_finite(&s));
@@ -342,9 +346,11 @@ static void test_nonfinite_speed(void)
     smd_smdo_state s;
     CHECK_INT(smd_smdo_init(&p, R(TSP), R(LS), R(RS), R(LMIN), R(LGAIN), R(WC), R(RHO)), SMD_OK);
     smd_smdo_reset(&s, smd_c(R(1.0), R(0.0)), smd_c(R(10.0), R(0.0)));
-    CHECK_INT(smd_smdo_step(&p, &s, smd_c(R(1.0), R(0.0)), smd_c(R(0.0), R(0.0)), R(INFINITY)),
+    CHECK_INT(smd_smdo_step(&p, &s, smd_c(R(2.0), R(-1.0)), smd_c(R(0.0), R(0.0)), R(INFINITY)),
               SMD_ERR_NONFINITE);
     CHECK(state_finite(&s));
+    /* restarted from the measurement, which is usable */
+    CHECK(s.i_s_hat.re == R(2.0) && s.i_s_hat.im == R(-1.0));
     CHECK_INT(smd_smdo_step(&p, &s, smd_c(R(1.0), R(0.0)), smd_c(R(0.0), R(0.0)), R(100.0)),
               SMD_OK);
     CHECK(state_finite(&s));
