@@ -122,6 +122,16 @@ static inline void fill_in(smd_drive_in *in, const plant *pl, double complex idq
     in->i_dq_ref = smdt_c(idq_ref);
 }
 
+/* The tests' usual start: the plant at 1 rad, turning at w rad/s, without
+ * current, and the drive reset to that angle and speed (no load torque). */
+static inline void start_at(const smd_drive_params *p, smd_drive_state *s, plant *pl, double w)
+{
+    pl->i = 0.0;
+    pl->th = 1.0;
+    pl->w = w;
+    smd_drive_reset(p, s, R(pl->th), R(pl->w), R(0.0));
+}
+
 /* the current in the rotor frame of the plant */
 static inline double complex plant_idq(const plant *pl) { return pl->i * cexp(-JD * pl->th); }
 

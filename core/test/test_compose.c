@@ -625,10 +625,7 @@ static void test_handover_smdo(void)
     int k, n_enc = 0, n_src = 0, n_apart = 0;
     c.handover = handover;
     CHECK_INT(smd_drive_init(&p, &c), SMD_OK);
-    pl.i = 0.0;
-    pl.th = 1.0;
-    pl.w = 300.0;
-    smd_drive_reset(&p, &s, R(pl.th), R(pl.w), R(0.0));
+    start_at(&p, &s, &pl, 300.0);
     CHECK_INT(s.phase, SMD_PHASE_ENCODER);
     for (k = 0; k < 300; k++) {
         const int phase_k = s.phase;
@@ -888,10 +885,7 @@ static smd_drive_view run_view(const smd_drive_config *c, int *ok, int *smdo_sta
     double complex u = 0.0;
     int k;
     *ok = smd_drive_init(&p, c) == SMD_OK;
-    pl.i = 0.0;
-    pl.th = 1.0;
-    pl.w = 300.0;
-    smd_drive_reset(&p, s, R(pl.th), R(pl.w), R(0.0));
+    start_at(&p, s, &pl, 300.0);
     for (k = 0; k < 200 && *ok; k++) {
         fill_in(&in, &pl, 5.0 * JD);
         in.i1_a = in.i_a; /* the drives with a filter see i_1 = i_2 */

@@ -236,10 +236,7 @@ static void test_nonfinite_inputs(void)
                 int k, bad_duty = 0;
                 c.speed_loop = (field == 5);
                 CHECK_INT(smd_drive_init(&p, &c), SMD_OK);
-                pl.i = 0.0;
-                pl.th = 1.0;
-                pl.w = 300.0;
-                smd_drive_reset(&p, &s, R(pl.th), R(pl.w), R(0.0));
+                start_at(&p, &s, &pl, 300.0);
                 for (k = 0; k < 1500; k++) {
                     fill_in(&in, &pl, idq);
                     if (k == 1000) {
@@ -290,10 +287,7 @@ static void test_nonfinite_sample_costs_one_sample(void)
         double complex u = 0.0, idq = 5.0 * JD;
         int k;
         CHECK_INT(smd_drive_init(&p, &c), SMD_OK);
-        pl.i = 0.0;
-        pl.th = 1.0;
-        pl.w = 300.0;
-        smd_drive_reset(&p, &s, R(pl.th), R(pl.w), R(0.0));
+        start_at(&p, &s, &pl, 300.0);
         for (k = 0; k < 502; k++) {
             smd_status st;
             fill_in(&in, &pl, idq);

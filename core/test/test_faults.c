@@ -202,10 +202,7 @@ static void test_latched_trips(void)
         c.u_dc_max = R(700.0);
         c.safe_state = SMD_SAFE_PWM_OFF;
         CHECK_INT(smd_drive_init(&p, &c), SMD_OK);
-        pl.i = 0.0;
-        pl.th = 1.0;
-        pl.w = 300.0;
-        smd_drive_reset(&p, &s, R(pl.th), R(pl.w), R(0.0));
+        start_at(&p, &s, &pl, 300.0);
         for (k = 0; k < 2000; k++) {
             smd_status st;
             fill_in(&in, &pl, idq);
@@ -334,10 +331,7 @@ static uint32_t edge_fault(smd_drive_config c, int field, smd_real v, smd_real v
     double complex u = 0.0, idq = 5.0 * JD;
     int k;
     CHECK_INT(smd_drive_init(&p, &c), SMD_OK);
-    pl.i = 0.0;
-    pl.th = 1.0;
-    pl.w = 300.0;
-    smd_drive_reset(&p, &s, R(pl.th), R(pl.w), R(0.0));
+    start_at(&p, &s, &pl, 300.0);
     for (k = 0; k <= 20; k++) {
         fill_in(&in, &pl, idq);
         if (k == 20) {

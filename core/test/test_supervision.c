@@ -134,10 +134,7 @@ static void test_oscillation(void)
         c.osc_rel = R(0.1);
         c.osc_samples = 100;
         CHECK_INT(smd_drive_init(&p, &c), SMD_OK);
-        pl.i = 0.0;
-        pl.th = 1.0;
-        pl.w = 300.0;
-        smd_drive_reset(&p, &s, R(pl.th), R(pl.w), R(0.0));
+        start_at(&p, &s, &pl, 300.0);
         for (k = 0; k < 5000; k++) {
             smd_status st;
             fill_in(&in, &pl, k < 100 ? 0.0 : 2.0 * JD);
@@ -216,10 +213,7 @@ static void test_locked_rotor_start(void)
         c.lock_ratio = R(3.0);
         c.w_lock_min = R(30.0);
         CHECK_INT(smd_drive_init(&p, &c), SMD_OK);
-        pl.i = 0.0;
-        pl.th = 1.0;
-        pl.w = 0.0;
-        smd_drive_reset(&p, &s, R(pl.th), R(0.0), R(0.0));
+        start_at(&p, &s, &pl, 0.0);
         for (k = 0; k < 1500; k++) {
             fill_in(&in, &pl, 0.0);
             in.w_ref = R(300.0);
@@ -274,10 +268,7 @@ static void test_chatter(void)
         c.chatter_max = 4;
         c.chatter_window = pass == 0 ? 1000 : 100;
         CHECK_INT(smd_drive_init(&p, &c), SMD_OK);
-        pl.i = 0.0;
-        pl.th = 1.0;
-        pl.w = 150.0;
-        smd_drive_reset(&p, &s, R(pl.th), R(pl.w), R(0.0));
+        start_at(&p, &s, &pl, 150.0);
         last_phase = s.phase;
         for (k = 0; k < 4000; k++) {
             fill_in(&in, &pl, 0.0);
@@ -331,10 +322,7 @@ static void test_hunting(void)
         c.hunt_max = pass == 2 ? 0 : 4;
         c.hunt_window = 1000;
         CHECK_INT(smd_drive_init(&p, &c), SMD_OK);
-        pl.i = 0.0;
-        pl.th = 1.0;
-        pl.w = 300.0;
-        smd_drive_reset(&p, &s, R(pl.th), R(pl.w), R(0.0));
+        start_at(&p, &s, &pl, 300.0);
         for (k = 0; k < 5000; k++) {
             double w_ref = (k / every) % 2 == 0 ? 700.0 : -100.0;
             if (pass == 3) w_ref = k < 2500 ? 700.0 : -100.0;
@@ -507,10 +495,7 @@ static void test_restart(void)
         c.restart_max = pass == 0 ? 2 : 0;
         c.restart_window = 10000;
         CHECK_INT(smd_drive_init(&p, &c), SMD_OK);
-        pl.i = 0.0;
-        pl.th = 1.0;
-        pl.w = 0.0;
-        smd_drive_reset(&p, &s, R(pl.th), R(0.0), R(0.0));
+        start_at(&p, &s, &pl, 0.0);
         for (k = 0; k < 1500; k++) {
             smd_status st;
             fill_in(&in, &pl, 0.0);
