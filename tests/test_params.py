@@ -992,6 +992,23 @@ def test_unknown_key_names_the_known_ones(sec):
     assert set(known) == fields | rpm | top
 
 
+def test_an_unknown_table_names_the_tables_and_where_its_keys_go():
+    """A [sim] table holding the scenario's own keys (T_sp, duration) is not
+    an unknown parameter of the scenario to look up in a list of 17: the
+    message names the tables there are and says those keys go at the top."""
+    with pytest.raises(ParameterError) as ei:
+        scenario_from_dict({"sim": {"T_sp": 1e-4, "duration": 0.5, "typo": 1}})
+    assert str(ei.value) == ("[sim]: unknown table (tables: adc, controller, inverter, lcl, "
+                             "load, motor); T_sp, duration go at the top of the file, "
+                             "before any table")
+    with pytest.raises(ParameterError, match=r"; T_sp goes at the top of the file"):
+        scenario_from_dict({"sim": {"T_sp": 1e-4}})
+    with pytest.raises(ParameterError) as ei:
+        scenario_from_dict({"plant": {"R": 1.0}})
+    assert str(ei.value) == ("[plant]: unknown table (tables: adc, controller, inverter, lcl, "
+                             "load, motor)")
+
+
 @pytest.mark.parametrize("key", ["T_brake_rpm", "T_ext_rpm"])
 def test_rpm_suffix_only_for_speeds(key):
     """A torque or current profile has no r/min form: T_brake_rpm would

@@ -138,6 +138,15 @@ def _kwargs(cls: type, section: str, data: dict[str, Any]) -> dict[str, Any]:
                 raise ParameterError(f"{section}.{key} = {value!r} is not a number")
         elif key not in names:
             known = sorted(names | set(units) | ({"base"} if cls is Scenario else set()))
+            if cls is Scenario and isinstance(value, dict):
+                # a table the file made up ([sim], [simulation]): say which
+                # tables there are, and where its keys go when they are the
+                # scenario's own
+                own = sorted(k for k in value if k in known)
+                where = (f"; {', '.join(own)} {'goes' if len(own) == 1 else 'go'} at the top "
+                         "of the file, before any table" if own else "")
+                raise ParameterError(
+                    f"[{key}]: unknown table (tables: {', '.join(sorted(SECTIONS))}){where}")
             raise ParameterError(
                 f"{section}.{key}: unknown parameter (known: {', '.join(known)})")
         else:
