@@ -263,6 +263,25 @@ def test_cycle_windows_are_consistent(tmp_path):
             assert fl.wait_states <= cold - w.cycles[1] <= fl.wait_states * 8
 
 
+def test_the_cycle_profile_accounts_for_every_cycle_of_a_call(tmp_path):
+    """The profile of a window (by function, and by address for
+    benchmarks/profile_m4.py) sums to the window's nominal cycles exactly:
+    each taken branch's pipeline refill is the branch's, and the call of the
+    end marker is left out of both. A drive step has taken branches (PI +
+    encoder: the modulator, the clamps, the supervision), so a profile that
+    dropped the refills falls short by 2 cycles a branch."""
+    cases = [next(c for c in standard_cases() if c.name == "drive.pi.encoder.running")]
+    vec = tmp_path / "v.bin"
+    T.write_vectors(vec, cases)
+    elf = T.build("m4", "fmath")
+    for by_pc in (False, True):
+        prof: list = []
+        wins = T.trace_windows(elf, vec, tmp_path, profile=prof, by_pc=by_pc)
+        assert len(prof) == len(wins) >= 10
+        for w, d in zip(wins, prof):
+            assert sum(d.values()) == w.cycles[1]
+
+
 def test_the_example_firmware_links_the_core_into_ccm_sram(tmp_path):
     """core/target/stm32g4: an STM32G474 image with the core's code in CCM
     SRAM (zero wait states on the I-bus) and the rest in flash. Linked from

@@ -217,13 +217,14 @@ class Window:
 
 
 def trace_windows(elf: Path, vec: Path, work: Path, timeout: float = 900.0,
-                  profile: list | None = None) -> list[Window]:
+                  profile: list | None = None, by_pc: bool = False) -> list[Window]:
     """Run the vectors on QEMU with every executed instruction logged (one
     instruction a translation block, streamed through a FIFO) and cost each
     window between smd_mark_begin and smd_mark_end with the Cortex-M4
     timings above. The markers' own instructions are left out. With
     `profile` (a list), a dict per window of the nominal cycles by function
-    is appended to it."""
+    is appended to it (`by_pc`: by instruction address instead, for the
+    inlined functions and source lines: benchmarks/profile_m4.py)."""
     insns, funcs = disassemble(elf)
     owner = {}
     if profile is not None:
@@ -277,6 +278,9 @@ def trace_windows(elf: Path, vec: Path, work: Path, timeout: float = 900.0,
                         # refill was not) is not the window's
                         c = [c[0] - 1, c[1] - 1, c[2] - 1]
                         n -= 1
+                        if profile is not None:
+                            fb = prev_pc if by_pc else owner.get(prev_pc, "?")
+                            profile[-1][fb] -= 1
                         fl: dict = {}
                         for (name, mode), st in stalls.items():
                             fl.setdefault(name, {})[mode] = c[1] + st
@@ -292,6 +296,9 @@ def trace_windows(elf: Path, vec: Path, work: Path, timeout: float = 900.0,
                 if prev is not None and prev.cls.startswith("branch") and \
                         pc != prev_pc + prev.size:
                     c = [c[0] + _P[0], c[1] + _P[1], c[2] + _P[2]]
+                    if profile is not None:  # (the refill is the branch's)
+                        fb = prev_pc if by_pc else owner.get(prev_pc, "?")
+                        profile[-1][fb] = profile[-1].get(fb, 0) + _P[1]
                 lo, nom, hi = ins.cost
                 if ins.cls == "ls" and prev_ls:
                     lo, nom = 1, 1
@@ -299,7 +306,7 @@ def trace_windows(elf: Path, vec: Path, work: Path, timeout: float = 900.0,
                 for key, ic in caches.items():
                     stalls[key] += ic.fetch(pc, nom)
                 if profile is not None:
-                    fn = owner.get(pc, "?")
+                    fn = pc if by_pc else owner.get(pc, "?")
                     profile[-1][fn] = profile[-1].get(fn, 0) + nom
                 n += 1
                 prev_ls = ins.cls == "ls"
