@@ -333,7 +333,7 @@ def test_the_example_firmware_links_the_core_into_ccm_sram(tmp_path):
         if len(parts) == 3:
             syms[parts[2]] = int(parts[0], 16)
     ccm = range(0x10000000, 0x10000000 + 32 * 1024)
-    for f in ("smd_drive_step", "smd_smdo_step_rot", "smd_svm_step", "smd_sincosf"):
+    for f in ("smd_drive_step", "smd_smdo_step_rot", "smd_svm_step_finite", "smd_sincosf"):
         assert syms[f] in ccm, f
     # the firmware's own code in flash, and the core's init functions, which run once
     for f in ("main", "smd_drive_init", "smd_smdo_init"):

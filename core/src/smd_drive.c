@@ -1237,7 +1237,7 @@ static smd_status modulate(const smd_drive_params *p, smd_drive_state *s, const 
         s->x_i = u_ref;
     }
     s->u_ab_ref = u_ref;
-    smd_svm_step(&p->svm, u_ref, in->u_dc, out->d_abc, &s->u_ab_next);
+    smd_svm_step_finite(&p->svm, u_ref, in->u_dc, out->d_abc, &s->u_ab_next);
     if (D_CURRENT(p) == SMD_CC_PI && p->k_i_i > SMD_R(0.0)) {
         /* anti-windup: keep the integrator where the limited voltage is what
          * the law would have given (without integral action there is no

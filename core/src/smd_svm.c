@@ -29,8 +29,9 @@ static smd_real min3(const smd_real x[3])
     return m < x[2] ? m : x[2];
 }
 
-SMD_FIXED_INLINE void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
-                  smd_real d_abc[3], smd_cplx *u_s_ab_applied)
+SMD_FIXED_INLINE void smd_svm_step_finite(const smd_svm_params *p, smd_cplx u_s_ab_ref,
+                                          smd_real u_dc, smd_real d_abc[3],
+                                          smd_cplx *u_s_ab_applied)
 {
     smd_real u_abc[3];
     smd_real span, mx, mn;
@@ -41,8 +42,8 @@ SMD_FIXED_INLINE void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref,
 #endif
     int k, overflow;
 
-    if (!(u_dc > SMD_R(0.0)) || !smd_cfinite(u_s_ab_ref)) {
-        /* No DC link or a non-finite reference: apply the zero vector. */
+    if (!(u_dc > SMD_R(0.0))) {
+        /* No DC link: apply the zero vector. */
         d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
         *u_s_ab_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
         return;
@@ -114,6 +115,18 @@ SMD_FIXED_INLINE void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref,
         d_abc[k] = d;
     }
     *u_s_ab_applied = u_s_ab_ref;
+}
+
+SMD_FIXED_INLINE void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
+                  smd_real d_abc[3], smd_cplx *u_s_ab_applied)
+{
+    if (!smd_cfinite(u_s_ab_ref)) {
+        /* A non-finite reference: apply the zero vector. */
+        d_abc[0] = d_abc[1] = d_abc[2] = SMD_R(0.5);
+        *u_s_ab_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
+        return;
+    }
+    smd_svm_step_finite(p, u_s_ab_ref, u_dc, d_abc, u_s_ab_applied);
 }
 
 /* One phase of the compensation: its duty moved by t_ratio sat(s), s the

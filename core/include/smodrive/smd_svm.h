@@ -57,6 +57,11 @@ smd_cplx smd_svm_deadtime_comp_lost(smd_real d_abc[3], const smd_real i_abc[3],
  * switching-cycle average of the inverter output for ideal switches). */
 void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
                   smd_real d_abc[3], smd_cplx *u_s_ab_applied);
+/* smd_svm_step of a reference the caller has found finite (smd_drive's
+ * modulate, which has replaced a non-finite one already: the check not made
+ * twice a sample). */
+void smd_svm_step_finite(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
+                         smd_real d_abc[3], smd_cplx *u_s_ab_applied);
 
 #ifdef __cplusplus
 }
