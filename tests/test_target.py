@@ -210,6 +210,36 @@ def test_cortex_m4_timings_of_instruction_classes():
     assert c("vmovle.f32", "s15, #112", 4).cost == (1, 1, 1)  # single-cycle: as before
 
 
+def test_a_divide_runs_beside_the_integer_instructions_after_it():
+    """VDIV and VSQRT hold the FPU 14 cycles and the integer pipeline one
+    (GCC's cortex-m4-fpu.md): five integer instructions after a divide take
+    no time of their own, the next FPU instruction waits for the divide
+    (14 + 1 = 15 nominal, not the serial 14 + 5 + 1 = 20, the max column);
+    an FPU instruction right after it (a VLDR too) waits the whole 14; the
+    end of a window waits for a divide still running. A clock that let FPU
+    instructions overlap the divide (or ignored the divide's wait) fails."""
+    from smodrive.firmware.cycles import _Clock
+
+    def run(seq, finish=True):
+        k = _Clock()
+        pc = 0x100
+        for mnem, ops in seq:
+            ins = classify(mnem, ops, 4)
+            k.step(pc, ins)
+            pc += 4
+        if finish:
+            k.finish()
+        return k.c
+
+    div = ("vdiv.f32", "s0, s1, s2")
+    ints = [("adds", "r0, #1")] * 5
+    assert run([div, *ints, ("vadd.f32", "s3, s0, s1")]) == [15, 15, 20]
+    assert run([div, ("vadd.f32", "s3, s0, s1")]) == [15, 15, 15]
+    assert run([div, ("vldr", "s4, [r0]")]) == [16, 16, 16]
+    assert run([("vsqrt.f32", "s0, s1"), *ints]) == [14, 14, 19]
+    assert run([div, *[("adds", "r0, #1")] * 20, ("vmul.f32", "s3, s0, s1")]) == [22, 22, 35]
+
+
 def test_the_flash_cache_model_of_a_synthetic_fetch_stream():
     """STM32F4 (5 wait states, 64 lines of 16 B): straight-line code of one
     instruction a cycle enters a new line every 8 two-byte instructions; the
@@ -333,7 +363,7 @@ def test_the_example_firmware_links_the_core_into_ccm_sram(tmp_path):
         if len(parts) == 3:
             syms[parts[2]] = int(parts[0], 16)
     ccm = range(0x10000000, 0x10000000 + 32 * 1024)
-    for f in ("smd_drive_step", "smd_smdo_step_rot", "smd_svm_step_finite", "smd_sincosf"):
+    for f in ("smd_drive_step", "smd_smdo_step_rot", "smd_svm_step_finite_r", "smd_sincosf"):
         assert syms[f] in ccm, f
     # the firmware's own code in flash, and the core's init functions, which run once
     for f in ("main", "smd_drive_init", "smd_smdo_init"):

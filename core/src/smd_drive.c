@@ -859,6 +859,7 @@ typedef struct sample {
      * SMDO's rotation of eq. (19) is its square, and the robust DBPC's
      * reference of eq. (7) turns by it */
     smd_cplx ej_half;
+    smd_real inv_u_dc;            /* 1 / u_dc (the fast build's modulator) */
 } sample;
 
 /* The speed reference of the sample: the input, or slew-limited at a_ref. */
@@ -1237,7 +1238,7 @@ static smd_status modulate(const smd_drive_params *p, smd_drive_state *s, const 
         s->x_i = u_ref;
     }
     s->u_ab_ref = u_ref;
-    smd_svm_step_finite(&p->svm, u_ref, in->u_dc, out->d_abc, &s->u_ab_next);
+    smd_svm_step_finite_r(&p->svm, u_ref, in->u_dc, x->inv_u_dc, out->d_abc, &s->u_ab_next);
     if (D_CURRENT(p) == SMD_CC_PI && p->k_i_i > SMD_R(0.0)) {
         /* anti-windup: keep the integrator where the limited voltage is what
          * the law would have given (without integral action there is no
@@ -1313,13 +1314,14 @@ static void rls_feed(const smd_drive_params *p, smd_drive_state *s)
 /* One sample of the composed drive on good inputs (smd_drive_step checks
  * them before and the state after), in its steps. */
 static smd_status control(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
-                          smd_drive_out *out)
+                          smd_drive_out *out, smd_real inv_u_dc)
 {
     const smd_cplx i_s_ab = smd_ab2_to_ab(in->i_a, in->i_b);
     const smd_cplx i1_ab = D_LCL(p) ? smd_ab2_to_ab(in->i1_a, in->i1_b) : i_s_ab;
     sample x;
     smd_status st;
     take_sample(p, s, in, &i_s_ab, &x);
+    x.inv_u_dc = inv_u_dc;
     /* 1. the position source's estimates at k */
     st = source_observe(p, s, &i1_ab, &i_s_ab, x.theta_o, x.w_o, &x.ej_o, &x.ej_ok);
     x.theta_ej = x.theta_o;
@@ -1867,10 +1869,22 @@ static smd_status supervise_piece(const smd_drive_params *p, smd_drive_state *s,
     return end_supervised(p, s, out, st);
 }
 
+/* 1 / u_dc for the fast build's modulator (smd_svm_step_finite_r); the exact
+ * build's divides by u_dc there and reads nothing here. */
+static smd_real recip_dc(smd_real u_dc)
+{
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+    return SMD_R(1.0) / u_dc;
+#else
+    (void)u_dc;
+    return SMD_R(0.0);
+#endif
+}
+
 smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
                           smd_drive_out *out)
 {
-    smd_real T, theta0, w0, i_q0;
+    smd_real T, theta0, w0, i_q0, inv_u_dc;
     uint32_t now;
     const smd_drive_in *use = in;
     smd_drive_in held;
@@ -1884,6 +1898,9 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
         }
         return SMD_ERR_NULL;
     }
+    /* (first: the fast build's divide runs while the integer checks below
+     * do, VDIV beside the integer pipeline) */
+    inv_u_dc = recip_dc(in->u_dc);
     T = p->T_sp;
     theta0 = s->theta_k;
     w0 = s->w_k;
@@ -1909,7 +1926,7 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
     if (s->fault != 0u || (now != 0u && !s->have_last)) {
         return hold_safe(p, s, out, now);
     }
-    st = control(p, s, use, out);
+    st = control(p, s, use, out, use == in ? inv_u_dc : recip_dc(use->u_dc));
     if (!duties_in_range(out->d_abc)) {
         st = SMD_ERR_NONFINITE; /* NaN duties (the dead-time compensation's clamp) */
     }

@@ -29,9 +29,9 @@ static smd_real min3(const smd_real x[3])
     return m < x[2] ? m : x[2];
 }
 
-SMD_FIXED_INLINE void smd_svm_step_finite(const smd_svm_params *p, smd_cplx u_s_ab_ref,
-                                          smd_real u_dc, smd_real d_abc[3],
-                                          smd_cplx *u_s_ab_applied)
+SMD_FIXED_INLINE void smd_svm_step_finite_r(const smd_svm_params *p, smd_cplx u_s_ab_ref,
+                                            smd_real u_dc, smd_real inv_u_dc,
+                                            smd_real d_abc[3], smd_cplx *u_s_ab_applied)
 {
     smd_real u_abc[3];
     smd_real span, mx, mn;
@@ -41,6 +41,9 @@ SMD_FIXED_INLINE void smd_svm_step_finite(const smd_svm_params *p, smd_cplx u_s_
     smd_real inv_dc, d_hi, d_lo;
 #endif
     int k, overflow;
+#if !(defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE))
+    (void)inv_u_dc;
+#endif
 
     if (!(u_dc > SMD_R(0.0))) {
         /* No DC link: apply the zero vector. */
@@ -85,7 +88,7 @@ SMD_FIXED_INLINE void smd_svm_step_finite(const smd_svm_params *p, smd_cplx u_s_
     }
     u_0 = SMD_R(-0.5) * (mx + mn);
 #if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
-    inv_dc = SMD_R(1.0) / u_dc; /* the fast build: one division, not three */
+    inv_dc = inv_u_dc; /* the fast build: one division, not three (the caller's) */
     /* The duties of the largest and the smallest phase first: every phase's
      * duty lies between them, bit for bit (each operation rounds
      * monotonically), so when both are within [d_min, 1 - d_min], as they
@@ -115,6 +118,13 @@ SMD_FIXED_INLINE void smd_svm_step_finite(const smd_svm_params *p, smd_cplx u_s_
         d_abc[k] = d;
     }
     *u_s_ab_applied = u_s_ab_ref;
+}
+
+SMD_FIXED_INLINE void smd_svm_step_finite(const smd_svm_params *p, smd_cplx u_s_ab_ref,
+                                          smd_real u_dc, smd_real d_abc[3],
+                                          smd_cplx *u_s_ab_applied)
+{
+    smd_svm_step_finite_r(p, u_s_ab_ref, u_dc, SMD_R(1.0) / u_dc, d_abc, u_s_ab_applied);
 }
 
 SMD_FIXED_INLINE void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,

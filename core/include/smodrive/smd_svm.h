@@ -62,6 +62,11 @@ void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
  * twice a sample). */
 void smd_svm_step_finite(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
                          smd_real d_abc[3], smd_cplx *u_s_ab_applied);
+/* The same with 1 / u_dc given (inv_u_dc, the fast build's; the exact
+ * build divides by u_dc and does not read it): a caller that divides early
+ * lets the divide run beside its integer work. */
+void smd_svm_step_finite_r(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
+                           smd_real inv_u_dc, smd_real d_abc[3], smd_cplx *u_s_ab_applied);
 
 #ifdef __cplusplus
 }

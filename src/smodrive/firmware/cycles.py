@@ -38,6 +38,70 @@ from .vectors import BlockCase, DriveCase, TablesCase, write_vectors
 #: SDIV/UDIV take 2..12 (nominal 7). Zero-wait-state memory assumed (code in
 #: SRAM/TCM, or flash behind an accelerator that hits).
 _P = (1, 2, 3)
+#: VDIV and VSQRT hold the FPU for their 14 cycles but the integer pipeline
+#: for one: the integer instructions after one execute while it runs, and
+#: the next FPU instruction (any V... instruction, loads and stores of S
+#: registers too) waits for it (GCC's Cortex-M4 pipeline description,
+#: gcc/config/arm/cortex-m4-fpu.md: "Integer instructions following VDIV or
+#: VSQRT complete out-of-order", the divide reserving the FPU 13 cycles
+#: after its one in the integer pipeline; ARM erratum 776924: a VDIV
+#: completes while an interrupt's stacking runs). The min and nominal
+#: columns count the overlap; the max column does not (each divide its whole
+#: 14 cycles, the serial bound).
+_FPU_BACKGROUND = ("vdiv", "vsqrt")
+
+
+class _Clock:
+    """The (min, nominal, max) cycles of one window's instruction stream,
+    instruction by instruction (trace_windows): the taken branch's refill,
+    pipelined loads and stores, and the FPU's divider in the background."""
+
+    def __init__(self) -> None:
+        self.c = [0, 0, 0]
+        self.fpu_free = [0, 0]      # when the FPU is free again (min, nominal)
+        self.div_pc = 0             # the divide that holds it
+        self.prev: _Insn | None = None
+        self.prev_pc = 0
+        self.prev_ls = False
+        self.refill = 0             # the nominal refill the last step added
+
+    def step(self, pc: int, ins: _Insn) -> list[tuple[int, int]]:
+        """Count the instruction at `pc`; returns what it added to the
+        nominal column as (address charged, cycles) pairs: the previous
+        branch's refill (the branch's), a wait for the divider (the
+        divide's), the instruction's own."""
+        charged = []
+        prev = self.prev
+        self.refill = 0
+        if prev is not None and prev.cls.startswith("branch") and pc != self.prev_pc + prev.size:
+            self.c = [self.c[i] + _P[i] for i in range(3)]
+            self.refill = _P[1]
+            charged.append((self.prev_pc, _P[1]))
+        lo, nom, hi = ins.cost
+        if ins.cls == "ls" and self.prev_ls:
+            lo, nom = 1, 1
+        if ins.mnem.startswith("v"):
+            wait = [max(0, self.fpu_free[i] - self.c[i]) for i in range(2)]
+            self.c[0] += wait[0]
+            self.c[1] += wait[1]
+            if wait[1]:
+                charged.append((self.div_pc, wait[1]))
+        if ins.mnem in _FPU_BACKGROUND:
+            self.fpu_free = [self.c[0] + lo, self.c[1] + nom]
+            self.div_pc = pc
+            lo, nom = min(lo, 1), min(nom, 1)
+        self.c = [self.c[0] + lo, self.c[1] + nom, self.c[2] + hi]
+        charged.append((pc, nom))
+        self.prev_ls = ins.cls == "ls"
+        self.prev, self.prev_pc = ins, pc
+        return charged
+
+    def finish(self) -> list[tuple[int, int]]:
+        """The end of the window: a divide still running is waited for."""
+        wait = [max(0, self.fpu_free[i] - self.c[i]) for i in range(2)]
+        self.c[0] += wait[0]
+        self.c[1] += wait[1]
+        return [(self.div_pc, wait[1])] if wait[1] else []
 _FIXED = {
     "vdiv": (14, 14, 14), "vsqrt": (14, 14, 14),
     "vmla": (3, 3, 3), "vmls": (3, 3, 3), "vnmla": (3, 3, 3), "vnmls": (3, 3, 3),
@@ -249,10 +313,7 @@ def trace_windows(elf: Path, vec: Path, work: Path, timeout: float = 900.0,
     windows: list[Window] = []
     try:
         inside = False
-        prev: _Insn | None = None
-        prev_pc = 0
-        prev_ls = False
-        c = [0, 0, 0]
+        clock = _Clock()
         n = 0
         caches = {(name, mode): _ICache(fl) for name, fl in FLASH.items()
                   for mode in ("warm", "cold")}
@@ -266,21 +327,26 @@ def trace_windows(elf: Path, vec: Path, work: Path, timeout: float = 900.0,
                 if b0 <= pc < b1:
                     if not inside and profile is not None:
                         profile.append({})
-                    inside, prev, c, n, prev_ls = True, None, [0, 0, 0], 0, False
+                    inside, clock, n = True, _Clock(), 0
                     for key, ic in caches.items():
                         if key[1] == "cold":
                             ic.flush()
                         stalls[key] = 0
                     continue
                 if e0 <= pc < e1:
-                    if inside and prev is not None:
+                    if inside and clock.prev is not None:
                         # the call of smd_mark_end (1 cycle counted; its
                         # refill was not) is not the window's
-                        c = [c[0] - 1, c[1] - 1, c[2] - 1]
+                        clock.c = [clock.c[0] - 1, clock.c[1] - 1, clock.c[2] - 1]
                         n -= 1
+                        tail = clock.finish()
+                        c = clock.c
                         if profile is not None:
-                            fb = prev_pc if by_pc else owner.get(prev_pc, "?")
+                            fb = clock.prev_pc if by_pc else owner.get(clock.prev_pc, "?")
                             profile[-1][fb] -= 1
+                            for a, k in tail:
+                                fa = a if by_pc else owner.get(a, "?")
+                                profile[-1][fa] = profile[-1].get(fa, 0) + k
                         fl: dict = {}
                         for (name, mode), st in stalls.items():
                             fl.setdefault(name, {})[mode] = c[1] + st
@@ -292,25 +358,16 @@ def trace_windows(elf: Path, vec: Path, work: Path, timeout: float = 900.0,
                 ins = insns.get(pc)
                 if ins is None:
                     continue
-                # the previous instruction's branch outcome is known now
-                if prev is not None and prev.cls.startswith("branch") and \
-                        pc != prev_pc + prev.size:
-                    c = [c[0] + _P[0], c[1] + _P[1], c[2] + _P[2]]
-                    if profile is not None:  # (the refill is the branch's)
-                        fb = prev_pc if by_pc else owner.get(prev_pc, "?")
-                        profile[-1][fb] = profile[-1].get(fb, 0) + _P[1]
-                lo, nom, hi = ins.cost
-                if ins.cls == "ls" and prev_ls:
-                    lo, nom = 1, 1
-                c = [c[0] + lo, c[1] + nom, c[2] + hi]
+                # (the previous instruction's branch outcome is known now)
+                t0 = clock.c[1]
+                charged = clock.step(pc, ins)
                 for key, ic in caches.items():
-                    stalls[key] += ic.fetch(pc, nom)
+                    stalls[key] += ic.fetch(pc, clock.c[1] - t0 - clock.refill)
                 if profile is not None:
-                    fn = pc if by_pc else owner.get(pc, "?")
-                    profile[-1][fn] = profile[-1].get(fn, 0) + nom
+                    for a, k in charged:
+                        fn = a if by_pc else owner.get(a, "?")
+                        profile[-1][fn] = profile[-1].get(fn, 0) + k
                 n += 1
-                prev_ls = ins.cls == "ls"
-                prev, prev_pc = ins, pc
         proc.wait(timeout=60)
     finally:
         timer.cancel()
