@@ -66,6 +66,22 @@ def test_run_rejects_bad_parameter_by_name(tmp_path):
     assert not (tmp_path / "out").exists()  # nothing ran
 
 
+def test_a_check_before_a_run_is_one_warning_line(tmp_path):
+    """Found trying an invented motor on too low a DC link: the rated-point
+    check was printed twice, once as the scenario loaded and once more as
+    Python's raw UserWarning with its source file and line when the engine
+    checked again before simulating. Now: one `warning:` line."""
+    src = tmp_path / "low_udc.toml"
+    src.write_text("duration = 0.02\nfaults_expected = true\n[motor]\nR_s = 1.2\n"
+                   "L_s = 10e-3\npsi_r = 0.796\nn_p = 16\nJ = 0.8\nB = 0.1\nP_N = 3100.0\n"
+                   "w_M_N_rpm = 150.0\n[inverter]\nu_dc = 100.0\n")
+    res = CliRunner().invoke(main, ["run", str(src), "--out", str(tmp_path / "out")])
+    assert res.exit_code == 0, res.output
+    lines = [ln for ln in res.output.splitlines() if "rated point" in ln]
+    assert len(lines) == 1 and lines[0].startswith("warning: "), res.output
+    assert "UserWarning" not in res.output and "check_controller()" not in res.output
+
+
 def test_run_rejects_parts_that_do_not_fit_by_name(tmp_path):
     """A controller part that does not fit the plant (here the SMDO's
     position source on the LCL drive) is refused before anything runs."""

@@ -408,3 +408,35 @@ def test_design_prints_the_sensorless_speed_loops_margin():
         (r,) = margin(name)
         assert r.value == pytest.approx(pm, abs=0.1) and "rings" not in r.origin, name
     assert margin("servo_48v_200w", "encoder") == []
+
+
+def _sensorless_warnings(motor: dict, T_sp: float, u_dc: float) -> list[str]:
+    s = scenario_from_dict({"T_sp": T_sp, "motor": motor, "inverter": {"u_dc": u_dc},
+                            "controller": {"current": "robust_dbpc", "position": "smdo_emf"}})
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        s.check_controller()
+    return [str(w.message) for w in caught]
+
+
+def test_a_sample_too_slow_for_the_motor_is_said_before_the_run():
+    """Found trying invented motors at the default 10 kHz: a 16-pole 12 kr/min
+    outrunner ended its profile in overcurrent and a coreless motor (L_s / R_s
+    = 53 us) in start_failed, with nothing pointing at T_sp. The sensorless
+    speed limit below rated speed (w_M_max, from the SMDO filter (36)'s
+    stability at T_sp: 1,028 against 1,257 rad/s) and a stator faster than the
+    sample are now warnings naming T_sp; at 40 kHz, where both motors run
+    their profile, neither is said."""
+    outrunner = {"R_s": 0.04, "L_s": 8e-6, "psi_r": 0.000985, "n_p": 8, "J": 5e-6, "B": 1e-7,
+                 "P_N": 400.0, "w_M_N_rpm": 12000.0}
+    coreless = {"R_s": 1.5, "L_s": 80e-6, "psi_r": 0.015, "n_p": 1, "J": 5e-6, "B": 5e-8,
+                "P_N": 60.0, "w_M_N_rpm": 10000.0}
+    slow = _sensorless_warnings(outrunner, 1e-4, 24.0)
+    assert any("controller.w_M_max = 1028 rad/s" in w and "below rated speed" in w
+               and "shorter T_sp" in w for w in slow), slow
+    slow = _sensorless_warnings(coreless, 1e-4, 48.0)
+    assert any("L_s / R_s = 5.33e-05 s is shorter than the sample, T_sp = 0.0001 s" in w
+               for w in slow), slow
+    for m, u in ((outrunner, 24.0), (coreless, 48.0)):
+        fast = _sensorless_warnings(m, 2.5e-5, u)
+        assert not any("T_sp" in w for w in fast), fast

@@ -478,7 +478,7 @@ def test_a_denormal_flux_is_no_traceback():
     """Found by Hypothesis: psi_r = 5e-324 Wb scaled the SMDO's rho to 0.0,
     and deriving rho divided by it (ZeroDivisionError out of Scenario()).
     Such a motor now builds or is refused by name."""
-    m = MotorPars(R_s=870.0, L_s=8.6, psi_r=5e-324, n_p=1, J=3035.0, B=0.0, P_N=0.0,
+    m = MotorPars(R_s=870.0, L_s=8.6, psi_r=5e-324, n_p=1, J=3035.0, B=0.0, P_N=5e-324,
                   w_M_N=5190.0)
     try:
         s = Scenario(motor=m, T_sp=0.41,
@@ -487,6 +487,35 @@ def test_a_denormal_flux_is_no_traceback():
         assert "rho" in str(e) or "psi_r" in str(e), e
     else:
         assert s.controller.rho >= 0.0
+
+
+def test_a_motor_without_rated_power_is_refused_by_name():
+    """Found trying an invented torque motor: P_N = 0 was taken, and the
+    controller's current limits and start acceleration then came from yang2018
+    Table I's (i_max 15 A whatever the motor: derive's "reference: motor.P_N =
+    0"), its profile's rated load step 0 N m, and the run said "reached". A
+    motor's rated power is now > 0, refused by name with its range."""
+    kw = dict(R_s=1.2, L_s=10e-3, psi_r=0.796, n_p=16, J=0.8, B=0.1, w_M_N=150.0 * RPM)
+    with pytest.raises(ParameterError, match=r"motor\.P_N = 0.*\(0, 1e\+08\] W"):
+        MotorPars(P_N=0.0, **kw)
+    assert MotorPars(P_N=3.1e3, **kw).T_N == pytest.approx(3.1e3 / (150.0 * RPM))
+
+
+def test_a_speed_in_rpm_out_of_range_is_named_as_written():
+    """Found trying invented motors: w_M_N_rpm = -150 was refused as
+    "motor.w_M_N = -15.707963267948966 ... rad/s", a key and a unit the file
+    does not have. A speed in r/min (an acceleration in r/min/s) out of range
+    is named by its key, with the range in its unit; NaN too."""
+    motor = {"R_s": 1.2, "L_s": 10e-3, "psi_r": 0.796, "n_p": 16, "J": 0.8, "P_N": 3.1e3}
+    for v in (-150.0, 1e9, float("nan")):
+        with pytest.raises(ParameterError,
+                           match=r"^motor\.w_M_N_rpm = .* is outside its valid range "
+                                 r"\[0\.95493, 954930\] r/min$"):
+            scenario_from_dict({"motor": {**motor, "w_M_N_rpm": v}})
+    with pytest.raises(ParameterError, match=r"^controller\.a_M_start_rpm_s = -5\.0 .* r/min/s$"):
+        scenario_from_dict({"controller": {"a_M_start_rpm_s": -5.0}})
+    s = scenario_from_dict({"motor": {**motor, "w_M_N_rpm": 150.0}})
+    assert s.motor.w_M_N == pytest.approx(150.0 * RPM)
 
 
 def test_the_return_to_if_and_handover_rules():

@@ -65,10 +65,33 @@ def _fail(message: str, code: int) -> NoReturn:
     sys.exit(code)
 
 
+_said: set[str] = set()
+
+
+def _warn(text: str) -> None:
+    """`warning: text`, once a command: the same check said of a scenario
+    and then of its run (`scenario: ...`, `scenario.profile: ...`) is one
+    line."""
+    key = text.split(": ", 1)[-1]
+    if key not in _said:
+        _said.add(key)
+        _say(f"warning: {text}", "yellow")
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """warnings.showwarning for a command: a warning raised while it runs (the
+    engine's checks before a simulation) is a `warning:` line, not Python's
+    two lines with the source file and line."""
+    _warn(str(message))
+
+
 class _Cli(click.Group):
     """The command group: what escapes a command ends as one error line."""
 
     def invoke(self, ctx: click.Context) -> Any:
+        shown = warnings.showwarning
+        warnings.showwarning = _show_warning
+        _said.clear()
         try:
             return super().invoke(ctx)
         except (click.exceptions.ClickException, click.exceptions.Exit,
@@ -82,6 +105,8 @@ class _Cli(click.Group):
             what = (f"{exc.strerror}: {exc.filename}" if isinstance(exc, OSError)
                     and exc.strerror and exc.filename else f"{type(exc).__name__}: {exc}")
             _fail(f"{what} (SMODRIVE_DEBUG=1 shows where)", 1)
+        finally:
+            warnings.showwarning = shown
 
 
 def _progress() -> Progress:
@@ -315,7 +340,7 @@ def _load(scenario: str):
         warnings.simplefilter("always")
         s = resolve_scenario(scenario)
     for w in caught:
-        _say(f"warning: {w.message}", "yellow")
+        _warn(str(w.message))
     return s
 
 
@@ -522,7 +547,7 @@ def design(scenario: str, header: Path | None, name: str) -> None:
         warnings.simplefilter("always")
         s.check_controller()
     for w in caught:
-        _say(f"warning: {w.message}", "yellow")
+        _warn(str(w.message))
     m = s.motor
     click.echo(f"{s.name}: {s.controller.current} current control, {s.controller.position} "
                f"position, {s.controller.start} start")

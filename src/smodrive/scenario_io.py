@@ -40,7 +40,7 @@ from typing import Any
 
 import tomli_w
 
-from ._util import is_num, tomllib
+from ._util import fmt_g, is_num, tomllib
 from .model import (
     RPM,
     AdcCfg,
@@ -105,6 +105,23 @@ def _unit_forms(cls: type) -> dict[str, tuple[str, float]]:
     return out
 
 
+def _in_range_as_written(cls: type, section: str, key: str, name: str, value: Any,
+                         k: float) -> None:
+    """A speed given in r/min (an acceleration in r/min/s) outside its field's
+    range is refused as the file wrote it: its key, its value, the range in
+    its unit (not the SI field's: w_M_N_rpm = -150 read "motor.w_M_N =
+    -15.7... rad/s")."""
+    f = next(f for f in dataclasses.fields(cls) if f.name == name)
+    if "range" not in f.metadata:
+        return
+    lo, hi, lo_open = f.metadata["range"]
+    v = float(value) * k
+    if not (v == v and abs(v) != float("inf") and (v > lo if lo_open else v >= lo) and v <= hi):
+        unit = "r/min/s" if key.endswith("_rpm_s") else "r/min"
+        raise ParameterError(f"{section}.{key} = {value!r} is outside its valid range "
+                             f"{'(' if lo_open else '['}{fmt_g(lo / k)}, {fmt_g(hi / k)}] {unit}")
+
+
 def _kwargs(cls: type, section: str, data: dict[str, Any]) -> dict[str, Any]:
     names = {f.name for f in dataclasses.fields(cls)
              if not f.metadata.get("internal")} - set(SECTIONS)
@@ -134,6 +151,7 @@ def _kwargs(cls: type, section: str, data: dict[str, Any]) -> dict[str, Any]:
                 kwargs[name] = _profile_from(f"{section}.{key}", value, k)
             elif is_num(value):
                 kwargs[name] = float(value) * k
+                _in_range_as_written(cls, section, key, name, value, k)
             else:
                 raise ParameterError(f"{section}.{key} = {value!r} is not a number")
         elif key not in names:

@@ -587,13 +587,29 @@ def override_warnings(c: ControllerCfg, m: MotorPars, *, T_sp: float, lcl: Any =
                    f"(w_M_N = {m.w_M_N:.4g} rad/s): below it the drive runs on its forced start "
                    "(I/f), the rotor's angle unknown, and hands over to the sensorless source "
                    "only above it; check inverter.t_dead, inverter.u_dc and motor.psi_r")
+    # (found on invented motors left at the default 10 kHz: a 16-pole 12 kr/min outrunner and
+    # a 2-pole 100 kr/min spindle ended in overcurrent, a coreless motor in start_failed,
+    # with nothing pointing at T_sp)
+    w_lim = c.w_M_max
+    if c.position == "smdo_emf" and w_lim is not None and 0.0 < w_lim < m.w_M_N:
+        out.append(f"controller.w_M_max = {w_lim:.4g} rad/s, the sensorless speed limit, is "
+                   f"below rated speed (w_M_N = {m.w_M_N:.4g} rad/s): at T_sp = {T_sp:g} s the "
+                   "SMDO's filter (36) turns too far a sample above it, and the drive cannot "
+                   "follow the rotor's angle at rated speed; sample faster (a shorter T_sp)")
+    if (c.position == "smdo_emf" or c.current in ("dbpc", "robust_dbpc")) and \
+            m.R_s * T_sp > m.L_s:
+        out.append(f"the stator's time constant L_s / R_s = {m.L_s / m.R_s:.3g} s is shorter "
+                   f"than the sample, T_sp = {T_sp:g} s: the deadbeat control's and the SMDO's "
+                   "one-sample models (yang2018 eq. (8), (35), forward Euler) overshoot such a "
+                   f"stator; sample faster (T_sp below {m.L_s / m.R_s:.3g} s)")
     rated = rated_voltage(m)
     u_max = (plant or DEFAULT_PLANT)["u_dc"] / math.sqrt(3.0)
     if rated > u_max:
         out.append(f"the motor's rated point (I_N = {rated_current(m):.3g} A at w_M_N = "
                    f"{m.w_M_N:.4g} rad/s) needs {rated:.3g} V at its terminals and the inverter "
                    f"has {u_max:.3g} V (inverter.u_dc / sqrt 3): rated torque at rated speed is "
-                   "out of reach, a run asking for it ends in speed_tracking; check motor.R_s, "
+                   "out of reach, a run asking for it ends in a fault (speed_tracking; a start "
+                   "without the voltage it needs fails); check motor.R_s, "
                    "L_s, psi_r, P_N, w_M_N and inverter.u_dc")
     return out
 

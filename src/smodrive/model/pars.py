@@ -49,7 +49,7 @@ class MotorPars(_Validated):
                    "required)")
     B: float = num(None, 0.0, 1e3, "N m s/rad",
                    "viscous friction (Table I: 0.002, assumed; left out: 0.01 T_N / w_M_N)")
-    P_N: float = num(None, 0.0, 1e8, "W", "rated power")
+    P_N: float = num(None, 0.0, 1e8, "W", "rated power", lo_open=True)
     w_M_N: float = num(None, 0.1, 1e5, "rad/s", "rated speed (mechanical)")
     # record of the values derived by a rule (not a parameter): (name, value, rule)
     derived: tuple = field(default=(), compare=False, repr=False, metadata={"internal": True})
