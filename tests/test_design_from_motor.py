@@ -410,9 +410,10 @@ def test_design_prints_the_sensorless_speed_loops_margin():
     assert margin("servo_48v_200w", "encoder") == []
 
 
-def _sensorless_warnings(motor: dict, T_sp: float, u_dc: float) -> list[str]:
+def _sensorless_warnings(motor: dict, T_sp: float, u_dc: float,
+                         position: str = "smdo_emf") -> list[str]:
     s = scenario_from_dict({"T_sp": T_sp, "motor": motor, "inverter": {"u_dc": u_dc},
-                            "controller": {"current": "robust_dbpc", "position": "smdo_emf"}})
+                            "controller": {"current": "robust_dbpc", "position": position}})
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         s.check_controller()
@@ -440,3 +441,18 @@ def test_a_sample_too_slow_for_the_motor_is_said_before_the_run():
     for m, u in ((outrunner, 24.0), (coreless, 48.0)):
         fast = _sensorless_warnings(m, 2.5e-5, u)
         assert not any("T_sp" in w for w in fast), fast
+
+
+def test_a_motor_without_flux_says_its_current_limits_are_not_its_own():
+    """A motor of psi_r = 0 (an R-L load, with the encoder: the SMDO's
+    source refuses it) has no rated current, T_N / k_t:
+    its current limits fall back to yang2018 Table I's (i_max 15 A), which
+    smodrive otherwise never takes for another motor; check_controller says
+    so. A motor with its flux does not."""
+    m = {"R_s": 1.2, "L_s": 10e-3, "n_p": 16, "J": 0.8, "B": 0.1, "P_N": 3.1e3,
+         "w_M_N_rpm": 150.0}
+    said = _sensorless_warnings({**m, "psi_r": 0.0}, 1e-4, 565.0, "encoder")
+    assert any("motor.psi_r = 0 Wb gives no rated current" in w and "Table I's" in w
+               for w in said), said
+    assert not any("no rated current" in w for w in _sensorless_warnings({**m, "psi_r": 0.796},
+                                                                         1e-4, 565.0, "encoder"))

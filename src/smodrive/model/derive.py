@@ -587,6 +587,11 @@ def override_warnings(c: ControllerCfg, m: MotorPars, *, T_sp: float, lcl: Any =
                    f"(w_M_N = {m.w_M_N:.4g} rad/s): below it the drive runs on its forced start "
                    "(I/f), the rotor's angle unknown, and hands over to the sensorless source "
                    "only above it; check inverter.t_dead, inverter.u_dc and motor.psi_r")
+    if _ratio(rated_current(m), 1.0) is None:
+        # (no torque constant: a flux of 0, or one so small that T_N / k_t overflows)
+        out.append(f"motor.psi_r = {m.psi_r:g} Wb gives no rated current (T_N / (1.5 n_p "
+                   "psi_r)): the controller's current limits and start current are yang2018 "
+                   "Table I's, not this motor's; give the motor's flux linkage")
     # (found on invented motors left at the default 10 kHz: a 16-pole 12 kr/min outrunner and
     # a 2-pole 100 kr/min spindle ended in overcurrent, a coreless motor in start_failed,
     # with nothing pointing at T_sp)
