@@ -1869,18 +1869,6 @@ static smd_status supervise_piece(const smd_drive_params *p, smd_drive_state *s,
     return end_supervised(p, s, out, st);
 }
 
-/* 1 / u_dc for the fast build's modulator (smd_svm_step_finite_r); the exact
- * build's divides by u_dc there and reads nothing here. */
-static smd_real recip_dc(smd_real u_dc)
-{
-#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
-    return SMD_R(1.0) / u_dc;
-#else
-    (void)u_dc;
-    return SMD_R(0.0);
-#endif
-}
-
 smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const smd_drive_in *in,
                           smd_drive_out *out)
 {
@@ -1900,7 +1888,7 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
     }
     /* (first: the fast build's divide runs while the integer checks below
      * do, VDIV beside the integer pipeline) */
-    inv_u_dc = recip_dc(in->u_dc);
+    inv_u_dc = smd_svm_inv_dc(in->u_dc);
     T = p->T_sp;
     theta0 = s->theta_k;
     w0 = s->w_k;
@@ -1926,7 +1914,7 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
     if (s->fault != 0u || (now != 0u && !s->have_last)) {
         return hold_safe(p, s, out, now);
     }
-    st = control(p, s, use, out, use == in ? inv_u_dc : recip_dc(use->u_dc));
+    st = control(p, s, use, out, use == in ? inv_u_dc : smd_svm_inv_dc(use->u_dc));
     if (!duties_in_range(out->d_abc)) {
         st = SMD_ERR_NONFINITE; /* NaN duties (the dead-time compensation's clamp) */
     }

@@ -120,13 +120,6 @@ SMD_FIXED_INLINE void smd_svm_step_finite_r(const smd_svm_params *p, smd_cplx u_
     *u_s_ab_applied = u_s_ab_ref;
 }
 
-SMD_FIXED_INLINE void smd_svm_step_finite(const smd_svm_params *p, smd_cplx u_s_ab_ref,
-                                          smd_real u_dc, smd_real d_abc[3],
-                                          smd_cplx *u_s_ab_applied)
-{
-    smd_svm_step_finite_r(p, u_s_ab_ref, u_dc, SMD_R(1.0) / u_dc, d_abc, u_s_ab_applied);
-}
-
 SMD_FIXED_INLINE void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
                   smd_real d_abc[3], smd_cplx *u_s_ab_applied)
 {
@@ -136,7 +129,7 @@ SMD_FIXED_INLINE void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref,
         *u_s_ab_applied = smd_c(SMD_R(0.0), SMD_R(0.0));
         return;
     }
-    smd_svm_step_finite(p, u_s_ab_ref, u_dc, d_abc, u_s_ab_applied);
+    smd_svm_step_finite_r(p, u_s_ab_ref, u_dc, smd_svm_inv_dc(u_dc), d_abc, u_s_ab_applied);
 }
 
 /* One phase of the compensation: its duty moved by t_ratio sat(s), s the

@@ -59,14 +59,23 @@ void smd_svm_step(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
                   smd_real d_abc[3], smd_cplx *u_s_ab_applied);
 /* smd_svm_step of a reference the caller has found finite (smd_drive's
  * modulate, which has replaced a non-finite one already: the check not made
- * twice a sample). */
-void smd_svm_step_finite(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
-                         smd_real d_abc[3], smd_cplx *u_s_ab_applied);
-/* The same with 1 / u_dc given (inv_u_dc, the fast build's; the exact
- * build divides by u_dc and does not read it): a caller that divides early
- * lets the divide run beside its integer work. */
+ * twice a sample), with inv_u_dc = smd_svm_inv_dc(u_dc): the fast build's
+ * 1 / u_dc, which a caller that divides early lets run beside its integer
+ * work; the exact build divides by u_dc and does not read it. */
 void smd_svm_step_finite_r(const smd_svm_params *p, smd_cplx u_s_ab_ref, smd_real u_dc,
                            smd_real inv_u_dc, smd_real d_abc[3], smd_cplx *u_s_ab_applied);
+
+/* inv_u_dc of smd_svm_step_finite_r: 1 / u_dc in the fast build, 0 (not
+ * read, no division) in the exact one. */
+static inline smd_real smd_svm_inv_dc(smd_real u_dc)
+{
+#if defined(SMD_FAST) && !defined(SMD_REAL_DOUBLE)
+    return SMD_R(1.0) / u_dc;
+#else
+    (void)u_dc;
+    return SMD_R(0.0);
+#endif
+}
 
 #ifdef __cplusplus
 }

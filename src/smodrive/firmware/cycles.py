@@ -38,70 +38,6 @@ from .vectors import BlockCase, DriveCase, TablesCase, write_vectors
 #: SDIV/UDIV take 2..12 (nominal 7). Zero-wait-state memory assumed (code in
 #: SRAM/TCM, or flash behind an accelerator that hits).
 _P = (1, 2, 3)
-#: VDIV and VSQRT hold the FPU for their 14 cycles but the integer pipeline
-#: for one: the integer instructions after one execute while it runs, and
-#: the next FPU instruction (any V... instruction, loads and stores of S
-#: registers too) waits for it (GCC's Cortex-M4 pipeline description,
-#: gcc/config/arm/cortex-m4-fpu.md: "Integer instructions following VDIV or
-#: VSQRT complete out-of-order", the divide reserving the FPU 13 cycles
-#: after its one in the integer pipeline; ARM erratum 776924: a VDIV
-#: completes while an interrupt's stacking runs). The min and nominal
-#: columns count the overlap; the max column does not (each divide its whole
-#: 14 cycles, the serial bound).
-_FPU_BACKGROUND = ("vdiv", "vsqrt")
-
-
-class _Clock:
-    """The (min, nominal, max) cycles of one window's instruction stream,
-    instruction by instruction (trace_windows): the taken branch's refill,
-    pipelined loads and stores, and the FPU's divider in the background."""
-
-    def __init__(self) -> None:
-        self.c = [0, 0, 0]
-        self.fpu_free = [0, 0]      # when the FPU is free again (min, nominal)
-        self.div_pc = 0             # the divide that holds it
-        self.prev: _Insn | None = None
-        self.prev_pc = 0
-        self.prev_ls = False
-        self.refill = 0             # the nominal refill the last step added
-
-    def step(self, pc: int, ins: _Insn) -> list[tuple[int, int]]:
-        """Count the instruction at `pc`; returns what it added to the
-        nominal column as (address charged, cycles) pairs: the previous
-        branch's refill (the branch's), a wait for the divider (the
-        divide's), the instruction's own."""
-        charged = []
-        prev = self.prev
-        self.refill = 0
-        if prev is not None and prev.cls.startswith("branch") and pc != self.prev_pc + prev.size:
-            self.c = [self.c[i] + _P[i] for i in range(3)]
-            self.refill = _P[1]
-            charged.append((self.prev_pc, _P[1]))
-        lo, nom, hi = ins.cost
-        if ins.cls == "ls" and self.prev_ls:
-            lo, nom = 1, 1
-        if ins.mnem.startswith("v"):
-            wait = [max(0, self.fpu_free[i] - self.c[i]) for i in range(2)]
-            self.c[0] += wait[0]
-            self.c[1] += wait[1]
-            if wait[1]:
-                charged.append((self.div_pc, wait[1]))
-        if ins.mnem in _FPU_BACKGROUND:
-            self.fpu_free = [self.c[0] + lo, self.c[1] + nom]
-            self.div_pc = pc
-            lo, nom = min(lo, 1), min(nom, 1)
-        self.c = [self.c[0] + lo, self.c[1] + nom, self.c[2] + hi]
-        charged.append((pc, nom))
-        self.prev_ls = ins.cls == "ls"
-        self.prev, self.prev_pc = ins, pc
-        return charged
-
-    def finish(self) -> list[tuple[int, int]]:
-        """The end of the window: a divide still running is waited for."""
-        wait = [max(0, self.fpu_free[i] - self.c[i]) for i in range(2)]
-        self.c[0] += wait[0]
-        self.c[1] += wait[1]
-        return [(self.div_pc, wait[1])] if wait[1] else []
 _FIXED = {
     "vdiv": (14, 14, 14), "vsqrt": (14, 14, 14),
     "vmla": (3, 3, 3), "vmls": (3, 3, 3), "vnmla": (3, 3, 3), "vnmls": (3, 3, 3),
@@ -231,6 +167,72 @@ class Flash:
 
 
 #: the memories the cycle table prices beside zero-wait RAM
+#: VDIV and VSQRT hold the FPU for their 14 cycles but the integer pipeline
+#: for one: the integer instructions after one execute while it runs, and
+#: the next FPU instruction (any V... instruction, loads and stores of S
+#: registers too) waits for it (GCC's Cortex-M4 pipeline description,
+#: gcc/config/arm/cortex-m4-fpu.md: "Integer instructions following VDIV or
+#: VSQRT complete out-of-order", the divide reserving the FPU 13 cycles
+#: after its one in the integer pipeline; ARM erratum 776924: a VDIV
+#: completes while an interrupt's stacking runs). The min and nominal
+#: columns count the overlap; the max column does not (each divide its whole
+#: 14 cycles, the serial bound).
+_FPU_BACKGROUND = ("vdiv", "vsqrt")
+
+
+class _Clock:
+    """The (min, nominal, max) cycles of one window's instruction stream,
+    instruction by instruction (trace_windows): the taken branch's refill,
+    pipelined loads and stores, and the FPU's divider in the background."""
+
+    def __init__(self) -> None:
+        self.c = [0, 0, 0]
+        self.fpu_free = [0, 0]      # when the FPU is free again (min, nominal)
+        self.div_pc = 0             # the divide that holds it
+        self.prev: _Insn | None = None
+        self.prev_pc = 0
+        self.prev_ls = False
+        self.refill = 0             # the nominal refill the last step added
+
+    def step(self, pc: int, ins: _Insn) -> list[tuple[int, int]]:
+        """Count the instruction at `pc`; returns what it added to the
+        nominal column as (address charged, cycles) pairs: the previous
+        branch's refill (the branch's), a wait for the divider (the
+        divide's), the instruction's own."""
+        charged = []
+        prev = self.prev
+        self.refill = 0
+        if prev is not None and prev.cls.startswith("branch") and pc != self.prev_pc + prev.size:
+            self.c = [self.c[i] + _P[i] for i in range(3)]
+            self.refill = _P[1]
+            charged.append((self.prev_pc, _P[1]))
+        lo, nom, hi = ins.cost
+        if ins.cls == "ls" and self.prev_ls:
+            lo, nom = 1, 1
+        if ins.mnem.startswith("v"):
+            wait = [max(0, self.fpu_free[i] - self.c[i]) for i in range(2)]
+            self.c[0] += wait[0]
+            self.c[1] += wait[1]
+            if wait[1]:
+                charged.append((self.div_pc, wait[1]))
+        if ins.mnem in _FPU_BACKGROUND:
+            self.fpu_free = [self.c[0] + lo, self.c[1] + nom]
+            self.div_pc = pc
+            lo, nom = min(lo, 1), min(nom, 1)
+        self.c = [self.c[0] + lo, self.c[1] + nom, self.c[2] + hi]
+        charged.append((pc, nom))
+        self.prev_ls = ins.cls == "ls"
+        self.prev, self.prev_pc = ins, pc
+        return charged
+
+    def finish(self) -> list[tuple[int, int]]:
+        """The end of the window: a divide still running is waited for."""
+        wait = [max(0, self.fpu_free[i] - self.c[i]) for i in range(2)]
+        self.c[0] += wait[0]
+        self.c[1] += wait[1]
+        return [(self.div_pc, wait[1])] if wait[1] else []
+
+
 FLASH = {
     "stm32f4": Flash("STM32F4, 168 MHz: 5 wait states, ART 64 lines x 16 B", 168e6, 5, 16, 64),
     "stm32g4": Flash("STM32G4, 170 MHz: 4 wait states, ART 32 lines x 32 B", 170e6, 4, 32, 32),
