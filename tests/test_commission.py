@@ -112,6 +112,44 @@ def test_an_open_phase_is_named():
     assert r.outcome == "no_current" and not r.ok
 
 
+def test_a_test_current_beyond_the_motor_or_its_sensors_is_refused_by_name():
+    """The 200 W servo (I_N 6.063 A): i_test above the rated current is refused
+    naming the range; with current sensors of 8 A, the spin of step 3 (twice
+    i_test) must stay within 0.9 of their range: i_test at most 3.6 A, and
+    the default (half of I_N, 3.03 A) stays. With 5 A sensors the default
+    is above 0.45 x 5 = 2.25 A: the test runs at 2.25 A and says so. (A
+    400 V servo with 8 A sensors and the default 9.9 A had driven 1,245 A:
+    the clipped reading never reached i_test, the voltage rose to its limit,
+    the trip at 1.5 i_test could not see the current, and the outcome blamed
+    the motor: no_current.)"""
+    s = _motor(CASES["servo 48 V 200 W"])
+    with pytest.raises(ParameterError, match=r"i_test = 12.0 A is outside its valid range "
+                                             r"\(0, 6.063\] A: at most the rated current"):
+        identify_rs(s, i_test=12.0)
+    s8 = s.replace(adc=dataclasses.replace(s.adc, full_scale=8.0))
+    with pytest.raises(ParameterError, match=r"\(0, 3.6\] A: at most 0.45 adc.full_scale"):
+        identify_rs(s8, i_test=4.0)
+    s5 = s.replace(adc=dataclasses.replace(s.adc, full_scale=5.0))
+    with pytest.warns(UserWarning, match=r"i_test = 2.25 A, not half the rated current"):
+        r = identify_rs(s5)
+    # (the staircase's top: where the search passed i_test, within the 1.2 i_test it backs off at)
+    assert r.ok and 2.25 <= max(r.i_levels) <= 1.2 * 2.25
+
+
+def test_a_clipped_current_sensor_stops_the_test_named(monkeypatch):
+    """The same servo with 2 A sensors and i_test 3 A, the Python bound lifted
+    (a firmware that calls the core's test itself): the reading stops at
+    2 A while the voltage rises, and the core stops with sensor_range (it
+    had searched up to the voltage limit, 27.7 V across 0.25 ohm, and said
+    no_current: core/test/test_ident.c measures the true current)."""
+    import smodrive.commission as cm
+    s = _motor(CASES["servo 48 V 200 W"])
+    s2 = s.replace(adc=dataclasses.replace(s.adc, full_scale=2.0))
+    monkeypatch.setattr(cm, "i_test_max", lambda s: (math.inf, ""))
+    r = identify_rs(s2, i_test=3.0)
+    assert r.outcome == "sensor_range" and not r.ok
+
+
 def test_cli_on_the_lcl_example_writes_its_fan(tmp_path):
     """`identify` on the README's LCL example (yao2022's motor, B = 0, a fan
     load): the true B of 0 is printed as a difference (a relative error of

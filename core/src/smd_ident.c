@@ -64,6 +64,7 @@ void smd_ident_rs_reset(smd_ident_rs_state *s)
     s->u = SMD_R(0.0);
     s->u_lo = s->u_hi = SMD_R(0.0);
     s->u_prev_pt = s->i_prev_pt = s->i_lo = SMD_R(0.0);
+    s->u_rise = s->i_rise = s->slope = SMD_R(0.0);
     s->du_cur = SMD_R(0.0);
     s->backoffs = 0;
     s->level = 0;
@@ -198,10 +199,15 @@ static smd_real next_voltage(const smd_ident_rs_params *p, smd_ident_rs_state *s
             s->u_lo = s->u;
             s->i_lo = i;
         }
+        if (s->i_rise == SMD_R(0.0) || i - s->i_rise > SMD_R(0.01) * p->i_test) {
+            s->u_rise = s->u; /* (the current follows the voltage: sensor_stalled) */
+            s->i_rise = i;
+        }
         if (s->i_prev_pt >= SMD_R(0.1) * p->i_test &&
             i - s->i_prev_pt > SMD_R(0.01) * p->i_test) {
             const smd_real slope = (s->u - s->u_prev_pt) / (i - s->i_prev_pt);
             const smd_real last = s->u - s->u_prev_pt;
+            s->slope = (s->slope > SMD_R(0.0) && s->slope < slope) ? s->slope : slope;
             step = slope * SMD_R(0.25) * p->i_test;
             step = step < SMD_R(4.0) * last ? step : SMD_R(4.0) * last;
         }
@@ -210,6 +216,33 @@ static smd_real next_voltage(const smd_ident_rs_params *p, smd_ident_rs_state *s
     s->u_prev_pt = s->u;
     s->i_prev_pt = i;
     return s->u + step < u_lim ? s->u + step : u_lim;
+}
+
+/* Whether the measured current stopped following the voltage, past
+ * i_test / 10 where the stator is a line (u = R_s i + u_0, the drop
+ * constant): a step of the voltage that should have added over 2 % of i_test
+ * added under half of what it should, or the voltage rose by what half of
+ * i_test takes above the last point whose current rose by 1 % of i_test, and
+ * the current did not. "Should" at the smallest slope the search measured
+ * (R_s or more: a clipped reading's slope is larger, and takes the search's
+ * steps up with it), or the secant u / i of the first point before one (at
+ * least R_s, the drop being >= 0). A clipped sensor's reading stays at its
+ * full scale while the true current follows the voltage. */
+static int sensor_stalled(const smd_ident_rs_params *p, const smd_ident_rs_state *s,
+                          smd_real i)
+{
+    smd_real r, du;
+    if (s->i_rise <= SMD_R(0.0)) {
+        return 0;
+    }
+    r = s->slope > SMD_R(0.0) ? s->slope : s->u_rise / s->i_rise;
+    du = s->u - s->u_prev_pt;
+    if (s->i_prev_pt >= SMD_R(0.1) * p->i_test && du > SMD_R(0.02) * r * p->i_test &&
+        i - s->i_prev_pt < SMD_R(0.5) * du / r) {
+        return 1;
+    }
+    return i - s->i_rise <= SMD_R(0.01) * p->i_test &&
+           s->u - s->u_rise > SMD_R(0.5) * r * p->i_test;
 }
 
 /* The end of the search at (u_hi, i_hi), with a point (u_lo, i_lo) between
@@ -289,6 +322,8 @@ smd_status smd_ident_rs_step(const smd_ident_rs_params *p, smd_ident_rs_state *s
                     if (++s->backoffs > 40) {
                         return stop(s, SMD_IDENT_OVERCURRENT, d_abc);
                     }
+                } else if (sensor_stalled(p, s, mean)) {
+                    return stop(s, SMD_IDENT_SENSOR_RANGE, d_abc);
                 } else if (s->u >= u_lim) {
                     return stop(s, SMD_IDENT_NO_CURRENT, d_abc);
                 } else {

@@ -6,7 +6,8 @@
  * engine's timing), less the inverter's drop u_0
  * against the current's direction, with zero-current clamping (a current
  * that would cross zero stays there); the ADC adds uniform noise and a
- * 12-bit quantiser over +-25 A.
+ * 12-bit quantiser over +-25 A, and reads at most +-clip when clip > 0 (a
+ * sensor whose range ends there).
  */
 #include <math.h>
 #include <stdint.h>
@@ -17,12 +18,17 @@
 typedef struct rl_plant {
     double R, L, u_0, T, u_dc, noise, i;
     uint32_t seed;
+    double clip;   /* the sensor's range, A (0: none) */
+    double i_peak; /* the largest |i| the plant carried, A */
 } rl_plant;
 
 static double adc(rl_plant *pl)
 {
     double q = 50.0 / 4096.0;
     double x = pl->i + pl->noise * smdt_urand(&pl->seed, -1.7320508, 1.7320508);
+    if (pl->clip > 0.0) {
+        x = x > pl->clip ? pl->clip : (x < -pl->clip ? -pl->clip : x);
+    }
     return q * floor(x / q + 0.5);
 }
 
@@ -33,6 +39,7 @@ static void rl_step(rl_plant *pl, double u_cmd)
     double u = u_cmd - pl->u_0 * sg;
     double i = e * (pl->i - u / pl->R) + u / pl->R;
     pl->i = (i * sg < 0.0) ? 0.0 : i; /* clamped at zero */
+    pl->i_peak = fabs(pl->i) > pl->i_peak ? fabs(pl->i) : pl->i_peak;
 }
 
 static double realised_alpha(const smd_real d[3], double u_dc)
@@ -104,9 +111,9 @@ static void test_rs_and_drop(void)
         pl.seed = 12345u + (uint32_t)c;
         CHECK_INT(smd_ident_rs_init(&p, &cfg), SMD_OK);
         n = run(&p, &s, &pl, &bad);
-        printf("    R %.3f ohm: R_s %.5f (%+.3f %%), u_0 %.3f V (%+.2f %%), R^2 %.7f, %.2f s\n",
+        printf("    R %.3f ohm: R_s %.5f (%+.3f %%), u_0 %.3f V (%+.2f %%), R^2 %.7f, %.2f s, peak %.2f A\n",
                Rs[c], (double)s.R_s, 100.0 * ((double)s.R_s / Rs[c] - 1.0), (double)s.u_0,
-               100.0 * ((double)s.u_0 / U0[c] - 1.0), (double)s.r2, n * 1e-4);
+               100.0 * ((double)s.u_0 / U0[c] - 1.0), (double)s.r2, n * 1e-4, pl.i_peak);
         CHECK_INT(s.outcome, SMD_IDENT_OK);
         CHECK(fabs((double)s.R_s / Rs[c] - 1.0) < 0.005);
         CHECK(fabs((double)s.u_0 / U0[c] - 1.0) < 0.01);
@@ -149,6 +156,52 @@ static void test_outcomes(void)
     smd_ident_rs_reset(&s);
     CHECK_INT(smd_ident_rs_step(&p, &s, R(-3.0), R(6.5), R(540.0), d), SMD_ERR_FAULT);
     CHECK_INT(s.outcome, SMD_IDENT_OVERCURRENT);
+}
+
+/* A current sensor whose range ends below i_test, at 0.7 i_test (it reads
+ * its full scale while the true current grows): the search's voltage would
+ * rise to the limit, 311 V across the stator (132 A in Table I's 2.25 ohm
+ * past its 14.4 V drop, 6,200 A in the 50 mohm one), with the trip at
+ * 1.5 i_test blind to it. The test stops with SENSOR_RANGE at the first step
+ * the reading does not follow: the clip hides at most three of the search's
+ * steps (the one that crosses the range, one still partly seen, the one that
+ * stalls), each at most u_max / 200 = 1.56 V, so the true current stays
+ * within the clip plus 3 x 1.56 V / R_s (Table I: 4.9 A, and under 2 i_test;
+ * the 50 mohm stator, whose search steps 1.5 i_test at a time even with a
+ * sensor that sees it, 107 A); the zero vector after. */
+static void test_sensor_range(void)
+{
+    const double Rs[2] = {2.25, 0.05}, Ls[2] = {23.45e-3, 0.5e-3}, U0[2] = {14.4, 2.0};
+    const double it[2] = {4.0, 20.0};
+    int c;
+    for (c = 0; c < 2; c++) {
+        smd_ident_rs_params p;
+        smd_ident_rs_state s;
+        smd_ident_rs_config cfg = config(it[c]);
+        rl_plant pl = {0};
+        smd_real d[3];
+        int n, bad;
+        pl.R = Rs[c];
+        pl.L = Ls[c];
+        pl.u_0 = U0[c];
+        pl.T = 1e-4;
+        pl.u_dc = 540.0;
+        pl.noise = 0.02;
+        pl.seed = 99u + (uint32_t)c;
+        pl.clip = 0.7 * it[c];
+        CHECK_INT(smd_ident_rs_init(&p, &cfg), SMD_OK);
+        n = run(&p, &s, &pl, &bad);
+        printf("    R %.3f ohm, sensor range %.1f A, i_test %.0f A: outcome %d after %.2f s, "
+               "true current at most %.2f A\n", Rs[c], pl.clip, it[c], s.outcome, n * 1e-4,
+               pl.i_peak);
+        CHECK_INT(s.outcome, SMD_IDENT_SENSOR_RANGE);
+        CHECK_INT(s.phase, SMD_IDENT_FAILED);
+        CHECK(pl.i_peak < pl.clip + 3.0 * (311.0 / 200.0) / Rs[c]);
+        CHECK(c == 1 || pl.i_peak < 2.0 * it[c]);
+        CHECK_INT(bad, 0);
+        CHECK_INT(smd_ident_rs_step(&p, &s, R(0.0), R(0.0), R(540.0), d), SMD_ERR_FAULT);
+        CHECK(d[0] == R(0.5) && d[1] == R(0.5) && d[2] == R(0.5));
+    }
 }
 
 /* Step 2 on the d axis (alpha) of the same plant after step 1: the Table I
@@ -481,6 +534,7 @@ int main(void)
 {
     RUN_TEST(test_rs_and_drop);
     RUN_TEST(test_outcomes);
+    RUN_TEST(test_sensor_range);
     RUN_TEST(test_inductance);
     RUN_TEST(test_settings);
     RUN_TEST(test_mech);

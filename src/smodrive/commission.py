@@ -29,12 +29,12 @@ from .commission_lcl import N_HALF_LCL, lcl_inductance
 from .engine import LATCHED_FAULTS, _ffi, fault_names
 from .engine.run import Engine
 from .model import ParameterError, Profile
-from .model.derive import IF_VOLTAGE, rated_current
+from .model.derive import I_MAX_ADC, IF_VOLTAGE, rated_current
 from .model.scenario import Scenario
 
 #: the test's outcomes (smd_ident_outcome)
 OUTCOMES = {0: "ok", 1: "running", 2: "no_current", 3: "overcurrent", 4: "not_settled",
-            5: "poor_fit", 6: "bad_input", 7: "slipped", 8: "voltage_limit"}
+            5: "poor_fit", 6: "bad_input", 7: "slipped", 8: "voltage_limit", 9: "sensor_range"}
 #: what each outcome means, for a user
 OUTCOME_TEXT = {
     "ok": "the fit is good (R^2 >= 0.999)",
@@ -54,6 +54,10 @@ OUTCOME_TEXT = {
                "frame's speed): a load heavier than the ramp allows, or a rotor that does not "
                "turn; a heavy load needs a slower sequence (commission(slow=...), identify "
                "--slow)",
+    "sensor_range": "the measured current stopped following the voltage (it rose by under 1 % "
+                    "of i_test while the voltage rose by what half of i_test takes): the current "
+                    "sensors' range is reached or their signal lost, and a clipped sensor hides "
+                    "the overcurrent check: the test stopped; check adc.full_scale against i_test",
     "voltage_limit": "the spin's voltage reached the inverter's limit: the back EMF at half "
                      "rated speed is beyond the DC link's reach (a slower spin would not "
                      "help): check inverter.u_dc and motor.w_M_N",
@@ -101,12 +105,37 @@ class RsResult:
         return max(0.0, 0.75 * self.u_0 * T / u)
 
 
+def i_test_max(s: Scenario) -> tuple[float, str]:
+    """The largest test current for scenario `s`, A, and why: the rated current
+    (steps 1 and 2 hold it at standstill for seconds), and step 3's spin, at
+    K_SPIN times it, within the share I_MAX_ADC of the current sensors' range
+    the drive keeps its own limit in (a current beyond the range reads as the
+    full scale: the test's checks would not see it)."""
+    i_n = rated_current(s.motor)
+    lim, why = i_n, f"the rated current I_N = {i_n:.4g} A"
+    fs = s.adc.full_scale
+    if fs is not None and math.isfinite(fs) and I_MAX_ADC * fs / K_SPIN < lim:
+        lim = I_MAX_ADC * fs / K_SPIN
+        why = (f"{I_MAX_ADC / K_SPIN:g} adc.full_scale = {lim:.4g} A (step 3 spins at {K_SPIN:g} "
+               f"i_test, within {I_MAX_ADC:g} of the sensors' range {fs:g} A)")
+    return lim, why
+
+
 def rs_config(s: Scenario, i_test: float | None = None) -> _ffi.IdentRsConfig:
     """The test's settings for scenario `s`: i_test (default half the rated
-    current), the voltage limit u_dc / sqrt 3, the ramp, the windows."""
-    i_test = 0.5 * rated_current(s.motor) if i_test is None else float(i_test)
-    if not (math.isfinite(i_test) and 0.0 < i_test <= 1e5):
-        raise ParameterError(f"i_test = {i_test!r} A: must be in (0, 1e5] A")
+    current; at most i_test_max), the voltage limit u_dc / sqrt 3, the ramp,
+    the windows."""
+    lim, why = i_test_max(s)
+    if i_test is None:
+        i_test = 0.5 * rated_current(s.motor)
+        if i_test > lim:
+            warnings.warn(f"the test current i_test = {lim:.4g} A, not half the rated current "
+                          f"({i_test:.4g} A): at most {why}", stacklevel=2)
+            i_test = lim
+    i_test = float(i_test)
+    if not (math.isfinite(i_test) and 0.0 < i_test <= lim):
+        raise ParameterError(f"i_test = {i_test!r} A is outside its valid range (0, {lim:.4g}] A: "
+                             f"at most {why}")
     u_max = s.inverter.u_dc / math.sqrt(3.0)
     return _ffi.IdentRsConfig(T_sp=s.T_sp, i_test=i_test, u_max=u_max, t_win=T_WIN,
                               t_level_max=T_LEVEL_MAX, levels=LEVELS)

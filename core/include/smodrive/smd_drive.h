@@ -87,8 +87,12 @@
  *     SMD_FAULT_SPEED_TRACKING  the speed the drive uses stays farther than
  *                            w_track from its (slew-limited) reference while
  *                            the speed PI is at its current limit, for
- *                            track_samples samples in a row (a stall, an
- *                            overload, a rotor the estimate has lost)
+ *                            track_samples samples in all while it stays
+ *                            away (a sample off the limit holds the count:
+ *                            the ADC's noise; back within w_track, it
+ *                            restarts) (a stall, an overload, a reference
+ *                            beyond the DC link's reach, a rotor the
+ *                            estimate has lost)
  *     SMD_FAULT_FORCED       the forced (I/f) phase goes on for
  *                            forced_samples samples at or beyond the
  *                            handover speed (|w_f| >= w_handover): the
@@ -120,7 +124,9 @@
  *                            SMDO's position and an I/f start, a lost lock
  *                            or a failed start does not latch while fewer
  *                            than restart_max restarts were made within
- *                            about restart_window samples (a leaky count);
+ *                            about restart_window samples (a leaky count,
+ *                            which leaks only while the drive runs on its
+ *                            source: restarts that never hand over add up);
  *                            the drive restarts on I/f from rest at its last
  *                            angle (a stalled rotor, or one the brake
  *                            stopped, is started again), and latches the

@@ -28,7 +28,13 @@
  * (no motor, an open phase, R_s too high for the test current), a phase
  * current beyond 1.5 i_test (the test stops, zero vector), a level that
  * never settled within t_level_max, a fit whose R^2 is below 0.999, a
- * non-finite input.
+ * non-finite input, a measured current that stopped following the voltage
+ * past i_test / 10 (the sensors' range: a clipped sensor reads its full
+ * scale while the true current grows with the voltage, and the trip at
+ * 1.5 i_test never sees it; the test stops at a step that added under half
+ * the current the search's smallest slope gives, or once the voltage rose
+ * by what half of i_test takes with the current up by under 1 % of i_test;
+ * a range below i_test / 10 reads as no current).
  */
 #ifndef SMD_IDENT_H
 #define SMD_IDENT_H
@@ -61,8 +67,13 @@ typedef enum smd_ident_outcome {
     SMD_IDENT_BAD_INPUT = 6,    /* a non-finite current or DC-link voltage */
     SMD_IDENT_SLIPPED = 7,      /* step 3: the rotor did not follow the spin (it turns at
                                  * under half the frame's speed when it coasts) */
-    SMD_IDENT_VOLTAGE_LIMIT = 8 /* step 3: no result, and the modulator limited the spin's
-                                 * voltage (the back EMF beyond the DC link's reach) */
+    SMD_IDENT_VOLTAGE_LIMIT = 8, /* step 3: no result, and the modulator limited the spin's
+                                  * voltage (the back EMF beyond the DC link's reach) */
+    SMD_IDENT_SENSOR_RANGE = 9  /* step 1: the measured current stopped following the
+                                 * voltage (a rise that should have added half of i_test
+                                 * added under 1 % of it): the current sensors' range
+                                 * reached, or their signal lost; the test stops, zero
+                                 * vector (a clipped sensor hides the overcurrent check) */
 } smd_ident_outcome;
 
 typedef struct smd_ident_rs_config {
@@ -95,6 +106,9 @@ typedef struct smd_ident_rs_state {
     int backoffs;         /* the search's back-offs from 1.2 i_test */
     smd_real u_prev_pt;   /* the search's last settled point: voltage, V */
     smd_real i_prev_pt;   /* and current, A */
+    smd_real u_rise;      /* the last point past i_test / 10 whose current rose: voltage, V */
+    smd_real i_rise;      /* and current, A (0: none yet) */
+    smd_real slope;       /* the search's smallest slope du / di there, ohm (0: none yet) */
     int level;            /* the level being measured */
     int n_level;          /* samples at this level */
     int n;                /* samples in this window */
