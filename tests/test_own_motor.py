@@ -416,3 +416,43 @@ def test_a_start_that_keeps_failing_latches_instead_of_restarting_for_ever():
     assert len(restarts) == s.controller.restart_max
     t_latched = r.t[np.argmax(r["status"] != 0)]
     assert t_latched - restarts[0] < 4.0
+
+
+#: an invented 12 V, 150 W wet-rotor pump (4 pole pairs, 30 mohm, 40 uH, 3.5 mWb)
+PUMP = {"warm_start": False, "duration": 1.5, "w_M_ref_rpm": 450.0,
+        "motor": {"R_s": 0.03, "L_s": 40e-6, "psi_r": 0.0035, "n_p": 4, "J": 3e-5,
+                  "P_N": 150.0, "w_M_N_rpm": 3000.0},
+        "inverter": {"u_dc": 12.0, "t_dead": 0.5e-6},
+        "controller": {"current": "robust_dbpc", "position": "smdo_emf", "start": "if"}}
+
+
+def test_a_reference_held_below_the_handover_speed_is_named_before_the_run():
+    """The pump's derived handover is 1,186 r/min (the back EMF the SMDO needs
+    against its dead time and noise); asked to hold 450 r/min from an I/f
+    start, the drive ran its whole run on I/f, open loop at i_start (1.6
+    I_N, whatever the load; 51 deg RMS off the rotor's angle) with status 0
+    and nothing said. A warning now names the reference, the handover speed
+    and the start current before the run; at 1,500 r/min, and on the encoder,
+    there is none."""
+    s = scenario_from_dict(PUMP)
+    with pytest.warns(UserWarning, match=r"holds 450 r/min, below the handover speed "
+                                         r"controller.w_M_handover = 1186 r/min"):
+        s.check_controller()
+    assert s.held_below_handover() == pytest.approx(450.0 * RPM)
+    for other in (PUMP | {"w_M_ref_rpm": 1500.0},
+                  PUMP | {"controller": PUMP["controller"] | {"position": "encoder"}}):
+        assert scenario_from_dict(other).held_below_handover() is None
+
+
+def test_the_usual_profile_says_it_replaces_the_scenarios_load():
+    """`--profile usual` runs its own load (the rated brake on and off): a fan
+    motor's file ran without its fan and was judged "reached" without a word.
+    It now says which of the file's load it leaves out; a file without a
+    load, nothing."""
+    s = scenario_from_dict(PUMP | {"load": {"k_fan": 1e-5}})
+    with pytest.warns(UserWarning, match=r"in place of the scenario's \[load\] \(k_fan = 1e-05\)"):
+        trials.profile_scenario(s)
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        trials.profile_scenario(scenario_from_dict(PUMP | {"w_M_ref_rpm": 1500.0}))

@@ -466,6 +466,8 @@ def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
                   f"at its end; the outputs are in {out}", 1)
         _say(f"{profile} profile: {o['verdict']} (speed {100 * o['speed_error_rel_end']:.2f} % "
              f"off, angle {o['theta_error_rms_deg_end']:.2f} deg RMS at its end)")
+    if profile is None and summary["off_reference"] is not None:
+        _warn(summary["off_reference"])
     margin = sensorless_margin(s)
     if margin is not None and margin[1]:
         _say(f"note: the sensorless speed loop has {margin[0]:.1f} deg of phase margin (Table "

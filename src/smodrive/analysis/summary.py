@@ -41,6 +41,52 @@ def _final_fault_t(r) -> float | None:
     return float(r.t[int(off[-1]) + 1 if off.size else 0])
 
 
+#: a speed that ends farther than this share of its reference (or of rated speed, for a
+#: reference near zero) from it is off its reference (the usual profile's judge: 2 %)
+OFF_REFERENCE = 0.02
+
+
+def off_reference(s, r, summary: dict[str, Any]) -> str | None:
+    """Why a run that ends without a fault ends away from its speed
+    reference, or None (no speed loop, a fault, a reference that still
+    changes or ramps in the last 20 % of the run, or within OFF_REFERENCE):
+    the drive's speed_tracking fault trips only beyond w_M_track (10 % of
+    rated), so a drive held a few % below its reference by the DC link ends
+    at status 0 (invented 250 V and 260 V drives 7 % below rated speed). The
+    cause from what the summary measured: the forced start at the end (a
+    reference below the handover speed), the voltage on its limit, the
+    current on its limit, else a speed loop that has not settled."""
+    c = s.controller
+    if not c.speed_loop or summary["ends_in_fault"] or summary["speed_error_rpm_last_20pct"] is None:
+        return None
+    t0 = 0.8 * s.duration
+    ref = s.w_M_ref
+    # (the reference's last change, and its slew-limited ramp after it)
+    t_change, step = max(((t1, abs(b - a)) for t1, a, b in zip(ref.t[1:], ref.y, ref.y[1:])
+                          if a != b), default=(0.0, 0.0))
+    if t_change + (step / c.a_M_ref if c.a_M_ref else 0.0) > t0:
+        return None
+    err = summary["speed_error_rpm_last_20pct"] * RPM
+    scale = max(abs(ref.y[-1]), 0.1 * s.motor.w_M_N)
+    if abs(err) <= OFF_REFERENCE * scale:
+        return None
+    if summary["phase_end"] == "forced":
+        why = (f"it ends on its forced start (I/f), below the handover speed "
+               f"controller.w_M_handover = {c.w_M_handover / RPM:.4g} r/min, open loop")
+    elif summary["voltage_limit_share_last_20pct"] > 0.2:
+        why = ("its voltage is on the modulator's limit: the reference or the load is beyond "
+               "what inverter.u_dc reaches")
+    elif summary["current_limit_share_last_20pct"] > 0.2:
+        why = "its current is at controller.i_max: the load is beyond the drive's torque"
+    else:
+        why = "its speed loop has not settled (controller.speed_bw, or the load's inertia)"
+    return (f"the speed ends {100 * err / abs(scale):+.1f} % off its reference "
+            f"({summary['speed_rpm_mean_last_20pct']:.5g} against "
+            f"{summary['speed_ref_rpm_mean_last_20pct']:.5g} r/min over the last 20 % of the run) "
+            f"without a fault (speed_tracking trips beyond controller.w_M_track = "
+            f"{c.w_M_track / RPM:.4g} r/min): {why}")
+
+
 def run_summary(s, r, plan) -> dict[str, Any]:
     """summary.json of a run: means over the last 20 % of the run (at least
     the last logged row), the control samples simulated and how the log was
@@ -53,7 +99,9 @@ def run_summary(s, r, plan) -> dict[str, Any]:
     and when the final one was set (``final_fault_t``, from the log); the
     shares of the last 20 % with the voltage command on the modulator's limit
     and a current reference on controller.i_max
-    (:func:`smodrive.analysis.metrics.operating_point`)."""
+    (:func:`smodrive.analysis.metrics.operating_point`); ``off_reference``:
+    why a run without a fault ends away from its speed reference (null when
+    it does not: :func:`off_reference`)."""
     i0 = min(int(np.searchsorted(r.t, 0.8 * s.duration)), r.data.shape[0] - 1)
     op = operating_point(r, float(r.t[i0]), math.inf)
     last = dataclasses.replace(r, data=r.data[i0:])  # a view of those rows
@@ -63,7 +111,7 @@ def run_summary(s, r, plan) -> dict[str, Any]:
         err = float(np.mean(last.n_rpm) - np.mean(n_ref))
         ref_end = float(r["w_M_ref"][-1] / RPM)
         rel = err / abs(ref_end) if ref_end != 0.0 else None
-    return {
+    out = {
         "name": s.name,
         "samples": int(r.samples),
         "status": int(r.status),
@@ -85,3 +133,5 @@ def run_summary(s, r, plan) -> dict[str, Any]:
         "faults_expected": bool(s.faults_expected),
         "log": plan.as_dict(),
     }
+    out["off_reference"] = off_reference(s, r, out)
+    return out

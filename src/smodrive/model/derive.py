@@ -613,8 +613,9 @@ def override_warnings(c: ControllerCfg, m: MotorPars, *, T_sp: float, lcl: Any =
         out.append(f"the motor's rated point (I_N = {rated_current(m):.3g} A at w_M_N = "
                    f"{m.w_M_N:.4g} rad/s) needs {rated:.3g} V at its terminals and the inverter "
                    f"has {u_max:.3g} V (inverter.u_dc / sqrt 3): rated torque at rated speed is "
-                   "out of reach, a run asking for it ends in a fault (speed_tracking; a start "
-                   "without the voltage it needs fails); check motor.R_s, "
+                   "out of reach: a run asking for it ends below its reference, in a fault "
+                   "when more than controller.w_M_track below (speed_tracking), and a start "
+                   "without the voltage it needs fails; check motor.R_s, "
                    "L_s, psi_r, P_N, w_M_N and inverter.u_dc")
     return out
 

@@ -109,6 +109,22 @@ class Scenario(_Validated):
         k_p, _ = c.current_pi_gains()
         return self.lcl is not None and self.motor.w_M_N * self.motor.n_p * self.L_dec > k_p
 
+    def held_below_handover(self) -> float | None:
+        """A speed reference (rad/s) the sensorless drive with an I/f start is
+        asked to hold, for 0.5 s or to the end, between 0 and its handover
+        speed, where it stays on the forced start (an invented 12 V pump at
+        450 r/min against its 1,186 r/min handover ran its whole run on I/f,
+        1.6 I_N and 51 deg off, status 0); None: none."""
+        c, p = self.controller, self.w_M_ref
+        if c.start != "if" or c.position == "encoder" or not c.w_M_handover:
+            return None
+        t, y = list(p.t) + [max(self.duration, p.t[-1] + 0.5)], list(p.y) + [p.y[-1]]
+        for k in range(len(y) - 1):
+            if y[k] == y[k + 1] and t[k + 1] - t[k] >= 0.5 and \
+                    0.0 < abs(y[k]) < c.w_M_handover:
+                return float(y[k])
+        return None
+
     def check_controller(self) -> None:
         """Controller limits that depend on more than one field (the ones the
         C core's init checks too); run by load_scenario and before every
@@ -119,6 +135,15 @@ class Scenario(_Validated):
                                                 adc_full_scale=self.adc.full_scale,
                                                 plant=derive.plant_of(self)):
             warnings.warn(f"{self.name}: {msg}", UserWarning, stacklevel=2)
+        low = self.held_below_handover()
+        if low is not None:
+            warnings.warn(
+                f"{self.name}: the speed reference holds {low / RPM:.4g} r/min, below the "
+                f"handover speed controller.w_M_handover = {c.w_M_handover / RPM:.4g} r/min: a "
+                "start toward it stays on the forced start (I/f: open loop, the rotor's angle "
+                f"unknown, i_start = {c.i_start:.3g} A whatever the load) and never hands over "
+                "to the sensorless source; a reference at or above the handover speed, or the "
+                "encoder", UserWarning, stacklevel=2)
         lcl_src = c.position in ("lcl_smo_pll", "lcl_linear")
         if lcl_src and self.lcl is None:
             raise ParameterError(

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -64,6 +65,14 @@ def profile_scenario(base: Scenario, seed: int = 1, T_sp: float | None = None) -
     sliding-mode observer and PLL), with the I/f start and its decoupling
     chosen for the filter (controller.decouple = "auto")."""
     T_sp = base.T_sp if T_sp is None else T_sp
+    if base.load != LoadCfg():
+        # (a fan motor's file ran the profile without its fan, "reached", and nothing said so)
+        warnings.warn(f"{base.name}: the usual profile runs its own load (the rated brake on "
+                      "and off) in place of the scenario's [load] (" + ", ".join(
+                          f"{f.name} = {getattr(base.load, f.name)!r}"
+                          for f in dataclasses.fields(LoadCfg)
+                          if getattr(base.load, f.name) != getattr(LoadCfg(), f.name))
+                      + "): not part of this run", UserWarning, stacklevel=2)
     s = base.replace(T_sp=T_sp, warm_start=False, w_M0=0.0, theta_r0=0.0,
                      adc=dataclasses.replace(base.adc, seed=seed),
                      load=LoadCfg(), name=f"{base.name}.profile")
