@@ -26,7 +26,7 @@ from smodrive._util import tomllib
 from smodrive.cli import main
 from smodrive.commission import commission, identify_mech, identify_rs, mech_room, mech_scenario
 from smodrive.model import ParameterError
-from smodrive.scenario_io import load_scenario
+from smodrive.scenario_io import load_scenario, scenario_from_dict
 from smodrive.scenarios import yao2022
 from smodrive.scenarios.catalogue import catalogue
 
@@ -970,3 +970,29 @@ def test_the_dead_time_is_the_one_measured_whatever_the_drives_period():
     assert r.ok and r.T_sp == 5e-5 and r.u_dc == s.inverter.u_dc
     assert abs(r.t_dead() / 1e-6 - 1.0) < 0.10, r.t_dead()
     assert r.t_dead(1e-4, s.inverter.u_dc) == pytest.approx(2.0 * r.t_dead(), rel=1e-12)
+
+
+@pytest.mark.parametrize("seed", [7, 8, 10])
+def test_an_inductance_the_noise_moved_beyond_5_percent_is_not_ok(seed):
+    """An invented 12 V hobby motor (0.8 ohm, 160 uH, 2 pole pairs) under 0.1 A
+    of ADC noise (five times the derived): its 0.27 A swing carries the
+    noise, and on these seeds L_q read 12-21 % low, reported "ok" (the three
+    bias levels 0.144 / 0.113 / 0.109 mH on seed 7). L is the levels' mean
+    weighted by their swings squared; twice its standard error estimated from
+    the levels' scatter beyond L's stated accuracy (5 %) is now
+    "levels_disagree": every L reported ok is within 5 % of the motor's, and
+    each seed names one axis (q on seeds 7 and 8, -12 and -21 %; d on seed
+    10, whose mean was right but not to be told from the scatter). The ten
+    seeds of each motor of test_inductance_within_5_percent_over_ten_seeds
+    are all still ok."""
+    s = scenario_from_dict({"motor": {"R_s": 0.8, "L_s": 160e-6, "psi_r": 0.004, "n_p": 2,
+                                      "J": 3e-6, "B": 4e-8, "P_N": 18.0, "w_M_N_rpm": 5000.0},
+                            "inverter": {"u_dc": 12.0, "t_dead": 0.5e-6},
+                            "adc": {"noise": 0.1, "seed": seed}})
+    c = commission(s, mechanics=False)
+    assert c.rs.ok
+    results = [x for x in (c.ld, c.lq) if x is not None]
+    for x in results:
+        if x.ok:
+            assert abs(x.L / s.motor.L_s - 1.0) <= 0.05, (x.axis, x.L)
+    assert any(x.outcome == "levels_disagree" for x in results)

@@ -166,7 +166,9 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
             click.echo(f"  L_{x.axis}  {x.L:.5g} H measured, {s.motor.L_s:.5g} H true "
                        f"({100.0 * (x.L / s.motor.L_s - 1.0):+.2f} %); +-{x.du:.3g} V, swing "
                        f"{x.swing:.3g} A, the rotor moved {x.moved * 180 / 3.141592653589793:.2g} "
-                       f"deg, {x.t:.2f} s: {x.outcome}")
+                       f"deg, {x.t:.2f} s: {x.outcome}"
+                       + (f" ({OUTCOME_TEXT.get(x.outcome + '_ls', OUTCOME_TEXT.get(x.outcome, ''))})"
+                          if not x.ok else ""))
             if len(x.levels) > 1:
                 click.echo("       at " + ", ".join(f"{v.i_bias:.3g} A {v.L:.5g} H"
                                                     for v in x.levels))
@@ -202,7 +204,9 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
                        f"{_rel(x.J, s.motor.J)}; B {x.B:.4g}{se} N m s measured, "
                        f"{s.motor.B:.4g} true {_rel(x.B, s.motor.B)}{fan}, {x.t:.2f} s")
         else:
-            click.echo(f"  J, B not measured: {x.outcome} ({OUTCOME_TEXT.get(x.outcome, '')})")
+            key = "fault_mech" if x.outcome.startswith("fault") else x.outcome + "_mech"
+            click.echo(f"  J, B not measured: {x.outcome} "
+                       f"({OUTCOME_TEXT.get(key, OUTCOME_TEXT.get(x.outcome, ''))})")
     if out is not None:
         export.write_text(out, identified_toml(scenario, s, c))
         click.echo(f"wrote {out}")

@@ -58,6 +58,21 @@ OUTCOME_TEXT = {
                     "of i_test while the voltage rose by what half of i_test takes): the current "
                     "sensors' range is reached or their signal lost, and a clipped sensor hides "
                     "the overcurrent check: the test stopped; check adc.full_scale against i_test",
+    "levels_disagree": "the inductances measured at the three bias levels scatter beyond L's "
+                       "stated accuracy (twice their weighted mean's standard error over 5 %): "
+                       "the ADC's noise against the test's swing (a larger "
+                       "--i-test, or adc.n_oversample), or a stator whose inductance moves with "
+                       "its current; the value is not to be trusted",
+    "poor_fit_ls": "the square wave's response does not fit the stator's discrete model: the "
+                   "value is not to be trusted",
+    "poor_fit_mech": "the speed ramp's and the coast's friction disagree by more than a twentieth "
+                     "of the ramp's torque: the torque the drive reports is not the rotor's (a "
+                     "sensorless angle that lags the rotor), or a load on the shaft; J and B are "
+                     "not to be trusted",
+    "fault_mech": "the drive designed from steps 1-3 (its R_s, L_s, psi_r and the guessed "
+                  "inertia of step 3's spin) stopped in this fault while it ran step 4; a "
+                  "step-3 inertia far from the rotor's is the usual cause: --slow 10 runs the "
+                  "spin that measures it slower",
     "voltage_limit": "the spin's voltage reached the inverter's limit: the back EMF at half "
                      "rated speed is beyond the DC link's reach (a slower spin would not "
                      "help): check inverter.u_dc and motor.w_M_N",
@@ -210,6 +225,10 @@ class LsResult:
 #: against the ripple: Table I's L_d read +9 %). 3 x 80 periods: within 0.1 s of one level's 400
 LS_LEVELS = (1.0, 0.75, 0.5)
 LS_PERIODS = 80
+#: twice the weighted mean's standard error (from the levels' scatter) within this share of
+#: it, L_s's stated accuracy (docs/commissioning.md: +-5 %), or the result is not trusted
+#: ("levels_disagree")
+LS_AGREE = 0.05
 
 
 def identify_ls_levels(s: Scenario, rs: RsResult, axis: str, i_max: float, engine: Engine
@@ -232,7 +251,14 @@ def identify_ls_levels(s: Scenario, rs: RsResult, axis: str, i_max: float, engin
     w = [r.swing ** 2 for r in runs]
     L = sum(wk * r.L for wk, r in zip(w, runs)) / sum(w)
     Ls = sum(wk * r.L_series for wk, r in zip(w, runs)) / sum(w)
-    return dataclasses.replace(runs[0], L=L, L_series=Ls, t=t, moved=moved, levels=tuple(runs))
+    # (the weighted mean's standard error from the levels' scatter, sqrt(sum w^2 (L_k -
+    # L)^2) / sum w: twice it beyond L's stated accuracy is not trusted; an invented 12 V
+    # motor under 0.1 A of ADC noise read 0.144 / 0.113 / 0.109 mH for 0.16 and reported
+    # L_q -12 % "ok". A stator whose L moves with its current scatters its levels too)
+    se = math.sqrt(sum((wk * (r.L - L)) ** 2 for wk, r in zip(w, runs))) / sum(w)
+    outcome = runs[0].outcome if L > 0.0 and 2.0 * se <= LS_AGREE * L else "levels_disagree"
+    return dataclasses.replace(runs[0], L=L, L_series=Ls, t=t, moved=moved, levels=tuple(runs),
+                               outcome=outcome)
 
 
 def identify_ls(s: Scenario, rs: RsResult, axis: str, i_bias: float, engine: Engine,
