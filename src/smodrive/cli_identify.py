@@ -92,7 +92,13 @@ def identified_toml(name: str, s, c) -> str:
                "scenario's values\n") +
             "# (the nameplate's: pole pairs, rated power and speed; the inverter and ADC).\n"
             "# Uncertainty (each test's accuracy as measured, docs/commissioning.md): "
-            + ", ".join(f"{k} +-{100 * v:g} %" for k, v in unc.items()) + "\n"
+            + ", ".join(f"{k} +-{100 * v:g} %" for k, v in unc.items()) + ",\n"
+            "# with current sensors whose gain is right within 0.5 % (currents read k times their\n"
+            "# value give R_s and L_s divided by k, J about k times: the drive cannot see it) and a free\n"
+            "# shaft (a drag on the bench is friction to step 4).\n"
+            "# This file's [motor] is the measured one: a run of it simulates the measured\n"
+            "# motor, not the one measured (tests/test_commission.py runs the true plant under\n"
+            "# the drive designed from the measurement).\n"
             "# The tests' record:\n")
     rec = "".join(f"#   {line}\n" for line in tomli_w.dumps(record).splitlines())
     return head + rec + "\n" + scenario_to_toml(measured)
