@@ -292,3 +292,52 @@ def test_a_run_on_its_reference_has_no_off_reference(tmp_path):
     assert summary["off_reference"] is None
     assert abs(summary["speed_error_rel_last_20pct"]) < 0.02
     assert "off its reference" not in res.output
+
+
+SERVO_320 = """[motor]
+R_s = 1.5
+L_s = 6e-3
+psi_r = 0.12
+n_p = 4
+J = 3.72e-3
+P_N = 750.0
+w_M_N_rpm = 3000.0
+[inverter]
+u_dc = 320.0
+t_dead = 1e-6
+"""
+
+
+def test_bad_inputs_are_named_by_their_own_key(tmp_path):
+    """Found by a new user's files: a NaN speed reference and an infinite
+    external torque were refused as "profile: every point must be finite"
+    without their key; a sample period too long for the SMDO named the
+    derived gains (l, lambda_min, rho), not T_sp, and gave no bound; psi_r = 0
+    in `identify` ended in "ZeroDivisionError" (the printed error against a
+    true flux of 0). Each now names what the user wrote."""
+    cases = [("w_M_ref_rpm = nan\n", "error: scenario.w_M_ref_rpm = nan: profile: every point "
+              "must be finite"),
+             ("[load]\nT_ext = inf\n", "error: load.T_ext = inf: profile: every point must be "
+              "finite"),
+             ("T_sp = 0.01\n", "error: T_sp = 0.01 s is too long for the SMDO's gains")]
+    for k, (extra, want) in enumerate(cases):
+        f = tmp_path / f"m{k}.toml"
+        f.write_text(extra + SERVO_320 if not extra.startswith("[") else SERVO_320 + extra)
+        res = CliRunner().invoke(main, ["design", str(f)])
+        assert res.exit_code == 2 and want in res.output, res.output
+    assert "T_sp below 0.000" in res.output  # (2 / (l + lambda_min / rho): 385 us)
+    f = tmp_path / "psi0.toml"
+    f.write_text(SERVO_320.replace("psi_r = 0.12", "psi_r = 0.0"))
+    res = CliRunner().invoke(main, ["identify", str(f)])
+    assert "ZeroDivisionError" not in res.output and "Traceback" not in res.output
+    assert res.exit_code == 1 and "psi_r" in res.output
+
+
+def test_identify_refuses_an_out_file_in_a_missing_folder_before_it_runs(tmp_path):
+    """`identify --out missing/x.toml` ran the whole commissioning, then failed
+    naming a temporary file; it now stops first, naming the folder."""
+    f = tmp_path / "m.toml"
+    f.write_text(SERVO_320)
+    res = CliRunner().invoke(main, ["identify", str(f), "--out", str(tmp_path / "no" / "x.toml")])
+    assert res.exit_code == 2 and "does not exist" in res.output
+    assert "commissioning" not in res.output  # (nothing ran)

@@ -34,9 +34,10 @@ def _g(x: float) -> float:
     return float(f"{x:.6g}")
 
 
-def _rel(x: float, true: float) -> str:
+def _rel(x: float, true: float, digits: int = 1) -> str:
     """x against the true value, in percent (a true 0: the difference)."""
-    return f"({100.0 * (x / true - 1.0):+.1f} %)" if true != 0.0 else f"({x - true:+.3g})"
+    return (f"({100.0 * (x / true - 1.0):+.{digits}f} %)" if true != 0.0
+            else f"({x - true:+.3g})")
 
 
 def identified_toml(name: str, s, c) -> str:
@@ -138,6 +139,9 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
     if scenario is None:
         raise click.UsageError("give SCENARIO (a TOML file or a catalogue name) or "
                                "--from-log FILE")
+    if out is not None and not out.parent.is_dir():
+        # (before the tests run, not after them: their results would be lost)
+        raise click.UsageError(f"--out {out}: the folder {out.parent} does not exist")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         s = resolve_scenario(scenario)
@@ -185,7 +189,7 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
                f"at half speed, {p.psi_coast:.5g} coasting")
         if p.psi > 0.0:
             click.echo(f"  psi_r {p.psi:.5g} Wb measured, {s.motor.psi_r:.5g} Wb true "
-                       f"({100.0 * (p.psi / s.motor.psi_r - 1.0):+.2f} %); {how}, "
+                       f"{_rel(p.psi, s.motor.psi_r, 2)}; {how}, "
                        f"{p.psi1:.5g} at a quarter, {p.t:.2f} s: {p.outcome}")
         else:  # (a spin stopped before its holds)
             click.echo(f"  psi_r not measured, {p.t:.2f} s: {p.outcome}")

@@ -70,7 +70,10 @@ SECTIONS: dict[str, type] = {
 def _profile_from(name: str, v: Any, scale: float = 1.0) -> Profile:
     form = f"{name}: expected a number or a table {{t = [...], y = [...]}} of numbers"
     if is_num(v):
-        return Profile.const(float(v) * scale)
+        try:
+            return Profile.const(float(v) * scale)
+        except ParameterError as exc:  # (a NaN or an infinity, named by its key)
+            raise ParameterError(f"{name} = {v!r}: {exc}") from None
     if not (isinstance(v, dict) and set(v) == {"t", "y"}):
         raise ParameterError(form)
     t, y = v["t"], v["y"]

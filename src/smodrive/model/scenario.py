@@ -233,9 +233,14 @@ class Scenario(_Validated):
                     "would be unstable, |1 - w_c T_sp + j w_max T_sp| must be below 1")
         uses_smdo = c.current == "robust_dbpc" or c.position == "smdo_emf"
         if uses_smdo and (c.l + c.lambda_min / c.rho) * T >= 2.0:
+            gain = c.l + c.lambda_min / c.rho
+            derived = {d[0] for d in c.derived}
+            how = ", ".join(f"{n} = {getattr(c, n):.4g}" + (" derived" if n in derived else "")
+                            for n in ("l", "lambda_min", "rho"))
             raise ParameterError(
-                f"controller.l = {c.l!r}, lambda_min = {c.lambda_min!r}, rho = {c.rho!r}: "
-                "(l + lambda_min/rho) T_sp must be below 2 for a stable SMDO")
+                f"T_sp = {T:g} s is too long for the SMDO's gains (controller.{how}): "
+                f"(l + lambda_min / rho) T_sp = {gain * T:.3g} must be below 2 for a stable "
+                f"SMDO, T_sp below {2.0 / gain:.3g} s")
         if uses_smdo and c.w_c * T >= 1.0:
             raise ParameterError(
                 f"controller.w_c = {c.w_c!r} is outside its valid range (0, 1/T_sp = {1 / T:g})"
