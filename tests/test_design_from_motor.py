@@ -456,3 +456,26 @@ def test_a_motor_without_flux_says_its_current_limits_are_not_its_own():
                for w in said), said
     assert not any("no rated current" in w for w in _sensorless_warnings({**m, "psi_r": 0.796},
                                                                          1e-4, 565.0, "encoder"))
+
+
+def test_a_current_pi_too_fast_for_its_sample_is_said_before_the_run():
+    """An invented 320 V, 750 W servo under the current PI (2,500 rad/s, the
+    default) at T_sp = 1 ms (current_bw T_sp = 2.5) oscillated and tripped
+    overcurrent with nothing pointing at the sample: the loop's 1.5 samples
+    of delay take 1.5 w_c T_sp of phase at its crossover, 3.75 rad there. A
+    warning now names current_bw, T_sp and the bound (0.5 / T_sp: 43 deg of
+    that delay); at 100 us (0.25) none."""
+    servo = {"R_s": 1.5, "L_s": 6e-3, "psi_r": 0.12, "n_p": 4, "J": 3.72e-3, "P_N": 750.0,
+             "w_M_N_rpm": 3000.0}
+
+    def said(T_sp):
+        s = scenario_from_dict({"T_sp": T_sp, "motor": servo, "inverter": {"u_dc": 320.0},
+                                "controller": {"current": "pi", "position": "encoder"}})
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            s.check_controller()
+        return [str(w.message) for w in caught if "current_bw" in str(w.message)]
+    slow = said(1e-3)
+    assert len(slow) == 1 and "controller.current_bw = 2500 rad/s is 2.5 / T_sp" in slow[0] \
+        and "up to 0.5 / T_sp (500 rad/s)" in slow[0], slow
+    assert said(1e-4) == []
