@@ -34,6 +34,7 @@ FLOORS: dict[str, int] = {
     "smodrive.cli_identify": 10,
     "smodrive.commission": 4,
     "smodrive.commission_lcl": 4,
+    "smodrive.commission_outcomes": 4,
     "smodrive.fromlog": 2,
     "smodrive": 11,
 }

@@ -20,7 +20,8 @@ import tomli_w
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from . import fromlog
-from .commission import OUTCOME_TEXT, commission
+from .commission import commission
+from .commission_outcomes import OUTCOME_TEXT
 from .engine import export
 from .model import ParameterError
 from .scenario_io import resolve_scenario, scenario_to_toml

@@ -360,11 +360,11 @@ class IdentRsState(ct.Structure):
         ("phase", ct.c_int), ("outcome", ct.c_int), ("u", real), ("u_lo", real), ("u_hi", real),
         ("i_lo", real), ("du_cur", real), ("backoffs", ct.c_int), ("u_prev_pt", real),
         ("i_prev_pt", real), ("u_rise", real), ("i_rise", real), ("slope", real),
-        ("level", ct.c_int), ("n_level", ct.c_int), ("n", ct.c_int),
-        ("acc_i", real), ("acc_i2", real), ("acc_u", real), ("prev_i", real),
-        ("have_prev", ct.c_int), ("i_lv", real * SMD_IDENT_MAX_LEVELS),
-        ("u_lv", real * SMD_IDENT_MAX_LEVELS), ("u_applied", Cplx), ("samples", ct.c_int),
-        ("R_s", real), ("u_0", real), ("r2", real), ("resid", real),
+        ("level", ct.c_int), ("n_level", ct.c_int), ("n", ct.c_int), ("acc_i", real),
+        ("acc_i2", real), ("acc_u", real), ("prev_i", real), ("have_prev", ct.c_int),
+        ("i_lv", real * SMD_IDENT_MAX_LEVELS), ("u_lv", real * SMD_IDENT_MAX_LEVELS),
+        ("u_applied", Cplx), ("samples", ct.c_int), ("R_s", real), ("u_0", real), ("r2", real),
+        ("resid", real),
     ]
 
 

@@ -550,9 +550,8 @@ _MOTOR_VALUE = {"L_s_hat": "L_s", "R_s_hat": "R_s", "psi_r_hat": "psi_r", "J_hat
                 "psi_r_pi": "psi_r"}
 
 
-#: the current PI's bandwidth times T_sp above which its loop, delayed 1.5 samples (the
-#: computation's and the PWM's), loses its phase margin: a crossover w_c takes 1.5 w_c T_sp of
-#: phase, 43 deg at 0.5 (Table I's 2,500 rad/s at 100 us: 0.25, 21 deg)
+#: current_bw T_sp above which the current PI's loop, delayed 1.5 samples, loses its phase
+#: margin (1.5 w_c T_sp of phase: 43 deg at 0.5; Table I's 2,500 rad/s at 100 us: 0.25)
 CURRENT_BW_T_MAX = 0.5
 
 
@@ -613,9 +612,7 @@ def override_warnings(c: ControllerCfg, m: MotorPars, *, T_sp: float, lcl: Any =
                    f"than the sample, T_sp = {T_sp:g} s: the deadbeat control's and the SMDO's "
                    "one-sample models (yang2018 eq. (8), (35), forward Euler) overshoot such a "
                    f"stator; sample faster (T_sp below {m.L_s / m.R_s:.3g} s)")
-    if c.current == "pi" and c.current_bw * T_sp > CURRENT_BW_T_MAX:
-        # (a 320 V servo's PI at T_sp = 10 ms and 1 ms, current_bw T_sp 25 and 2.5, oscillated
-        # and tripped overcurrent with nothing pointing at the sample)
+    if c.current == "pi" and c.current_bw * T_sp > CURRENT_BW_T_MAX:  # (a servo at 1 ms)
         out.append(f"controller.current_bw = {c.current_bw:g} rad/s is {c.current_bw * T_sp:.3g} "
                    f"/ T_sp (T_sp = {T_sp:g} s): the current PI's loop, delayed 1.5 samples, "
                    f"keeps its phase margin up to {CURRENT_BW_T_MAX:g} / T_sp "
