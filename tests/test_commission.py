@@ -181,6 +181,11 @@ def test_cli_writes_the_measured_motor(tmp_path):
     # the uncertainty: each test's measured accuracy, and R_s's standard error from its line
     # (well below the 2 % budget on a clean staircase: a tenth of it at most)
     assert "R_s +-2 %, L_s +-5 %, psi_r +-2 %, J +-10 %, B +-20 %" in out.read_text()
+    # (and the premises of those: the sensors' gain, a free shaft; what running the file does)
+    assert "current sensors whose gain is right within 0.5 %" in out.read_text()
+    assert "a run of it simulates the measured" in out.read_text()
+    # the inertia step 3's spin saw, which step 4's drive is designed for, is printed
+    assert "the spin's inertia" in res.output
     se = float(out.read_text().split("R_s_std_error = ")[1].split()[0])
     assert 0.0 < se < 0.002 * 0.25
     # the measured drop sets the dead-time compensation: 3/4 u_0 T_sp / u_dc is the

@@ -192,6 +192,10 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
             click.echo(f"  psi_r {p.psi:.5g} Wb measured, {s.motor.psi_r:.5g} Wb true "
                        f"{_rel(p.psi, s.motor.psi_r, 2)}; {how}, "
                        f"{p.psi1:.5g} at a quarter, {p.t:.2f} s: {p.outcome}")
+            if math.isfinite(p.J_spin) and p.J_spin > 0.0:
+                # (step 4's drive is designed for it: one far off can stop step 4)
+                click.echo(f"       the spin's inertia {p.J_spin:.4g} kg m^2, {s.motor.J:.4g} true "
+                           f"{_rel(p.J_spin, s.motor.J)} (step 4's drive is designed for it)")
         else:  # (a spin stopped before its holds)
             click.echo(f"  psi_r not measured, {p.t:.2f} s: {p.outcome}")
         if p.outcome == "voltage_limit":
