@@ -341,3 +341,58 @@ def test_identify_refuses_an_out_file_in_a_missing_folder_before_it_runs(tmp_pat
     res = CliRunner().invoke(main, ["identify", str(f), "--out", str(tmp_path / "no" / "x.toml")])
     assert res.exit_code == 2 and "does not exist" in res.output
     assert "commissioning" not in res.output  # (nothing ran)
+
+
+TINY_SWEEP = """[sweep]
+title = "tiny"
+base = "drive.pi_encoder"
+metrics = ["id_error", "fault"]
+window = [0.3, 0.6]
+[set]
+duration = 0.6
+[[axes]]
+name = "L_ratio"
+key = "controller.L_s_hat"
+relative_to = "motor.L_s"
+range = [0.5, 2.0]
+n = 3
+[[axes]]
+name = "second"
+"""
+
+
+def test_a_sweeps_bad_value_is_named_with_its_own_axis(tmp_path):
+    """Found by a new user: a bad first value of the second axis was blamed on
+    the first ("axis L_ratio = 0.5: adc.noise = nan ..."), since the first
+    axis's check met it at the others' first values; a duration axis shorter
+    than the window ran, every metric NaN. Each is now named with its own
+    axis, before anything runs; a scheduler address that is not one is named
+    too (it was "ValueError: missing port number")."""
+    def sweep(second, *extra):
+        f = tmp_path / "s.toml"
+        f.write_text(TINY_SWEEP + second)
+        return CliRunner().invoke(main, ["sweep", str(f), "--out", str(tmp_path / "o"), *extra])
+    res = sweep('key = "adc.noise"\nvalues = [nan, 0.01]\n')
+    assert res.exit_code == 2 and "error: axis second = nan: adc.noise = nan" in res.output
+    res = sweep('key = "duration"\nvalues = [0.2, 0.6]\n')
+    assert res.exit_code == 2 and "error: axis second = 0.2: the run ends at duration = 0.2 s, " \
+        "before the end of sweep.window = [0.3, 0.6] s" in res.output
+    res = sweep('key = "controller.current"\nvalues = ["dbpc", "pi"]\n', "--scheduler", "garbage")
+    assert res.exit_code == 2 and "--scheduler garbage: not a scheduler address" in res.output
+
+
+def test_options_that_do_nothing_where_given_are_refused(tmp_path):
+    """`run --seconds 0.05` without --pil ran the scenario's whole second, the
+    option dropped without a word (--math and --cycles alike); `design
+    --header` into a folder, or a folder that does not exist, failed after
+    the design, naming a temporary file. Each is now refused first, exit 2,
+    naming the option."""
+    res = CliRunner().invoke(main, ["run", "yang2018.fig7a", "--seconds", "0.05", "--cycles",
+                                    "--out", str(tmp_path / "o")])
+    assert res.exit_code == 2 and "--seconds, --cycles: options of --pil" in res.output
+    assert not (tmp_path / "o").exists()
+    motor = str(ROOT / "scenarios" / "motors" / "servo_48v_200w.toml")
+    res = CliRunner().invoke(main, ["design", motor, "--header", str(tmp_path)])
+    assert res.exit_code == 2 and "a folder, not a file" in res.output
+    res = CliRunner().invoke(main, ["design", motor, "--header", str(tmp_path / "no" / "x.h")])
+    assert res.exit_code == 2 and "does not exist" in res.output and ".tmp" not in res.output

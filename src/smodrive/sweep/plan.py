@@ -103,10 +103,30 @@ def check_runs(spec: SweepSpec, runs: list[Run]) -> None:
     if not runs:
         return
     first = runs[0].point
+
+    def values(a):
+        return (a.values if a.kind != "draw" or spec.sample == "product"
+                else sorted({r.point[a.name] for r in runs})[::max(1, len(runs) // 50)])
+
+    def check(name, v, ch, others=""):
+        try:
+            s = apply_changes(spec.base, ch)
+            s.check_controller()
+        except ParameterError as exc:
+            raise ParameterError(f"axis {name} = {v!r}{others}: {exc}") from None
+        if s.duration < spec.window[1]:
+            raise ParameterError(f"axis {name} = {v!r}{others}: the run ends at duration = "
+                                 f"{s.duration:g} s, before the end of sweep.window = "
+                                 f"{list(spec.window)} s, where the metrics are taken")
+
+    # (each axis's values on the base alone first: a value bad by itself is named with its own
+    # axis, not with the axis whose loop met it at the others' first values)
+    for a in spec.axes:
+        for v in values(a):
+            check(a.name, v, axis_changes(a, v, spec.base))
     seen: set[str] = set()
     for a in spec.axes:
-        for v in (a.values if a.kind != "draw" or spec.sample == "product"
-                  else sorted({r.point[a.name] for r in runs})[::max(1, len(runs) // 50)]):
+        for v in values(a):
             pt = {**first, a.name: v}
             ch: dict = {}
             for b in spec.axes:
@@ -115,10 +135,8 @@ def check_runs(spec: SweepSpec, runs: list[Run]) -> None:
             if key in seen:
                 continue
             seen.add(key)
-            try:
-                apply_changes(spec.base, ch).check_controller()
-            except ParameterError as exc:
-                raise ParameterError(f"axis {a.name} = {v!r}: {exc}") from None
+            check(a.name, v, ch, " (the other axes at their first values: " + ", ".join(
+                f"{b.name} = {first.get(b.name)!r}" for b in spec.axes if b is not a) + ")")
     if spec.seeds:
         try:
             apply_changes(spec.base, dotted(spec.seed_key, max(spec.seeds)))

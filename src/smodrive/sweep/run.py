@@ -143,6 +143,9 @@ def start_client(scheduler: str | None = None, workers: int | None = None):
             return Client(scheduler, timeout="20s"), None
         except (OSError, TimeoutError) as exc:
             raise ParameterError(f"--scheduler {scheduler}: cannot connect ({exc})") from None
+        except ValueError as exc:  # (an address distributed cannot parse: "garbage")
+            raise ParameterError(f"--scheduler {scheduler}: not a scheduler address "
+                                 f"(tcp://host:port): {exc}") from None
     n = workers or _cores()
     if not 1 <= n <= 1024:
         raise ParameterError(f"--workers {n} is outside its valid range [1, 1024]")
