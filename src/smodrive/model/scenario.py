@@ -19,6 +19,10 @@ from typing import Any
 
 from . import derive
 from .fields import LCL_TABLE_RPM, RPM, ParameterError, Profile, _Validated, flag, num
+
+#: a rated speed within this share of the LCL observers' tables leaves room for a step's
+#: overshoot (yao2022's motor, rated 100 kr/min: 0.91 of them)
+LCL_TABLE_MARGIN = 0.95
 from .pars import (
     AdcCfg,
     ControllerCfg,
@@ -283,6 +287,17 @@ class Scenario(_Validated):
                 f"controller.L_s_hat, lcl.C1 x controller.C1_hat_ratio) resonates at f_res = "
                 f"{f_res:g} Hz, which the sampling must resolve (Nyquist)")
         lim = LCL_TABLE_RPM * RPM
+        if self.motor.w_M_N > LCL_TABLE_MARGIN * lim:
+            # (an invented 150 kr/min turbine motor designed without a word, then every run at
+            # rated speed refused; one rated 110 kr/min overshot its step to 115.7 kr/min, past
+            # where the estimate stops, and lost the rotor)
+            warnings.warn(
+                f"{self.name}: motor.w_M_N = {self.motor.w_M_N / RPM:g} r/min is beyond "
+                f"{LCL_TABLE_MARGIN:g} of the LCL observers' tables, which cover "
+                f"[{-LCL_TABLE_RPM:g}, {LCL_TABLE_RPM:g}] r/min (smodrive.model.LCL_TABLE_RPM): a "
+                "reference beyond them is refused, and a step's overshoot near their edge leaves "
+                "them (the speed estimate stops there); this motor cannot be run up to its rated "
+                "speed on lcl_smo_pll or lcl_linear", UserWarning, stacklevel=2)
         for name, verb, values in (("w_M0", "=", (self.w_M0,)),
                                    ("w_M_ref", "reaches", self.w_M_ref.y)):
             w = max(values, key=abs)
