@@ -242,6 +242,39 @@ def test_same_metrics_on_one_and_two_workers(tmp_path):
     assert (tmp_path / "w1" / "maps" / "lines.png").stat().st_size > 10_000
 
 
+def test_ctrl_c_stops_a_sweep_without_a_traceback(tmp_path):
+    """Ctrl-C in a terminal signals the whole process group: the sweep's
+    Dask workers printed two tracebacks (CancelledError, KeyboardInterrupt)
+    before "Aborted!". The workers now start with SIGINT ignored; the CLI
+    stops with "Aborted!", exit 1, no traceback (the interrupted sweep is
+    resumed by running it again: the test above)."""
+    src = small(tmp_path, duration=2.0, L_values="[0.5, 0.75, 1.0, 1.25, 1.5]", seeds=20,
+                plots=False)
+    out = tmp_path / "out"
+    env = {**os.environ, "PYTHONPATH": str(Path(sw.__file__).resolve().parents[2])
+           + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    # (SIGINT at its default, as in a terminal's foreground job; a background job of a
+    # non-interactive shell, and so a test's child, may start with it ignored)
+    proc = subprocess.Popen([sys.executable, "-m", "smodrive.cli", "sweep", str(src), "--out",
+                             str(out), "--workers", "2"], env=env, start_new_session=True,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        t_end = time.time() + 60
+        while time.time() < t_end and not list((out / "runs").glob("part-*.parquet")):
+            assert proc.poll() is None, "the sweep ended before it was interrupted"
+            time.sleep(0.005)
+        os.killpg(proc.pid, signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+    assert proc.returncode == 1
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
+    assert "Aborted" in err
+
+
 def test_killed_sweep_resumes_with_the_missing_runs_only(tmp_path):
     """A sweep killed (SIGKILL to the CLI and its cluster) after some batches:
     the same command again computes exactly the runs that have no row."""

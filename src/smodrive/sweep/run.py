@@ -10,6 +10,8 @@ import fcntl
 import hashlib
 import logging
 import os
+import signal
+import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -149,8 +151,18 @@ def start_client(scheduler: str | None = None, workers: int | None = None):
     n = workers or _cores()
     if not 1 <= n <= 1024:
         raise ParameterError(f"--workers {n} is outside its valid range [1, 1024]")
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                           dashboard_address=":0", silence_logs=logging.CRITICAL)
+    # (the workers start with SIGINT ignored, which a process keeps across exec, as a mask it
+    # does not: a Ctrl-C in the terminal reaches the whole process group, and each worker
+    # printed its KeyboardInterrupt's traceback; the sweep itself stops, closing the cluster,
+    # and a rerun resumes it. One pressed in the 2-3 s the cluster takes to start is lost)
+    main = threading.current_thread() is threading.main_thread()
+    before = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    try:
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               dashboard_address=":0", silence_logs=logging.CRITICAL)
+    finally:
+        if main:
+            signal.signal(signal.SIGINT, before)
     return Client(cluster), cluster
 
 
