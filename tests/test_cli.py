@@ -396,3 +396,12 @@ def test_options_that_do_nothing_where_given_are_refused(tmp_path):
     assert res.exit_code == 2 and "a folder, not a file" in res.output
     res = CliRunner().invoke(main, ["design", motor, "--header", str(tmp_path / "no" / "x.h")])
     assert res.exit_code == 2 and "does not exist" in res.output and ".tmp" not in res.output
+
+
+def test_design_shows_progress_while_it_designs_the_lcl_observers():
+    """`design` of an LCL scenario spends 10-20 s designing the observers at
+    each speed of their tables, and printed nothing meanwhile; a progress
+    line on stderr now names the phase."""
+    res = CliRunner().invoke(main, ["design", str(ROOT / "scenarios" / "lcl_speed_step.toml")])
+    assert res.exit_code == 0, res.output
+    assert "the LCL observers' design at each speed" in res.output

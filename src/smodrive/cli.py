@@ -571,7 +571,10 @@ def design(scenario: str, header: Path | None, name: str) -> None:
         t.add_row(r.name, f"{r.value:.6g}", r.unit, r.origin)
     Console(soft_wrap=True, width=160).print(t)
     if s.lcl is not None and s.controller.position in ("lcl_smo_pll", "lcl_linear"):
-        d = fw_header.lcl_design(s)
+        with _progress() as prog:  # (10-20 s for a new filter: cached per design after)
+            task = _task(prog, f"{s.name}: the LCL observers' design at each speed of its tables")
+            d = fw_header.lcl_design(s)
+            prog.update(task, completed=1)
         lo, hi, n = d["table_rpm"]
         click.echo(f"LCL observers: filter resonance {d['f_res_hz']:.5g} Hz (observer's model), "
                    f"PLL bandwidth {d['pll_bandwidth_hz']:.4g} Hz, tables designed at {n} speeds "
