@@ -392,11 +392,9 @@ def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
             import pyarrow  # noqa: F401
         except ImportError:
             _fail("--format parquet needs pyarrow: pip install pyarrow", 2)
-    ctx = click.get_current_context()
-    given = [f"--{n}" for n in ("seconds", "math", "cycles")
-             if ctx.get_parameter_source(n) is not click.core.ParameterSource.DEFAULT]
-    if given and not pil:
-        # (a plain run ran its scenario's whole duration, the options dropped without a word)
+    given = [f"--{n}" for n in ("seconds", "math", "cycles") if click.get_current_context()
+             .get_parameter_source(n) is not click.core.ParameterSource.DEFAULT]
+    if given and not pil:  # (they were dropped without a word)
         _fail(f"{', '.join(given)}: options of --pil (the controller on the emulated Cortex-M4F); "
               "add --pil, or leave them out (a plain run lasts the scenario's duration)", 2)
     s = _load(scenario)
@@ -551,8 +549,7 @@ def show(name: str) -> None:
 def design(scenario: str, header: Path | None, name: str) -> None:
     """Print the controller designed from the motor: each motor-specific value,
     derived (with its rule) or set; with --header, write it for firmware."""
-    if header is not None and (header.is_dir() or not header.parent.is_dir()):
-        # (before the design, not after it, naming the path given, not a temporary file)
+    if header is not None and (header.is_dir() or not header.parent.is_dir()):  # (before it)
         _fail(f"--header {header}: " + ("a folder, not a file" if header.is_dir() else
                                         f"the folder {header.parent} does not exist"), 2)
     s = _load(scenario)
