@@ -233,11 +233,8 @@ def test_run_profile_usual_runs_the_motor_sensorless_and_judges_it(tmp_path, mon
 
 
 #: an invented 320 V, 750 W servo (4 pole pairs, 1.5 ohm, 6 mH, 0.12 Wb, a load of 30 x its
-#: rotor's inertia) on a 250 V DC link, asked for rated speed, the rated brake on at 2 s
-LOW_DC_SERVO = """warm_start = false
-duration = 5.0
-w_M_ref_rpm = 3000.0
-[motor]
+#: rotor's inertia) on its 320 V DC link
+SERVO_320 = """[motor]
 R_s = 1.5
 L_s = 6e-3
 psi_r = 0.12
@@ -246,15 +243,19 @@ J = 3.72e-3
 P_N = 750.0
 w_M_N_rpm = 3000.0
 [inverter]
-u_dc = 250.0
+u_dc = 320.0
 t_dead = 1e-6
-[load]
+"""
+#: the same on a 250 V DC link, asked for rated speed sensorless, the rated brake on at 2 s
+LOW_DC_SERVO = ("warm_start = false\nduration = 5.0\nw_M_ref_rpm = 3000.0\n"
+                + SERVO_320.replace("u_dc = 320.0", "u_dc = 250.0") + """[load]
 T_brake = { t = [0, 2.0, 2.0], y = [0, 0, 2.38732] }
 [controller]
 current = "robust_dbpc"
 position = "smdo_emf"
 start = "if"
 """
+)
 
 
 def test_a_run_held_below_its_reference_by_the_dc_link_says_why(tmp_path):
@@ -292,20 +293,6 @@ def test_a_run_on_its_reference_has_no_off_reference(tmp_path):
     assert summary["off_reference"] is None
     assert abs(summary["speed_error_rel_last_20pct"]) < 0.02
     assert "off its reference" not in res.output
-
-
-SERVO_320 = """[motor]
-R_s = 1.5
-L_s = 6e-3
-psi_r = 0.12
-n_p = 4
-J = 3.72e-3
-P_N = 750.0
-w_M_N_rpm = 3000.0
-[inverter]
-u_dc = 320.0
-t_dead = 1e-6
-"""
 
 
 def test_bad_inputs_are_named_by_their_own_key(tmp_path):

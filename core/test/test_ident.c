@@ -83,6 +83,24 @@ static int run(const smd_ident_rs_params *p, smd_ident_rs_state *s, rl_plant *pl
     return k;
 }
 
+/* The two stators of step 1's tests: yang2018's Table I (2.25 ohm, 23.45 mH)
+ * and a 50 mohm, 0.5 mH one, behind 14.4 V and 2 V of inverter drop, at
+ * 100 us on 540 V, with `noise` A of ADC noise. */
+static const double R1[2] = {2.25, 0.05}, L1[2] = {23.45e-3, 0.5e-3}, U01[2] = {14.4, 2.0};
+
+static rl_plant stator(int c, double noise, uint32_t seed)
+{
+    rl_plant pl = {0};
+    pl.R = R1[c];
+    pl.L = L1[c];
+    pl.u_0 = U01[c];
+    pl.T = 1e-4;
+    pl.u_dc = 540.0;
+    pl.noise = noise;
+    pl.seed = seed;
+    return pl;
+}
+
 /* yang2018's Table I stator (2.25 ohm, 23.45 mH) on 540 V with 2 us of dead
  * time (u_0 = 4/3 t_d / T u_dc = 14.4 V), 0.02 A of noise, i_test 4 A; and a
  * 50 mohm, 0.5 mH stator with 2 V of drop and 0.05 A, i_test 20 A. R_s within
@@ -93,30 +111,22 @@ static int run(const smd_ident_rs_params *p, smd_ident_rs_state *s, rl_plant *pl
  * 14.4 V at most), the fit's R^2 above 0.9999, within 10 s. */
 static void test_rs_and_drop(void)
 {
-    const double Rs[2] = {2.25, 0.05}, Ls[2] = {23.45e-3, 0.5e-3}, U0[2] = {14.4, 2.0};
     const double noise[2] = {0.02, 0.05}, it[2] = {4.0, 20.0};
     int c;
     for (c = 0; c < 2; c++) {
         smd_ident_rs_params p;
         smd_ident_rs_state s;
         smd_ident_rs_config cfg = config(it[c]);
-        rl_plant pl = {0};
+        rl_plant pl = stator(c, noise[c], 12345u + (uint32_t)c);
         int n, bad;
-        pl.R = Rs[c];
-        pl.L = Ls[c];
-        pl.u_0 = U0[c];
-        pl.T = 1e-4;
-        pl.u_dc = 540.0;
-        pl.noise = noise[c];
-        pl.seed = 12345u + (uint32_t)c;
         CHECK_INT(smd_ident_rs_init(&p, &cfg), SMD_OK);
         n = run(&p, &s, &pl, &bad);
         printf("    R %.3f ohm: R_s %.5f (%+.3f %%), u_0 %.3f V (%+.2f %%), R^2 %.7f, %.2f s, peak %.2f A\n",
-               Rs[c], (double)s.R_s, 100.0 * ((double)s.R_s / Rs[c] - 1.0), (double)s.u_0,
-               100.0 * ((double)s.u_0 / U0[c] - 1.0), (double)s.r2, n * 1e-4, pl.i_peak);
+               R1[c], (double)s.R_s, 100.0 * ((double)s.R_s / R1[c] - 1.0), (double)s.u_0,
+               100.0 * ((double)s.u_0 / U01[c] - 1.0), (double)s.r2, n * 1e-4, pl.i_peak);
         CHECK_INT(s.outcome, SMD_IDENT_OK);
-        CHECK(fabs((double)s.R_s / Rs[c] - 1.0) < 0.005);
-        CHECK(fabs((double)s.u_0 / U0[c] - 1.0) < 0.01);
+        CHECK(fabs((double)s.R_s / R1[c] - 1.0) < 0.005);
+        CHECK(fabs((double)s.u_0 / U01[c] - 1.0) < 0.01);
         CHECK((double)s.r2 > 0.9999);
         CHECK(n * 1e-4 < 10.0);
         CHECK_INT(bad, 0);
@@ -171,32 +181,24 @@ static void test_outcomes(void)
  * sensor that sees it, 107 A); the zero vector after. */
 static void test_sensor_range(void)
 {
-    const double Rs[2] = {2.25, 0.05}, Ls[2] = {23.45e-3, 0.5e-3}, U0[2] = {14.4, 2.0};
     const double it[2] = {4.0, 20.0};
     int c;
     for (c = 0; c < 2; c++) {
         smd_ident_rs_params p;
         smd_ident_rs_state s;
         smd_ident_rs_config cfg = config(it[c]);
-        rl_plant pl = {0};
+        rl_plant pl = stator(c, 0.02, 99u + (uint32_t)c);
         smd_real d[3];
         int n, bad;
-        pl.R = Rs[c];
-        pl.L = Ls[c];
-        pl.u_0 = U0[c];
-        pl.T = 1e-4;
-        pl.u_dc = 540.0;
-        pl.noise = 0.02;
-        pl.seed = 99u + (uint32_t)c;
         pl.clip = 0.7 * it[c];
         CHECK_INT(smd_ident_rs_init(&p, &cfg), SMD_OK);
         n = run(&p, &s, &pl, &bad);
         printf("    R %.3f ohm, sensor range %.1f A, i_test %.0f A: outcome %d after %.2f s, "
-               "true current at most %.2f A\n", Rs[c], pl.clip, it[c], s.outcome, n * 1e-4,
+               "true current at most %.2f A\n", R1[c], pl.clip, it[c], s.outcome, n * 1e-4,
                pl.i_peak);
         CHECK_INT(s.outcome, SMD_IDENT_SENSOR_RANGE);
         CHECK_INT(s.phase, SMD_IDENT_FAILED);
-        CHECK(pl.i_peak < pl.clip + 3.0 * (311.0 / 200.0) / Rs[c]);
+        CHECK(pl.i_peak < pl.clip + 3.0 * (311.0 / 200.0) / R1[c]);
         CHECK(c == 1 || pl.i_peak < 2.0 * it[c]);
         CHECK_INT(bad, 0);
         CHECK_INT(smd_ident_rs_step(&p, &s, R(0.0), R(0.0), R(540.0), d), SMD_ERR_FAULT);

@@ -11,7 +11,7 @@ import numpy as np
 
 from ..engine import FAULT_BITS, LATCHED_FAULTS
 from ..model import RPM
-from .metrics import operating_point
+from .metrics import HOLD_SHARE, operating_point
 
 
 def _phase_end(s, r) -> str:
@@ -46,7 +46,7 @@ def _final_fault_t(r) -> float | None:
 OFF_REFERENCE = 0.02
 
 
-def off_reference(s, r, summary: dict[str, Any]) -> str | None:
+def off_reference(s, summary: dict[str, Any]) -> str | None:
     """Why a run that ends without a fault ends away from its speed
     reference, or None (no speed loop, a fault, a reference that still
     changes or ramps in the last 20 % of the run, or within OFF_REFERENCE):
@@ -73,10 +73,10 @@ def off_reference(s, r, summary: dict[str, Any]) -> str | None:
     if summary["phase_end"] == "forced":
         why = (f"it ends on its forced start (I/f), below the handover speed "
                f"controller.w_M_handover = {c.w_M_handover / RPM:.4g} r/min, open loop")
-    elif summary["voltage_limit_share_last_20pct"] > 0.2:
+    elif summary["voltage_limit_share_last_20pct"] > HOLD_SHARE:
         why = ("its voltage is on the modulator's limit: the reference or the load is beyond "
                "what inverter.u_dc reaches")
-    elif summary["current_limit_share_last_20pct"] > 0.2:
+    elif summary["current_limit_share_last_20pct"] > HOLD_SHARE:
         why = "its current is at controller.i_max: the load is beyond the drive's torque"
     else:
         why = "its speed loop has not settled (controller.speed_bw, or the load's inertia)"
@@ -133,5 +133,5 @@ def run_summary(s, r, plan) -> dict[str, Any]:
         "faults_expected": bool(s.faults_expected),
         "log": plan.as_dict(),
     }
-    out["off_reference"] = off_reference(s, r, out)
+    out["off_reference"] = off_reference(s, out)
     return out
