@@ -9,10 +9,14 @@ breakdowns of issue 22 were measured. Usage:
     python benchmarks/profile_m4.py --list
     python benchmarks/profile_m4.py "drive robust_dbpc + smdo_emf, supervision / 4" \\
         [--math fast] [--fixed yang2018] [--top 40] [--lines 40] [--worst 3]
+        [--probe control|law]
 
 --fixed PAPER builds the composition fixed at compile time
 (smodrive.firmware.FIXED[PAPER], the cycle table's fixed rows); --math is
-the build's math (fmath: the exact build, fast, libm).
+the build's math (fmath: the exact build, fast, libm); --probe a measurement
+build of smd_drive.c (control: the step's control law alone, without its input
+checks, kept inputs, duties' check, state check and supervision; law: also
+without the speed PI).
 """
 
 from __future__ import annotations
@@ -29,6 +33,11 @@ from smodrive.firmware import FIXED, MATH_DEFINES, TargetError, build
 from smodrive.firmware import cycles as C
 from smodrive.firmware.vectors import write_vectors
 from smodrive.scenarios import target_cases
+
+
+#: smd_drive.c's measurement builds (issue 22's floor: docs/firmware.md)
+PROBES = {"control": ("-DSMD_PROBE_CONTROL_ONLY",),
+          "law": ("-DSMD_PROBE_CONTROL_ONLY", "-DSMD_PROBE_NO_SPEED_PI")}
 
 
 def _chains(elf: Path, pcs: list[int], depth: int = 3) -> tuple[dict, dict]:
@@ -66,6 +75,10 @@ def main() -> None:
     ap.add_argument("--top", type=int, default=40, help="rows of the chain and class tables")
     ap.add_argument("--lines", type=int, default=30, help="rows of the source-line table")
     ap.add_argument("--worst", type=int, default=0, help="the N slowest calls against the median")
+    ap.add_argument("--probe", choices=sorted(PROBES),
+                    help="a measurement build, never a firmware: control (the control law "
+                         "without the checks and the supervision), law (also without the "
+                         "speed PI)")
     args = ap.parse_args()
     cases, _ = target_cases.cycle_cases(150)
     names = [c.name for c in cases if c.name.startswith("drive")]
@@ -75,7 +88,7 @@ def main() -> None:
     if args.case not in names:
         sys.exit(f"error: no case {args.case!r}; --list prints the names")
     case = next(c for c in cases if c.name == args.case)
-    extra = tuple(FIXED[args.fixed]) if args.fixed else ()
+    extra = (tuple(FIXED[args.fixed]) if args.fixed else ()) + PROBES.get(args.probe, ())
     with tempfile.TemporaryDirectory(prefix="smd_prof_") as tmp:
         work = Path(tmp)
         vec = work / "vectors.bin"
@@ -91,7 +104,8 @@ def main() -> None:
             sys.exit(f"error: {str(e).splitlines()[0]} (make toolchain installs the M4F tools)")
     n = len(wins)
     ram = [w.cycles[1] for w in wins]
-    print(f"{args.case}, {args.math} build{', fixed ' + args.fixed if args.fixed else ''}: "
+    print(f"{args.case}, {args.math} build{', fixed ' + args.fixed if args.fixed else ''}"
+          f"{', probe ' + args.probe if args.probe else ''}: "
           f"{n} calls, mean {statistics.mean(ram):.1f}, worst {max(ram)} cycles (code in RAM)")
     by_chain, by_class, by_line = (collections.Counter() for _ in range(3))
     for d in prof:

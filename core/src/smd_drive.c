@@ -1102,9 +1102,15 @@ static void current_reference(const smd_drive_params *p, smd_drive_state *s,
             s->i_dq_ref.re += smd_rls_injection(&p->rls, &s->rls);
         }
         if (D_SPEED_LOOP(p) && !s->torque_in) {
+#if defined(SMD_PROBE_NO_SPEED_PI)
+            /* (a measurement: the input's q current, no speed PI) */
+            (void)x;
+            s->i_dq_ref.im = in->i_dq_ref.im;
+#else
             if (s->count == 0) {
                 s->i_dq_ref.im = smd_pi_step(&p->speed_pi, &s->speed_pi, x->w_ref - x->w_k);
             }
+#endif
             /* (count + 1) mod speed_decimation, without the division */
             s->count = s->count + 1 >= p->speed_decimation ? 0 : s->count + 1;
         } else {
@@ -1898,6 +1904,16 @@ smd_status smd_drive_step(const smd_drive_params *p, smd_drive_state *s, const s
     /* (first: the fast build's divide runs while the integer checks below
      * do, VDIV beside the integer pipeline) */
     inv_u_dc = smd_svm_inv_dc(in->u_dc);
+#if defined(SMD_PROBE_CONTROL_ONLY)
+    /* A measurement, never a firmware (benchmarks/profile_m4.py --probe):
+     * the control law alone, without the input checks, the kept inputs, the
+     * duties' check, the state's finiteness and the supervision (issue 22's
+     * floor, docs/firmware.md) */
+    (void)held, (void)now, (void)plain, (void)theta0, (void)w0, (void)i_q0, (void)use;
+    out->fault = 0u;
+    out->pwm_off = 0;
+    return control(p, s, in, out, inv_u_dc);
+#endif
     T = p->T_sp;
     theta0 = s->theta_k;
     w0 = s->w_k;
