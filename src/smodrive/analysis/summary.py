@@ -46,6 +46,27 @@ def _final_fault_t(r) -> float | None:
 OFF_REFERENCE = 0.02
 
 
+def _slew_end(s, n: int = 4000) -> float:
+    """When the slew-limited speed reference (controller.a_M_ref, from the
+    initial speed w_M0, as the core's starts) last arrives at the reference,
+    to duration / n; 0 without the slew limit. (A constant reference of 1e7
+    r/min, 1,385 s of ramp at a_M_ref, had counted as reached at once: its
+    run, still on its ramp, was said to have a loop that had not settled.)"""
+    a = s.controller.a_M_ref
+    if not a:
+        return 0.0
+    dt = s.duration / n
+    w, end, step = s.w_M0, 0.0, a * dt
+    for k in range(n + 1):
+        y = s.w_M_ref(k * dt)
+        if abs(y - w) > step:
+            w += math.copysign(step, y - w)
+            end = (k + 1) * dt
+        else:
+            w = y
+    return end
+
+
 def off_reference(s, summary: dict[str, Any]) -> str | None:
     """Why a run that ends without a fault ends away from its speed
     reference, or None (no speed loop, a fault, a reference that still
@@ -64,7 +85,7 @@ def off_reference(s, summary: dict[str, Any]) -> str | None:
     # (the reference's last change, and its slew-limited ramp after it)
     t_change, step = max(((t1, abs(b - a)) for t1, a, b in zip(ref.t[1:], ref.y, ref.y[1:])
                           if a != b), default=(0.0, 0.0))
-    if t_change + (step / c.a_M_ref if c.a_M_ref else 0.0) > t0:
+    if t_change + (step / c.a_M_ref if c.a_M_ref else 0.0) > t0 or _slew_end(s) > t0:
         return None
     err = summary["speed_error_rpm_last_20pct"] * RPM
     scale = max(abs(ref.y[-1]), 0.1 * s.motor.w_M_N)

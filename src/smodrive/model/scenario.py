@@ -17,7 +17,7 @@ import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
-from . import derive
+from . import derive, reach
 from .fields import LCL_TABLE_RPM, RPM, ParameterError, Profile, _Validated, flag, num
 
 #: a rated speed within this share of the LCL observers' tables leaves room for a step's
@@ -272,6 +272,8 @@ class Scenario(_Validated):
                 f"motor.psi_r = 0.0 with controller.position = {c.position!r}: a machine "
                 "without magnet flux has no back-EMF to estimate the angle from; motor.psi_r "
                 "must be above 0 (or choose position = 'encoder')")
+        for msg in reach.check_reach(self):
+            warnings.warn(f"{self.name}: {msg}", UserWarning, stacklevel=3)
         if c.position not in ("lcl_smo_pll", "lcl_linear") or self.lcl is None:
             return
         # the observers' model: lcl.L1, lcl.L2o + L_s_hat, C1_hat_ratio lcl.C1 (eq. (1)-(3))
