@@ -26,7 +26,9 @@ SUMMARY_KEYS = {"name", "samples", "status", "speed_rpm_mean_last_20pct",
                 # 2026-11-27: the operating point's limits
                 "voltage_limit_share_last_20pct", "current_limit_share_last_20pct",
                 # 2026-11-28: why a run without a fault ends off its reference (null: it does not)
-                "off_reference"}
+                "off_reference",
+                # 2026-11-28: what the drive did before its first fault (an overload)
+                "fault_context"}
 
 
 def _run(src: Path, out: Path) -> dict:

@@ -454,11 +454,11 @@ def run(scenario: str, out: Path, log_budget: int, pil: bool, seconds: float,
     click.echo(_json(summary), nl=False)  # stdout: the one thing a program reads
     f = r.faults
     if f.t_first is not None:
-        what = ", ".join(summary["first_fault"])
+        what, ctx = ", ".join(summary["first_fault"]), summary["fault_context"]
         if f.ends_in_fault and not s.faults_expected:
             _fail(f"the run ends in a fault: {', '.join(summary['final_fault'])} (first fault: "
-                  f"{what} at t = {f.t_first:.6g} s); the outputs are in {out}. If the "
-                  "scenario tests this fault, set faults_expected = true in it", 1)
+                  f"{what} at t = {f.t_first:.6g} s{'; ' + ctx if ctx else ''}); the outputs are "
+                  f"in {out}. If the scenario tests this fault, set faults_expected = true in it", 1)
         _say(f"faults: first {what} at t = {f.t_first:.6g} s"
              + ("" if not f.ends_in_fault else " (expected by the scenario)"))
     if profile is not None:

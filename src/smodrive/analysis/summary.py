@@ -11,7 +11,7 @@ import numpy as np
 
 from ..engine import FAULT_BITS, LATCHED_FAULTS
 from ..model import RPM
-from .metrics import HOLD_SHARE, operating_point
+from .metrics import HOLD_SHARE, LIMIT_TOL, _limit_share, _voltage_share, operating_point, window_slice
 
 
 def _phase_end(s, r) -> str:
@@ -108,6 +108,44 @@ def off_reference(s, summary: dict[str, Any]) -> str | None:
             f"{c.w_M_track / RPM:.4g} r/min): {why}")
 
 
+#: the stretch before a run's first fault that fault_context reads, s
+FAULT_WINDOW = 0.2
+
+
+def fault_context(s, r) -> str | None:
+    """What the drive was doing in the FAULT_WINDOW before its first fault,
+    when that names the cause better than the fault itself: its current
+    reference on controller.i_max, or its voltage on the modulator's limit,
+    in more than HOLD_SHARE of the samples; None otherwise (no fault, too
+    few samples). An invented servo braked beyond its torque ended in
+    speed_tracking, and an overloaded sensorless drive in start_failed (a
+    lost lock, then an I/f restart that cannot carry the load), each named
+    by the fault the overload led to, not by the overload."""
+    t1 = r.faults.t_first
+    if t1 is None:
+        return None
+    t0 = max(float(r.t[0]), t1 - FAULT_WINDOW)
+    m = window_slice(r, t0, t1)
+    if m.stop - m.start < 2:
+        return None
+    c, mot = s.controller, s.motor
+    w = r["w_M"][m] / RPM
+    fell = f"; the speed went from {w[0]:.5g} to {w[-1]:.5g} r/min"
+    i_share = _limit_share(r["i_d_ref"][m], r["i_q_ref"][m], (1.0 - LIMIT_TOL) * c.i_max)
+    if i_share > HOLD_SHARE:
+        return (f"in the {t1 - t0:.3g} s before the first fault its current reference was on "
+                f"controller.i_max = {c.i_max:.4g} A in {100 * i_share:.0f} % of the samples"
+                f"{fell}: the load asked for more than the drive's torque at i_max, "
+                f"1.5 n_p psi_r i_max = {1.5 * mot.n_p * mot.psi_r * c.i_max:.4g} Nm (an overload)")
+    u_share = _voltage_share(r["u_cmd_alpha"][m], r["u_cmd_beta"][m], s.inverter.u_dc,
+                             s.inverter.svm_limit == "hexagon")
+    if u_share > HOLD_SHARE:
+        return (f"in the {t1 - t0:.3g} s before the first fault its voltage was on the "
+                f"modulator's limit in {100 * u_share:.0f} % of the samples{fell}: the speed or "
+                "the load asked for more than inverter.u_dc reaches")
+    return None
+
+
 def run_summary(s, r, plan) -> dict[str, Any]:
     """summary.json of a run: means over the last 20 % of the run (at least
     the last logged row), the control samples simulated and how the log was
@@ -122,7 +160,9 @@ def run_summary(s, r, plan) -> dict[str, Any]:
     and a current reference on controller.i_max
     (:func:`smodrive.analysis.metrics.operating_point`); ``off_reference``:
     why a run without a fault ends away from its speed reference (null when
-    it does not: :func:`off_reference`)."""
+    it does not: :func:`off_reference`); ``fault_context``: what the drive was
+    doing before its first fault when that names its cause (an overload, the
+    voltage limit; null otherwise: :func:`fault_context`)."""
     i0 = min(int(np.searchsorted(r.t, 0.8 * s.duration)), r.data.shape[0] - 1)
     op = operating_point(r, float(r.t[i0]), math.inf)
     last = dataclasses.replace(r, data=r.data[i0:])  # a view of those rows
@@ -155,4 +195,5 @@ def run_summary(s, r, plan) -> dict[str, Any]:
         "log": plan.as_dict(),
     }
     out["off_reference"] = off_reference(s, out)
+    out["fault_context"] = fault_context(s, r)
     return out

@@ -1,0 +1,46 @@
+"""What the drive was doing before its first fault (summary.json's
+``fault_context``, analysis.summary.fault_context): an overload is named as
+one, not only by the fault it led to."""
+
+from __future__ import annotations
+
+import json
+
+from click.testing import CliRunner
+
+from smodrive.cli import main
+
+from test_reach import SERVO_320
+
+#: the invented 320 V servo sensorless at 1,500 r/min, braked from 2 s on; its derived
+#: i_max is 7.813 A, a torque of 1.5 n_p psi_r i_max = 1.5 x 4 x 0.12 x 7.813 = 5.625 Nm
+BRAKED = ("warm_start = false\nduration = 4.0\nw_M_ref_rpm = 1500.0\n" + SERVO_320 +
+          "[load]\nT_brake = { t = [0, 2.0, 2.0], y = [0, 0, BRAKE] }\n"
+          "[controller]\ncurrent = \"robust_dbpc\"\nposition = \"smdo_emf\"\nstart = \"if\"\n")
+
+
+def _run(tmp_path, brake: float):
+    src = tmp_path / f"braked_{brake:g}.toml"
+    src.write_text(BRAKED.replace("BRAKE", repr(brake)))
+    out = tmp_path / f"o_{brake:g}"
+    res = CliRunner().invoke(main, ["run", str(src), "--out", str(out)])
+    return res, json.loads((out / "summary.json").read_text())
+
+
+def test_an_overload_is_named_as_one(tmp_path):
+    """A brake of 6 Nm, 7 % beyond the 5.625 Nm the drive gives at i_max:
+    the speed falls with the current reference on i_max, and the run ends
+    in a fault (speed_tracking); its error and summary say that the current
+    was on i_max before it, with the torque it gives: an overload."""
+    res, summary = _run(tmp_path, 6.0)
+    assert res.exit_code == 1 and summary["ends_in_fault"], res.output
+    ctx = summary["fault_context"]
+    assert ctx and "controller.i_max = 7.813 A" in ctx and "= 5.625 Nm (an overload)" in ctx
+    assert "(an overload)" in res.output and "Traceback" not in res.output
+
+
+def test_a_load_within_the_torque_has_no_fault_context(tmp_path):
+    """A brake of 2 Nm (0.36 of the 5.625 Nm): no fault, no context."""
+    res, summary = _run(tmp_path, 2.0)
+    assert res.exit_code == 0 and not summary["first_fault"], res.output
+    assert summary["fault_context"] is None
