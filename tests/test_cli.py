@@ -332,6 +332,25 @@ def test_identify_refuses_an_out_file_in_a_missing_folder_before_it_runs(tmp_pat
     assert "commissioning" not in res.output  # (nothing ran)
 
 
+def test_identify_without_a_dc_link_names_it_and_claims_no_measurement(tmp_path):
+    """The servo on a DC link of 1e-9 V: step 1's search stops at its limit,
+    u_dc / sqrt 3 = 5.77e-10 V, with no current (no_current, exit 1). It
+    blamed a missing motor, an open phase or a high R_s; it now gives the
+    limit and inverter.u_dc. The file it writes had an empty uncertainty
+    list and called the scenario's motor the measured one; it now says that
+    nothing in it was measured."""
+    f = tmp_path / "m.toml"
+    f.write_text(SERVO_320.replace("u_dc = 320.0", "u_dc = 1e-9"))
+    out = tmp_path / "x.toml"
+    res = CliRunner().invoke(main, ["identify", str(f), "--out", str(out)])
+    assert res.exit_code == 1 and "no_current" in res.output, res.output
+    assert "its limit was 5.77e-10 V, inverter.u_dc / sqrt 3 with inverter.u_dc = 1e-09 V" \
+        in res.output
+    head = out.read_text()
+    assert "Nothing in this file was measured" in head
+    assert "Uncertainty" not in head and "is the measured one" not in head
+
+
 TINY_SWEEP = """[sweep]
 title = "tiny"
 base = "drive.pi_encoder"

@@ -93,15 +93,18 @@ def identified_toml(name: str, s, c) -> str:
                if motor else "# [motor] nothing measured (the record below says why): the "
                "scenario's values\n") +
             "# (the nameplate's: pole pairs, rated power and speed; the inverter and ADC).\n"
-            "# Uncertainty (each test's accuracy as measured, docs/commissioning.md): "
-            + ", ".join(f"{k} +-{100 * v:g} %" for k, v in unc.items()) + ",\n"
-            "# with current sensors whose gain is right within 0.5 % (currents read k times their\n"
-            "# value give R_s and L_s divided by k, J about k times: the drive cannot see it) and a free\n"
-            "# shaft (a drag on the bench is friction to step 4).\n"
-            "# This file's [motor] is the measured one: a run of it simulates the measured\n"
-            "# motor, not the one measured (tests/test_commission.py runs the true plant under\n"
-            "# the drive designed from the measurement).\n"
-            "# The tests' record:\n")
+            + (("# Uncertainty (each test's accuracy as measured, docs/commissioning.md): "
+                + ", ".join(f"{k} +-{100 * v:g} %" for k, v in unc.items()) + ",\n"
+                "# with current sensors whose gain is right within 0.5 % (currents read k times "
+                "their\n# value give R_s and L_s divided by k, J about k times: the drive cannot "
+                "see it) and a free\n# shaft (a drag on the bench is friction to step 4).\n"
+                "# This file's [motor] is the measured one: a run of it simulates the measured\n"
+                "# motor, not the one measured (tests/test_commission.py runs the true plant "
+                "under\n# the drive designed from the measurement).\n") if motor else
+               # (it had printed an empty uncertainty list and called the scenario's values
+               # the measured ones)
+               "# Nothing in this file was measured: a run of it simulates the scenario's motor.\n")
+            + "# The tests' record:\n")
     rec = "".join(f"#   {line}\n" for line in tomli_w.dumps(record).splitlines())
     return head + rec + "\n" + scenario_to_toml(measured)
 
@@ -170,8 +173,12 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
                    f"{1e6 * s.inverter.t_dead:.3g} us true)")
     else:
         click.echo(f"  R_s  not measured, {r.t:.2f} s")
+    # (the search's limit, smd_ident.c: an invented drive at inverter.u_dc = 1e-9 V was told
+    # of a missing motor, an open phase or a high R_s, not of its DC link)
+    lim = (f"; its limit was {s.inverter.u_dc / 3 ** 0.5:.3g} V, inverter.u_dc / sqrt 3 with "
+           f"inverter.u_dc = {s.inverter.u_dc:g} V" if r.outcome == "no_current" else "")
     click.echo(f"  fit  R^2 {r.r2:.6f}, residual {r.resid:.3g} V RMS: {r.outcome} "
-               f"({OUTCOME_TEXT.get(r.outcome, '')})")
+               f"({OUTCOME_TEXT.get(r.outcome, '')}{lim})")
     for x in (c.ld, c.lq):
         if x is not None:
             click.echo(f"  L_{x.axis}  {x.L:.5g} H measured, {s.motor.L_s:.5g} H true "
