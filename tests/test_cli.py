@@ -322,6 +322,18 @@ def test_bad_inputs_are_named_by_their_own_key(tmp_path):
     assert res.exit_code == 1 and "psi_r" in res.output
 
 
+def test_a_file_as_base_is_told_that_base_names_a_catalogue_scenario(tmp_path):
+    """`base = "motor.toml"` was answered with the catalogue's names only; a
+    name that ends in .toml is now told that base is not a file (a
+    catalogue name keeps the plain error)."""
+    for name, hint in (("motor.toml", True), ("yang2018.fig77", False)):
+        f = tmp_path / "b.toml"
+        f.write_text(f'base = "{name}"\n')
+        res = CliRunner().invoke(main, ["run", str(f), "--out", str(tmp_path / "o")])
+        assert res.exit_code == 2 and f"base = '{name}' is not in the catalogue" in res.output
+        assert ("base names a catalogue scenario, not a file" in res.output) == hint
+
+
 def test_identify_refuses_an_out_file_in_a_missing_folder_before_it_runs(tmp_path):
     """`identify --out missing/x.toml` ran the whole commissioning, then failed
     naming a temporary file; it now stops first, naming the folder."""

@@ -202,7 +202,10 @@ def _base(name: Any) -> Scenario:
         raise ParameterError(f"base = {name!r} must be a catalogue name (smodrive scenarios)")
     cat = catalogue()
     if name not in cat:
-        raise ParameterError(f"base = {name!r} is not in the catalogue (known: "
+        # (a file's name was answered with the catalogue's 24 names only)
+        hint = (": base names a catalogue scenario, not a file; copy that file's tables into "
+                "this one" if name.lower().endswith(".toml") else "")
+        raise ParameterError(f"base = {name!r} is not in the catalogue{hint} (known: "
                              f"{', '.join(sorted(cat))})")
     return cat[name]()
 
