@@ -52,6 +52,7 @@ from .model import (
     ParameterError,
     Profile,
     Scenario,
+    datasheet,
     derive,
     yang2018_mode,
 )
@@ -169,7 +170,8 @@ def _kwargs(cls: type, section: str, data: dict[str, Any]) -> dict[str, Any]:
                 raise ParameterError(
                     f"[{key}]: unknown table (tables: {', '.join(sorted(SECTIONS))}){where}")
             raise ParameterError(
-                f"{section}.{key}: unknown parameter (known: {', '.join(known)})")
+                f"{section}.{key}: unknown parameter (known: {', '.join(known)})"
+                + (datasheet.hint(key) if section == "motor" else ""))
         else:
             once(key, key)
             if key in profiles:
