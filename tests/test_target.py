@@ -9,6 +9,7 @@ missing tool fails these tests, it does not skip them."""
 from __future__ import annotations
 
 import dataclasses
+import importlib
 
 import numpy as np
 import pytest
@@ -17,6 +18,9 @@ from smodrive import firmware as T
 from smodrive.scenarios import catalogue
 from smodrive.firmware.cycles import _classify as classify
 from smodrive.scenarios.target_cases import standard_cases
+
+#: the PIL module (smodrive.firmware.pil is its function)
+pil_mod = importlib.import_module("smodrive.firmware.pil")
 
 LIBM_FUNCS = ("sin", "cos", "atan2", "exp", "expm1")
 
@@ -377,7 +381,7 @@ def test_the_example_firmware_links_the_core_into_ccm_sram(tmp_path):
 
 
 @pytest.mark.parametrize("math", ["fast"])
-def test_pil_counts_the_cycles_of_every_step(math, tmp_path):
+def test_pil_counts_the_cycles_of_every_step(math, tmp_path, monkeypatch):
     """`smodrive run --pil --cycles`: the PIL run of yang2018 Fig. 7(a)
     (sensorless robust DBPC, 0.03 s = 300 steps; the fast build: the exact
     build's PIL is test_processor_in_the_loop_is_identical's) is identical on
@@ -385,8 +389,21 @@ def test_pil_counts_the_cycles_of_every_step(math, tmp_path):
     Cortex-M4F: one window a step, worst >= 99th percentile >= mean, the
     flash's stalls on top, and a mean within 10 % of the cycle table's
     measure of the same drive (its steady phase of 150 recorded samples: the
-    PIL run includes the start, the code path is the same)."""
-    r = T.pil(catalogue()["yang2018.fig7a"](), 0.03, math=math, work=tmp_path, cycles=True)
+    PIL run includes the start, the code path is the same). Its progress
+    rises to 1, and is at 2/3 when the trace of the cycles starts."""
+    seen, at_trace = [], []
+    real = pil_mod.step_cycles
+
+    def traced(*a, **k):  # (the progress shown when the trace starts)
+        at_trace.append(seen[-1])
+        return real(*a, **k)
+
+    monkeypatch.setattr(pil_mod, "step_cycles", traced)
+    r = T.pil(catalogue()["yang2018.fig7a"](), 0.03, math=math, work=tmp_path, cycles=True,
+              progress=seen.append)
+    # the bar: rising to 1, and below it while the cycles are traced (it had stood at 100 %
+    # for the trace's seconds)
+    assert seen == sorted(seen) and seen[-1] == 1.0 and at_trace == [pytest.approx(2 / 3)]
     assert r.identical
     c = r.cycles
     assert c.calls == r.samples == 300 and c.paper == "yang2018"

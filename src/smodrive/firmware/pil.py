@@ -172,8 +172,10 @@ def pil(s, seconds: float, math: str = "fmath", progress=None,
     work = Path(work) if work else _cache_dir()
     work.mkdir(parents=True, exist_ok=True)
     ref_kind = "host" if math in ("fmath", "fast") else "sim"
-    half = (lambda f: progress(0.5 * f)) if progress else None
-    rest = (lambda f: progress(0.5 + 0.5 * f)) if progress else None
+    # (with the cycles, their trace is the last third: the bar had stood at 100 % for it)
+    span = 2.0 / 3.0 if cycles else 1.0
+    half = (lambda f: progress(0.5 * span * f)) if progress else None
+    rest = (lambda f: progress(span * (0.5 + 0.5 * f))) if progress else None
     ref = _closed_loop(s, n, ref_kind, math, work, half)
     tgt = _closed_loop(s, n, "m4", math, work, rest)
     row = None
@@ -181,6 +183,8 @@ def pil(s, seconds: float, math: str = "fmath", progress=None,
         # the same inputs replayed through the traced runner: every step's cost
         # (the run's inputs include whatever faults the scenario injects)
         row = step_cycles(tgt["case"], _paper_of(s), math, work)
+        if progress:
+            progress(1.0)
     wa = np.frombuffer(tgt["raw"], "<u4")
     wb = np.frombuffer(ref["raw"], "<u4")
     fa, fb = wa.view("<f4"), wb.view("<f4")
