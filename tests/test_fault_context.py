@@ -44,3 +44,44 @@ def test_a_load_within_the_torque_has_no_fault_context(tmp_path):
     res, summary = _run(tmp_path, 2.0)
     assert res.exit_code == 0 and not summary["first_fault"], res.output
     assert summary["fault_context"] is None
+
+
+#: an invented 700 V, 5 kW direct drive (14 pole pairs, 1.2 ohm, 15 mH, 0.75 Wb, J 0.5
+#: kg m^2) at 150 r/min, sensorless, a brake of 3 T_N (477.5 Nm) from 1.11 s; its derived i_max
+#: 23.81 A gives 1.5 x 14 x 0.75 x 23.81 = 375 Nm
+DIRECT_DRIVE = """warm_start = false
+duration = 1.6
+w_M_ref_rpm = 150.0
+[motor]
+R_s = 1.2
+L_s = 15e-3
+psi_r = 0.75
+n_p = 14
+J = 0.5
+P_N = 5000.0
+w_M_N_rpm = 300.0
+[inverter]
+u_dc = 700.0
+t_dead = 2e-6
+[load]
+T_brake = { t = [0, 1.1105, 1.1105], y = [0, 0, 477.465] }
+[controller]
+current = "robust_dbpc"
+position = "smdo_emf"
+start = "if"
+"""
+
+
+def test_a_stall_too_short_to_hold_the_current_limit_is_named_an_overload(tmp_path):
+    """The brake stops the rotor in 45 ms, its current on i_max for 18 % of
+    the 0.2 s before the first fault (below the share that names it); the
+    drive returns to I/f and fails its start against the brake
+    (start_failed). The load torque the simulation applied, 477.5 Nm against
+    the drive's 375 Nm, names the overload."""
+    src = tmp_path / "dd.toml"
+    src.write_text(DIRECT_DRIVE)
+    res = CliRunner().invoke(main, ["run", str(src), "--out", str(tmp_path / "o")])
+    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert res.exit_code == 1 and "start_failed" in summary["final_fault"], res.output
+    ctx = summary["fault_context"]
+    assert ctx and "the load's torque reached 477.5 Nm" in ctx and "= 375 Nm (an overload)" in ctx
