@@ -73,7 +73,7 @@ start = "if"
 
 
 def test_a_stall_too_short_to_hold_the_current_limit_is_named_an_overload(tmp_path):
-    """The brake stops the rotor in 45 ms, its current on i_max for 18 % of
+    """The brake stops the rotor in 45 ms, its current on i_max for 16 % of
     the 0.2 s before the first fault (below the share that names it); the
     drive returns to I/f and fails its start against the brake
     (start_failed). The load torque the simulation applied, 477.5 Nm against
@@ -85,3 +85,29 @@ def test_a_stall_too_short_to_hold_the_current_limit_is_named_an_overload(tmp_pa
     assert res.exit_code == 1 and "start_failed" in summary["final_fault"], res.output
     ctx = summary["fault_context"]
     assert ctx and "the load's torque reached 477.5 Nm" in ctx and "= 375 Nm (an overload)" in ctx
+
+
+def test_a_start_against_its_load_is_told_the_start_current_that_carries_it(tmp_path):
+    """The servo started sensorless against an opposing 3.3 Nm, 0.88 of the
+    3.75 Nm its derived i_start (5.208 A) gives: the I/f start pulls out
+    (start_failed). Its error gives the share and the i_start that carries
+    the load at START_CARRY (0.7) of its torque, 3.3 / (0.7 x 0.72) = 6.548 A;
+    with it, the start succeeds. (0.7 is measured: a 6.0 A start, 0.76,
+    pulls out.)"""
+    from smodrive.analysis.summary import START_CARRY
+
+    assert START_CARRY == 0.7
+    base = ("warm_start = false\nduration = 1.5\nw_M_ref_rpm = 1500.0\n" + SERVO_320 +
+            "[load]\nT_ext = 3.3\n[controller]\ncurrent = \"robust_dbpc\"\n"
+            "position = \"smdo_emf\"\nstart = \"if\"\n")
+    runs = {}
+    for name, extra in (("derived", ""), ("told", "i_start = 6.548\n"), ("less", "i_start = 6.0\n")):
+        src = tmp_path / f"{name}.toml"
+        src.write_text(base + extra)
+        runs[name] = CliRunner().invoke(main, ["run", str(src), "--out", str(tmp_path / name)])
+    out = runs["derived"].output
+    assert runs["derived"].exit_code == 1 and "start_failed" in out
+    assert "0.88 of the 3.75 Nm its current controller.i_start = 5.208 A gives" in out
+    assert "controller.i_start of 6.548 A or more (at most i_max = 7.813 A) starts it" in out
+    assert runs["told"].exit_code == 0, runs["told"].output
+    assert runs["less"].exit_code == 1 and "start_failed" in runs["less"].output
