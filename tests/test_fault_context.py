@@ -10,7 +10,7 @@ from click.testing import CliRunner
 
 from smodrive.cli import main
 
-from test_reach import SERVO_320
+from test_cli import SERVO_320
 
 #: the invented 320 V servo sensorless at 1,500 r/min, braked from 2 s on; its derived
 #: i_max is 7.813 A, a torque of 1.5 n_p psi_r i_max = 1.5 x 4 x 0.12 x 7.813 = 5.625 Nm

@@ -19,18 +19,8 @@ from smodrive.cli import main
 from smodrive.model import RPM, ParameterError
 from smodrive.scenario_io import scenario_from_dict
 
-SERVO_320 = """[motor]
-R_s = 1.5
-L_s = 6e-3
-psi_r = 0.12
-n_p = 4
-J = 3.72e-3
-P_N = 750.0
-w_M_N_rpm = 3000.0
-[inverter]
-u_dc = 320.0
-t_dead = 1e-6
-"""
+from test_cli import SERVO_320  # (the invented 320 V servo)
+
 #: the servo's limits, from its data: the electrical Nyquist speed pi / (n_p T_sp) at the
 #: default 100 us, 75,000 r/min; the no-load speed of its 320 V DC link, (320 / sqrt 3) /
 #: (n_p psi_r) = 384.9 rad/s, 3,676 r/min
