@@ -223,9 +223,10 @@ def test_negative_brake_torque_is_refused_naming_field_and_range(value, tmp_path
     (LCL + "[controller]\nL_s_hat = 1e-9\n", ("controller.L_s_hat",), ("motor.L_s",)),
     (LCL + "[lcl]\nC1 = 0.5\n[controller]\nC1_hat_ratio = 10.0\n",
      ("lcl.C1", "controller.C1_hat_ratio"), ()),
-    # L_dec left unset is derived from the estimate and the filter
-    (LCL + "[lcl]\nL1 = 6.0\nL2o = 6.0\n", ("controller.L_s_hat + lcl.L1 + lcl.L2o", "[0, 10] H"),
-     ()),
+    # L_dec left unset is derived from the estimate and the filter: the term the user wrote
+    # that takes most of the sum, its range the 10 H less the others (10 - 6 - 24e-6)
+    (LCL + "[lcl]\nL1 = 6.0\nL2o = 6.0\n", ("lcl.L1 = 6.0 H", "[1e-08, 3.99998] H"),
+     ("controller.L_s_hat + lcl.L1 + lcl.L2o =",)),
     # the old LCL schema: psi_m sets the flux of the speed-PI design too
     ('kind = "lcl"\nduration = 0.005\n[plant]\npsi_m = 0.0\n', ("plant.psi_m",),
      ("psi_r_pi",)),

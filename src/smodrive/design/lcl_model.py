@@ -108,8 +108,7 @@ class DesignPlant(_Validated):
         ``f_res = sqrt((L1 + L2) / (L1 L2 C1)) / (2 pi)``: the nonzero
         eigenvalues of the lossless 6x6 block of eq. (2).
         """
-        L1, L2, C1 = self.lcl.L1, self.L2, self.lcl.C1
-        return math.sqrt((L1 + L2) / (L1 * L2 * C1)) / (2.0 * math.pi)
+        return self.lcl.f_res(self.motor.L_s)
 
     def summary(self) -> str:
         """The values the design depends on, exactly (``repr`` of each float)."""

@@ -20,6 +20,7 @@ from .channels import (
 )
 from .marshal import (
                        TABLE_RPM,
+                       design_over_table,
                        drive_config,
                        lcl_observer_tables,
                        observer_tables,
@@ -40,6 +41,7 @@ from .run import (
 
 __all__ = ["CHANNELS", "CHANNEL_INFO", "CURRENT", "POSITION", "START", "LAWS", "PHASES",
            "FAULT_BITS", "LATCHED_FAULTS", "WARNING_FAULTS", "fault_names", "TABLE_RPM",
-           "drive_config", "plant_config", "profiles", "observer_tables", "lcl_observer_tables",
+           "design_over_table", "drive_config", "plant_config", "profiles", "observer_tables",
+           "lcl_observer_tables",
            "NO_FAULT", "FaultReport", "Result", "DEFAULT_LOG_BUDGET", "Engine", "LogPlan",
            "SimulationError", "controller_fields", "log_plan", "plant_fields", "simulate"]

@@ -8,6 +8,8 @@ from __future__ import annotations
 import ctypes as ct
 import dataclasses
 import functools
+import math
+import warnings
 
 import numpy as np
 
@@ -128,14 +130,75 @@ if packing_errors():
                       + "\n  ".join(packing_errors()))
 
 
-@functools.lru_cache(maxsize=8)
+#: how scipy's place_poles (Tits-Yang) says its eigenvector iteration stopped short
+NOT_CONVERGED = "Convergence was not reached"
+#: the inverter side's resonance a sample (w_1 T_sp) below which a design that stopped short
+#: is put down to lcl.L1 or lcl.C1: three times scipy's edge (about 0.03, yao2022's drive)
+W1T_MIN = 0.1
+
+
+def design_over_table(plant, design) -> tuple[dz.DesignTables, int]:
+    """The observers' design (:func:`smodrive.design.yao2022.design_tables`)
+    at every speed of TABLE_RPM, and how many of its pole placements stopped
+    short of a robust one: scipy warns once a placement (a 1 H lcl.L1: about
+    120 raw warnings), counted here and said once, naming the field, by
+    :func:`lcl_observer_tables`. Other warnings pass."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        t = dz.design_tables(plant, TABLE_RPM, design)
+    n = 0
+    for w in caught:
+        if issubclass(w.category, UserWarning) and str(w.message).startswith(NOT_CONVERGED):
+            n += 1
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return t, n
+
+
+def placement_warning(s: Scenario, n: int) -> str:
+    """The one warning for `n` pole placements of scenario `s`'s observer
+    design that stopped short (:func:`design_over_table`), naming the field
+    that leads there."""
+    f, c = s.lcl, s.controller
+    # step 3 reaches the filter's states through the capacitor only: its pair's
+    # controllability measured 0.7 (w_1 T_sp)^2, w_1 the inverter side's own resonance
+    # (1.0 at Table II, where w_1 T_sp = 1.2; scipy stops short below about 0.03)
+    C1 = f.C1 * c.C1_hat_ratio
+    w1T = s.T_sp / math.sqrt(f.L1 * C1)
+    ref = LclFilterPars()
+    if w1T >= W1T_MIN:
+        why = ("it is designed from T_sp, lcl.L1, lcl.L2o, lcl.C1 x controller.C1_hat_ratio, "
+               "controller.L_s_hat, controller.R_s_hat and controller.Q")
+    else:
+        key, value, unit, top = (  # the one further from Table II's
+            ("lcl.L1", f.L1, "H", s.T_sp ** 2 / (W1T_MIN ** 2 * C1))
+            if f.L1 / ref.L1 >= f.C1 / ref.C1
+            else ("lcl.C1", f.C1, "F", s.T_sp ** 2 / (W1T_MIN ** 2 * f.L1 * c.C1_hat_ratio)))
+        why = (f"{key} = {value!r} {unit} leads there: the observer reaches the filter's states "
+               "through the capacitor only, whose coupling within a sample falls as (w_1 "
+               "T_sp)^2, w_1 = 1 / sqrt(lcl.L1 lcl.C1 C1_hat_ratio) the inverter side's own "
+               f"resonance, here w_1 T_sp = {w1T:.3g} rad (yao2022 Table II: "
+               f"{50e-6 / math.sqrt(ref.L1 * ref.C1):.2g}); {key} at most {top:.3g} {unit} "
+               f"keeps w_1 T_sp at {W1T_MIN:g} or more")
+    return (f"{s.name}: the LCL observers' design did not converge to a robust pole placement "
+            f"(yao2022 step 3, eq. (21); scipy's place_poles) at {n} placements over the tables' "
+            f"{TABLE_RPM.size} speeds: the poles are placed (checked), but the closed loop's "
+            f"eigenvectors are ill-conditioned and its gains large; {why}")
+
+
 def observer_tables(plant, design) -> tuple[np.ndarray, np.ndarray, float, float]:
     """The LCL observers' tables for `plant`
     (:class:`smodrive.design.yao2022.DesignPlant`: motor, filter, T_sp),
     designed offline at every 1000 r/min of TABLE_RPM and packed in the C
     layouts: (models (n, N_MODEL) float32, linear observer (n, N_LIN)
     float32, w_min, dw)."""
-    t = dz.design_tables(plant, TABLE_RPM, design)
+    return _observer_tables(plant, design)[0]
+
+
+@functools.lru_cache(maxsize=8)
+def _observer_tables(plant, design):
+    """observer_tables, and the placements that stopped short (design_over_table)."""
+    t, n_short = design_over_table(plant, design)
     n = t.w.size
     m = np.zeros((n, _ffi.N_MODEL), dtype=np.float32)
     lin = np.zeros((n, _ffi.N_LIN), dtype=np.float32)
@@ -145,7 +208,7 @@ def observer_tables(plant, design) -> tuple[np.ndarray, np.ndarray, float, float
     if not (np.all(np.isfinite(m)) and np.all(np.isfinite(lin))):
         raise ParameterError("observer design produced non-finite matrices")
     m.flags.writeable = lin.flags.writeable = False
-    return m, lin, float(t.w[0]), float(t.w[1] - t.w[0])
+    return (m, lin, float(t.w[0]), float(t.w[1] - t.w[0])), n_short
 
 
 def lcl_observer_tables(s: Scenario, design=None):
@@ -173,7 +236,11 @@ def lcl_observer_tables(s: Scenario, design=None):
     est_lcl = dataclasses.replace(s.lcl, C1=s.lcl.C1 * c.C1_hat_ratio)
     design = design or dz.ObserverDesignPars(Q=tuple(c.Q))
     try:
-        return observer_tables(dz.DesignPlant(est_motor, est_lcl, s.T_sp), design)
+        plant = dz.DesignPlant(est_motor, est_lcl, s.T_sp)
+        out, n = _observer_tables(plant, design)
+        if n:
+            warnings.warn(placement_warning(s, n), UserWarning, stacklevel=2)
+        return out
     except (ValueError, ArithmeticError, np.linalg.LinAlgError) as exc:
         raise ParameterError(
             f"{s.name}: the LCL observers' design failed: {exc}. It is designed from T_sp = "

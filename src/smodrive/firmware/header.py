@@ -9,11 +9,13 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
+import warnings
 from typing import Any
 
 from ..design import cheader
 from ..design import yao2022 as dz
-from ..engine import TABLE_RPM, drive_config, lcl_observer_tables
+from ..engine import TABLE_RPM, design_over_table, drive_config, lcl_observer_tables
+from ..engine.marshal import placement_warning
 from ..model import ControllerCfg, LclFilterPars, ParameterError
 from ..model.derive import DERIVED_FIELDS
 from ..model.margins import TABLE1_SPEED_PM, sensorless_margin
@@ -99,7 +101,7 @@ def lcl_design(s: Any, build: bool = True) -> dict[str, Any]:
                              "design needs one")
     lo, hi = _lcl_c1_range(s)
     L2 = s.lcl.L2o + c.L_s_hat
-    f_res = math.sqrt((s.lcl.L1 + L2) / (s.lcl.L1 * L2 * s.lcl.C1 * c.C1_hat_ratio)) / (2 * math.pi)
+    f_res = s.lcl.f_res(c.L_s_hat, c.C1_hat_ratio)
     if not lo <= s.lcl.C1 <= hi:
         raise ParameterError(
             f"lcl.C1 = {s.lcl.C1!r} is outside its valid range [{lo:.4g}, {hi:g}] F for the LCL "
@@ -163,7 +165,9 @@ def drive_header(s: Any, name: str = "SMD") -> str:
         plant = dz.DesignPlant(est, dataclasses.replace(s.lcl, C1=s.lcl.C1 * c.C1_hat_ratio),
                                s.T_sp)
         lcl_design(s, build=False)  # the checks, with the fields named
-        tables = dz.design_tables(plant, TABLE_RPM, dz.ObserverDesignPars(Q=tuple(c.Q)))
+        tables, n_short = design_over_table(plant, dz.ObserverDesignPars(Q=tuple(c.Q)))
+        if n_short:  # one warning naming the field, not scipy's one a placement
+            warnings.warn(placement_warning(s, n_short), UserWarning, stacklevel=2)
         for k, v in (("Q1", c.Q[0]), ("Q2", c.Q[1]), ("BW_REL2", c.bw_rel[0]),
                      ("BW_REL3", c.bw_rel[1]), ("W_BP_MIN", c.w_M_bp_min * s.motor.n_p)):
             out.append(f"#define {name}_SMO_{k} {_c_num(v)}")

@@ -111,6 +111,20 @@ class LclFilterPars(_Validated):
     L2o: float = num(27.5e-6, 0.0, 10.0, "H", "machine-side filter inductance")
     C1: float = num(31.48e-6, 1e-10, 1.0, "F", "filter capacitance")
 
+    def f_res(self, L_s: float, C1_ratio: float = 1.0) -> float:
+        """The filter's resonance frequency (Hz) with the machine inductance
+        `L_s` behind L2o (yao2022 Table II: 5525 Hz), its capacitance taken
+        `C1_ratio` times (the observers' model: controller.C1_hat_ratio):
+        ``sqrt((L1 + L2) / (L1 L2 C1)) / (2 pi)``, ``L2 = L2o + L_s``, the
+        nonzero eigenvalues of the lossless eq. (2); inf for ``L2 = 0`` (no
+        machine-side inductance: the capacitor is shorted by the machine's EMF
+        source)."""
+        L1, L2, C1 = self.L1, self.L2o + L_s, self.C1 * C1_ratio
+        try:
+            return math.sqrt((L1 + L2) / (L1 * L2 * C1)) / (2.0 * math.pi)
+        except (ZeroDivisionError, OverflowError):  # values at the ends of their ranges
+            return math.inf
+
 
 @dataclass(frozen=True)
 class InverterCfg(_Validated):

@@ -17,7 +17,7 @@ import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
-from . import derive, reach
+from . import derive, lcl_bounds, reach
 from .fields import LCL_TABLE_RPM, RPM, ParameterError, Profile, _Validated, flag, num
 
 #: a rated speed within this share of the LCL observers' tables leaves room for a step's
@@ -161,6 +161,9 @@ class Scenario(_Validated):
             raise ParameterError(
                 "controller.position = 'smdo_emf' with the LCL filter: the SMDO's model "
                 "(yang2018 eq. (15)) has no filter; choose lcl_smo_pll, lcl_linear or encoder")
+        res = lcl_bounds.resonance_warning(self)
+        if res is not None:
+            warnings.warn(f"{self.name}: {res}", UserWarning, stacklevel=2)
         if c.rls_i_inj > 0.0 and c.position not in ("encoder", "smdo_emf"):
             raise ParameterError(
                 f"controller.rls_i_inj = {c.rls_i_inj!r} with position = {c.position!r}: the "
@@ -187,12 +190,12 @@ class Scenario(_Validated):
                     f"k_p_i = {k_p:g} V/A, k_i_i = {k_i:g} V/(A s), beyond the core's limits "
                     "1e4 and 1e9")
             if self.L_dec > 10.0:
-                # L_dec unset is derived: name what it is derived from
-                src = ("controller.L_dec" if c.L_dec is not None else "controller.L_s_hat"
-                       if self.lcl is None else "controller.L_s_hat + lcl.L1 + lcl.L2o")
-                raise ParameterError(
-                    f"{src} = {self.L_dec:g} H is outside the valid range [0, 10] H of the "
-                    "decoupling inductance (controller.L_dec)")
+                # L_dec unset is derived: name the key the user wrote (with the filter: the
+                # term of the sum that takes most of it, lcl_bounds)
+                raise ParameterError(lcl_bounds.decoupling_error(self) or (
+                    f"{'controller.L_dec' if c.L_dec is not None else 'controller.L_s_hat'} = "
+                    f"{self.L_dec:g} H is outside the valid range [0, 10] H of the decoupling "
+                    "inductance (controller.L_dec)"))
         if c.t_dead_comp > 0.25 * T:
             raise ParameterError(
                 f"controller.t_dead_comp = {c.t_dead_comp!r} is outside its valid range "
@@ -277,11 +280,7 @@ class Scenario(_Validated):
         if c.position not in ("lcl_smo_pll", "lcl_linear") or self.lcl is None:
             return
         # the observers' model: lcl.L1, lcl.L2o + L_s_hat, C1_hat_ratio lcl.C1 (eq. (1)-(3))
-        L1, L2, C1 = self.lcl.L1, self.lcl.L2o + c.L_s_hat, self.lcl.C1 * c.C1_hat_ratio
-        try:
-            f_res = math.sqrt((L1 + L2) / (L1 * L2 * C1)) / (2.0 * math.pi)
-        except (ZeroDivisionError, OverflowError):  # values at the ends of their ranges
-            f_res = math.inf
+        f_res = self.lcl.f_res(c.L_s_hat, c.C1_hat_ratio)
         if T > 0.5 / f_res:
             raise ParameterError(
                 f"T_sp = {T!r} is outside its valid range (0, 1/(2 f_res) = {0.5 / f_res:g}] s "
