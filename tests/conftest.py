@@ -28,7 +28,8 @@ PAPER_CLAIMS = ("test_claims_data.py", "test_yang2018_claims.py", "test_yao2022_
                 "test_fast_build.py")
 
 #: modules without a module-scoped fixture whose tests are long: one unit a test
-SPLIT = ("test_own_motor.py", "test_gallery.py", "test_sweep.py", "test_cli_results.py",
+SPLIT = ("test_own_motor.py", "test_gallery.py", "test_sweep.py", "test_sweep_cli.py",
+         "test_cli_results.py",
          "test_benchmark_smoke.py", "test_vs_motulator_smoke.py")
 
 #: long units (CPU seconds measured 2026-11-26, one process), the longest

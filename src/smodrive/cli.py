@@ -619,8 +619,7 @@ def sweep(sweep_file: str | None, out: Path | None, scheduler: str | None,
     spec = sw.load_sweep(sweep_file)
     out = out or Path("sweeps") / spec.name
     _prepare_out(out)
-    path = Path(sweep_file)
-    text = path.read_text(encoding="utf-8-sig") if path.is_file() else None
+    sw.check_out(spec, out)  # (another sweep's folder: refused before the progress bars start)
     with _progress() as prog:
         tasks: dict[str, int] = {}
 
@@ -630,14 +629,8 @@ def sweep(sweep_file: str | None, out: Path | None, scheduler: str | None,
             prog.update(tasks[phase], completed=done, total=max(total, 1))
 
         rep = sw.run_sweep(spec, out, scheduler=scheduler, workers=workers,
-                           progress=on_progress, sweep_text=text)
-    rate = f"; {rep.computed / rep.seconds:.1f} runs/s, {rep.steps / rep.seconds / 1e6:.2f} M " \
-           f"steps/s on {rep.workers} workers" if rep.computed and rep.seconds > 0 else ""
-    _say(f"{rep.total} runs: {rep.done_before} already in {out}, {rep.computed} computed in "
-         f"{rep.seconds:.1f} s{rate}; {rep.faults} end in a fault"
-         + (f" ({', '.join(f'{n} {k}' for k, n in sorted(rep.fault_kinds.items()))})"
-            if rep.fault_kinds else "")
-         + f", {rep.not_held} did not hold their operating point, {rep.errors} could not run")
+                           progress=on_progress)  # (OUT/sweep.toml: the file's text, spec.text)
+    _say(rep.summary(out))
     if rep.failed_batches:
         _fail(f"{len(rep.failed_batches)} batches were lost with their workers "
               f"({rep.failed_batches[0]}); run the same command again for the missing runs", 1)

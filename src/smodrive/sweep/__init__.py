@@ -7,7 +7,7 @@ worker to the metrics the sweep names (the registry
 :data:`smodrive.analysis.metrics.METRICS`), and every finished batch of runs
 becomes one Parquet file of ``OUT/runs/``, one row a run, keyed by a
 deterministic run id: a sweep started again with the same file computes only
-the runs that have no row yet.
+the runs that have no row yet (another sweep into that folder is refused).
 
 Example (``docs/sweeps.md`` has the whole format)::
 
@@ -62,7 +62,17 @@ from .spec import (
     parse_sweep,
     run_count,
 )
-from .store import done_ids, load_out_spec, load_results, prepare_out, read_parts, write_part
+from .store import (
+    check_out,
+    done_ids,
+    done_rows,
+    identity,
+    load_out_spec,
+    load_results,
+    prepare_out,
+    read_parts,
+    write_part,
+)
 from .worker import Job, run_batch, run_one, version
 
 __all__ = ["Axis", "Run", "SweepSpec", "SweepReport", "Job", "STANDARD_COLUMNS", "MAX_RUNS",
@@ -70,6 +80,7 @@ __all__ = ["Axis", "Run", "SweepSpec", "SweepReport", "Job", "STANDARD_COLUMNS",
            "parse_sweep", "run_count", "check_run_count", "apply_changes", "expand",
            "check_runs", "check_plots", "estimate_seconds", "make_batches", "start_client",
            "run_sweep", "run_local", "run_one", "run_batch", "version", "prepare_out",
-           "load_out_spec", "done_ids", "read_parts", "load_results", "write_part", "plot_all",
+           "load_out_spec", "check_out", "identity", "done_ids", "done_rows", "read_parts",
+           "load_results", "write_part", "plot_all",
            "lowest_holding", "envelope_values", "Cells", "cells", "figure", "panel_norm",
            "ROW_FORMAT"]

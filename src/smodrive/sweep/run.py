@@ -19,8 +19,8 @@ from typing import Any, Callable, Iterable
 
 from ..model import ParameterError
 from .plan import Run, check_runs, expand
-from .spec import SweepSpec
-from .store import clear_partial, done_ids, prepare_out, write_part
+from .spec import SweepSpec, check_run_count
+from .store import check_out, clear_partial, done_rows, prepare_out, write_part
 from .worker import Job, run_batch, run_one, version, warm_up
 
 # what the LCL observers' offline design depends on (runs that share these
@@ -91,8 +91,12 @@ def make_batches(spec: SweepSpec, runs: list[Run], n_workers: int) -> list[list[
 
 @dataclass
 class SweepReport:
+    """What a sweep did. The counts of errors, faults and runs that did not
+    hold are of all its rows, those it reused from OUT (`done_before`) and
+    those it computed now: the sweep's results, not only this call's."""
+
     total: int  # runs of the sweep
-    done_before: int  # of them, already in OUT
+    done_before: int  # of them, already in OUT (reused)
     computed: int  # computed now
     failed_batches: list[str]  # batches Dask gave up on (their runs are still missing)
     errors: int  # rows with status "error"
@@ -105,6 +109,31 @@ class SweepReport:
     not_held: int = 0  # rows with status "ok" that did not hold their operating point
     #: rows with status "fault" by the fault they ended in (its first name)
     fault_kinds: dict[str, int] = field(default_factory=dict)
+
+    def count(self, status: str, held: bool, final_fault: str) -> None:
+        """Count one row of the sweep (reused or computed now)."""
+        self.errors += status == "error"
+        self.faults += status == "fault"
+        self.not_held += status == "ok" and not held
+        if status == "fault":
+            kind = final_fault.split(",")[0] or "fault"
+            self.fault_kinds[kind] = self.fault_kinds.get(kind, 0) + 1
+
+    def summary(self, out: Path) -> str:
+        """The end line of `smodrive sweep`: the runs in all, computed now and
+        reused from OUT, and what became of those with a row."""
+        rows = self.done_before + self.computed
+        rate = (f" in {self.seconds:.1f} s ({self.computed / self.seconds:.1f} runs/s, "
+                f"{self.steps / self.seconds / 1e6:.2f} M steps/s on {self.workers} workers)"
+                if self.computed and self.seconds > 0 else "")
+        kinds = ", ".join(f"{n} {k}" for k, n in sorted(self.fault_kinds.items()))
+        return (f"{self.total:,} runs in all: {self.computed:,} computed now{rate}, "
+                f"{self.done_before:,} reused from {out}"
+                + (f", {self.total - rows:,} missing" if rows < self.total else "")
+                + f"; of the {rows:,}: {self.faults:,} end in a fault"
+                + (f" ({kinds})" if kinds else "")
+                + f", {self.not_held:,} did not hold their operating point, {self.errors:,} "
+                "could not run")
 
 
 class _Lock:
@@ -172,26 +201,38 @@ def run_sweep(spec: SweepSpec, out: str | Path, scheduler: str | None = None,
               on_batch: Callable[[list[dict], Any], None] | None = None,
               sweep_text: str | None = None) -> SweepReport:
     """Run the runs of `spec` that OUT has no row for, on Dask; write each
-    finished batch as a Parquet part of OUT/runs. `progress(phase, done,
-    total)`; `on_batch(rows, client)` after each part is written (tests
-    use it to kill a worker mid-sweep). A batch Dask gives up on (its
-    workers died three times) is reported, not written: run again."""
+    finished batch as a Parquet part of OUT/runs. An OUT holding another
+    sweep's results is refused first (:func:`~smodrive.sweep.store.check_out`).
+    `progress(phase, done, total)`: building the runs, checking the axes'
+    values, starting Dask, running; `on_batch(rows, client)` after each
+    part is written (tests use it to kill a worker mid-sweep). A batch Dask
+    gives up on (its workers died three times) is reported, not written:
+    run again."""
     import pyarrow.parquet  # noqa: F401  (optional, see store; imported now, not while the workers run)
     from distributed import as_completed  # slow to import: see start_client
 
     out = Path(out)
-    runs = expand(spec)
-    check_runs(spec, runs)
+    check_out(spec, out)  # another sweep's folder: refused now, not after its runs are built
+    n = check_run_count(spec)
+    # (building a million runs takes some 17 s, checking two axes of 1000 values 13 s: shown)
+    runs = expand(spec, progress and (lambda d, t: progress(f"building {n:,} runs", d, t)))
+    check_runs(spec, runs, progress and (lambda d, t: progress("checking the axes' values",
+                                                               d, t)))
     out.mkdir(parents=True, exist_ok=True)
     lock = _Lock(out)
     own_client = client is None
     cluster = None
     try:
+        check_out(spec, out)  # again, under the lock: a sweep may have finished there meanwhile
         prepare_out(spec, out, sweep_text)
         clear_partial(out)  # a write a killed sweep left half done
-        have = done_ids(out)
+        have = done_rows(out)
         todo = [r for r in runs if r.id not in have]
         n_before = len(runs) - len(todo)
+        rep = SweepReport(len(runs), n_before, 0, [], 0, 0, 0.0, 0, 0, 0)
+        for r in runs:
+            if r.id in have:
+                rep.count(*have[r.id])
         if progress:
             progress("starting Dask", 0, 1)
         if todo and own_client:
@@ -203,7 +244,7 @@ def run_sweep(spec: SweepSpec, out: str | Path, scheduler: str | None = None,
             progress("starting Dask", 1, 1)
         batches = make_batches(spec, todo, n_workers)
         job = Job(spec.base, spec.metrics, spec.window, spec.full_log, version())
-        rep = SweepReport(len(runs), n_before, 0, [], 0, 0, 0.0, 0, n_workers, len(batches))
+        rep.workers, rep.batches = n_workers, len(batches)
         if progress:
             progress("running", n_before, len(runs))
         t0 = time.perf_counter()
@@ -227,13 +268,8 @@ def run_sweep(spec: SweepSpec, out: str | Path, scheduler: str | None = None,
                 rep.computed += len(rows)
                 rep.steps += sum(r["steps"] for r in rows)
                 rep.busy_seconds += sum(r["wall_s"] for r in rows)
-                rep.errors += sum(r["status"] == "error" for r in rows)
-                rep.faults += sum(r["status"] == "fault" for r in rows)
-                rep.not_held += sum(r["status"] == "ok" and not r["held"] for r in rows)
                 for r in rows:
-                    if r["status"] == "fault":
-                        kind = r["final_fault"].split(",")[0] or "fault"
-                        rep.fault_kinds[kind] = rep.fault_kinds.get(kind, 0) + 1
+                    rep.count(r["status"], r["held"], r["final_fault"])
                 done += len(rows)
                 if progress:
                     progress("running", done, len(runs))

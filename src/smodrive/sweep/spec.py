@@ -49,6 +49,9 @@ class SweepSpec:
     #: these values (axis name -> values); elsewhere the base's own seed
     #: (empty: the seeds everywhere)
     seeds_where: dict[str, tuple] = field(default_factory=dict)
+    #: the text of the sweep file it was read from (a built-in sweep's too),
+    #: written to OUT/sweep.toml; None for a spec not read from a file
+    text: str | None = None
 
     @property
     def full_log(self) -> bool:
@@ -240,12 +243,15 @@ def load_sweep(path: str | Path) -> SweepSpec:
             raise ParameterError(f"{path}: neither a sweep file nor a built-in sweep (known: "
                                  f"{', '.join(builtins())})")
     try:
-        data = tomllib.loads(p.read_text(encoding="utf-8-sig"))
+        text = p.read_text(encoding="utf-8-sig")
+        data = tomllib.loads(text)
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise ParameterError(f"{p}: not valid TOML: {exc}") from None
     except OSError as exc:
         raise ParameterError(f"{p}: cannot read the file ({exc.strerror or exc})") from None
-    return parse_sweep(data, p.stem, p.parent)
+    spec = parse_sweep(data, p.stem, p.parent)
+    spec.text = text
+    return spec
 
 
 def builtins() -> dict[str, str]:
