@@ -425,3 +425,14 @@ def test_design_shows_progress_while_it_designs_the_lcl_observers():
     res = CliRunner().invoke(main, ["design", str(ROOT / "scenarios" / "lcl_speed_step.toml")])
     assert res.exit_code == 0, res.output
     assert "the LCL observers' design at each speed" in res.output
+
+
+def test_python_dash_m_smodrive_is_the_command():
+    """`python -m smodrive` (no __main__.py: "is a package and cannot be
+    directly executed") runs the command line."""
+    import subprocess
+    import sys
+
+    res = subprocess.run([sys.executable, "-m", "smodrive", "--help"], capture_output=True,
+                         text=True, cwd=ROOT)
+    assert res.returncode == 0 and res.stdout.startswith("Usage: smodrive"), res.stderr

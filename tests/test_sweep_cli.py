@@ -150,3 +150,14 @@ def test_building_a_large_grid_shows_its_progress(tmp_path):
     text = _flat(res.output)
     assert "tiny: building 4 runs" in text, text
     assert text.index("tiny: building 4 runs") < text.index("tiny: starting Dask")
+
+
+def test_the_axes_sizes_count_one_seed_as_one():
+    """run_count's text said "1 seeds"; 1 seed and 2 seeds now."""
+    import tempfile
+    from pathlib import Path
+
+    with tempfile.TemporaryDirectory() as d:
+        for n, want in ((1, "x 1 seed"), (2, "x 2 seeds")):
+            _, text = sweep_spec.run_count(sw.load_sweep(small(Path(d), seeds=n, plots=False)))
+            assert text.endswith(want), text

@@ -117,7 +117,7 @@ def run_count(spec: SweepSpec) -> tuple[int, str]:
         sizes.append((f"{len(spec.seeds)} seeds at {inside} points", None))
         n += inside * (len(spec.seeds) - 1)
     elif spec.seeds:
-        sizes.append((f"{len(spec.seeds)} seeds", None))
+        sizes.append((f"{len(spec.seeds)} seed{'' if len(spec.seeds) == 1 else 's'}", None))
         n *= len(spec.seeds)
     text = " x ".join(name if k is None else f"{name} {k}" for name, k in sizes) or "one run"
     return n, text
