@@ -597,9 +597,8 @@ def override_warnings(c: ControllerCfg, m: MotorPars, *, T_sp: float, lcl: Any =
         out.append(f"motor.psi_r = {m.psi_r:g} Wb gives no rated current (T_N / (1.5 n_p "
                    "psi_r)): the controller's current limits and start current are yang2018 "
                    "Table I's, not this motor's; give the motor's flux linkage")
-    # (found on invented motors left at the default 10 kHz: a 16-pole 12 kr/min outrunner and
-    # a 2-pole 100 kr/min spindle ended in overcurrent, a coreless motor in start_failed,
-    # with nothing pointing at T_sp)
+    # (invented motors at the default 10 kHz: a 16-pole 12 kr/min outrunner, a 2-pole 100 kr/min
+    # spindle ended in overcurrent, a coreless motor in start_failed, nothing pointing at T_sp)
     w_lim = c.w_M_max
     if c.position == "smdo_emf" and w_lim is not None and 0.0 < w_lim < m.w_M_N:
         out.append(f"controller.w_M_max = {w_lim:.4g} rad/s, the sensorless speed limit, is "
@@ -617,28 +616,29 @@ def override_warnings(c: ControllerCfg, m: MotorPars, *, T_sp: float, lcl: Any =
                    f"/ T_sp (T_sp = {T_sp:g} s): the current PI's loop, delayed 1.5 samples, "
                    f"keeps its phase margin up to {CURRENT_BW_T_MAX:g} / T_sp "
                    f"({CURRENT_BW_T_MAX / T_sp:.4g} rad/s); a lower current_bw or a shorter T_sp")
-    rated = rated_voltage(m)
+    rated = rated_voltage(m, lcl.L1 + lcl.L2o if lcl is not None else 0.0)  # (1 H L1: 311 kV)
     u_max = (plant or DEFAULT_PLANT)["u_dc"] / math.sqrt(3.0)
     if rated > u_max:
+        at, lk = (" through the LCL filter (lcl.L1 + lcl.L2o in series)", " and lcl.L1, lcl.L2o") \
+            if lcl is not None else ("", "")
         out.append(f"the motor's rated point (I_N = {rated_current(m):.3g} A at w_M_N = "
-                   f"{m.w_M_N:.4g} rad/s) needs {rated:.3g} V at its terminals and the inverter "
-                   f"has {u_max:.3g} V (inverter.u_dc / sqrt 3): rated torque at rated speed is "
-                   "out of reach: a run asking for it ends below its reference, in a fault "
-                   "when more than controller.w_M_track below (speed_tracking), and a start "
-                   "without the voltage it needs fails; check motor.R_s, "
-                   "L_s, psi_r, P_N, w_M_N and inverter.u_dc")
+                   f"{m.w_M_N:.4g} rad/s) needs {rated:.3g} V at the inverter{at} and it has "
+                   f"{u_max:.3g} V (inverter.u_dc / sqrt 3): rated torque at rated speed is out of"
+                   " reach: a run asking for it ends below its reference, in a fault when more "
+                   "than controller.w_M_track below (speed_tracking), and a start without the "
+                   f"voltage it needs fails; check motor.R_s, L_s, psi_r, P_N, w_M_N, "
+                   f"inverter.u_dc{lk}")
     return out
 
 
-def rated_voltage(m: MotorPars) -> float:
-    """The stator voltage amplitude of the rated point, V: i_q = I_N at
-    w = n_p w_M_N in steady state (SPMSM), |(R_s + j w L_s) j I_N + j w psi_r|
-    (0 without a rated current)."""
+def rated_voltage(m: MotorPars, L_series: float = 0.0) -> float:
+    """The rated point's voltage amplitude, V: i_q = I_N at w = n_p w_M_N, steady (SPMSM), |(R_s
+    + j w (L_s + L_series)) j I_N + j w psi_r|, L_series a filter's (0 without a rated current)."""
     i_n = rated_current(m)
     if not (i_n and i_n > 0.0 and math.isfinite(i_n)):
         return 0.0
     w = m.n_p * m.w_M_N
-    return math.hypot(w * m.L_s * i_n, m.R_s * i_n + w * m.psi_r)
+    return math.hypot(w * (m.L_s + L_series) * i_n, m.R_s * i_n + w * m.psi_r)
 
 
 def unset(c: ControllerCfg, keep: set[str] | frozenset[str] = frozenset()) -> ControllerCfg:
