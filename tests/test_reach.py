@@ -8,13 +8,13 @@ status 0, its warning blaming a speed loop that had not settled."""
 from __future__ import annotations
 
 import math
-import tomllib
 import warnings
 
 import pytest
 from click.testing import CliRunner
 
 from smodrive.analysis import summary as summ
+from smodrive._util import tomllib
 from smodrive.cli import main
 from smodrive.model import RPM, ParameterError
 from smodrive.scenario_io import scenario_from_dict
