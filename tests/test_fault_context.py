@@ -111,3 +111,43 @@ def test_a_start_against_its_load_is_told_the_start_current_that_carries_it(tmp_
     assert "controller.i_start of 6.548 A or more (at most i_max = 7.813 A) starts it" in out
     assert runs["told"].exit_code == 0, runs["told"].output
     assert runs["less"].exit_code == 1 and "start_failed" in runs["less"].output
+
+
+def test_a_drive_on_its_voltage_limit_is_not_called_overloaded(tmp_path):
+    """An invented 560 V, 3 kW servo (5 pole pairs, 0.12 Wb) on 280 V, asked
+    for rated speed with the rated brake from 1 s: its back-EMF alone at
+    3,000 r/min is 188.5 V against 161.7 V, the voltage rides the limit, its
+    current does not follow the 25 A its speed PI asks, and it ends in
+    speed_tracking. Its error had called it an overload (the reference on
+    i_max) at rated load; it now names the voltage limit and the DC link."""
+    src = tmp_path / "lowdc.toml"
+    src.write_text(LOW_DC_560)
+    res = CliRunner().invoke(main, ["run", str(src), "--out", str(tmp_path / "o")])
+    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert res.exit_code == 1 and summary["final_fault"] == ["speed_tracking"], res.output
+    ctx = summary["fault_context"]
+    assert "its current did not follow its reference" in ctx and "inverter.u_dc = 280 V" in ctx
+    assert "overload" not in ctx
+
+
+LOW_DC_560 = """warm_start = false
+duration = 2.5
+w_M_ref_rpm = 3000.0
+[motor]
+R_s = 0.6
+L_s = 5e-3
+psi_r = 0.12
+n_p = 5
+J = 6e-4
+P_N = 3000.0
+w_M_N_rpm = 3000.0
+[inverter]
+u_dc = 280.0
+t_dead = 2.0e-6
+[load]
+T_brake = { t = [0, 1.0, 1.0], y = [0, 0, 9.549] }
+[controller]
+current = "robust_dbpc"
+position = "smdo_emf"
+start = "if"
+"""

@@ -28,7 +28,10 @@ from .scenario_io import resolve_scenario, scenario_to_toml
 
 #: each test's accuracy as measured over noise seeds, sensor errors and dead time on six motors
 #: (docs/commissioning.md; tests/test_commission.py holds them)
-UNCERTAINTY = {"R_s": 0.02, "L_s": 0.05, "psi_r": 0.02, "J": 0.10, "B": 0.20}
+#: (B: +20 % on the repository's six motors, but the plant's default dead-time model, "sign",
+#: biases it high on others: +25 to +35 % on invented 48 V and 400-560 V motors, stops 36-37,
+#: docs/commissioning.md; the file had said +-20 % beside a B +33 % off)
+UNCERTAINTY = {"R_s": 0.02, "L_s": 0.05, "psi_r": 0.02, "J": 0.10, "B": 0.40}
 
 
 def _g(x: float) -> float:
