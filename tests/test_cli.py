@@ -436,3 +436,34 @@ def test_python_dash_m_smodrive_is_the_command():
     res = subprocess.run([sys.executable, "-m", "smodrive", "--help"], capture_output=True,
                          text=True, cwd=ROOT)
     assert res.returncode == 0 and res.stdout.startswith("Usage: smodrive"), res.stderr
+
+
+#: an invented 560 V, 3 kW servo (5 pole pairs, 0.6 ohm, 5 mH), 2 us of dead time
+SERVO_560 = """[motor]
+R_s = 0.6
+L_s = 5e-3
+psi_r = 0.12
+n_p = 5
+J = 6e-4
+P_N = 3000.0
+w_M_N_rpm = 3000.0
+[inverter]
+u_dc = 560.0
+t_dead = 2.0e-6
+"""
+
+
+def test_a_sensor_range_outcome_with_sensors_that_see_the_test_current_points_at_the_drop(
+        tmp_path):
+    """A 1 A test on the 560 V servo: 0.6 V of R_s i_test inside the
+    inverter's 14.9 V dead-time drop, (4/3) (2 us / 100 us) 560 V; step 1
+    stops with sensor_range, whose text blamed the 41.7 A sensors. It now
+    says the sensors' range is over twice i_test and points at the drop and
+    a larger --i-test."""
+    f = tmp_path / "servo560.toml"
+    f.write_text(SERVO_560)
+    res = CliRunner().invoke(main, ["identify", str(f), "--i-test", "1.0"])
+    assert res.exit_code == 1 and "sensor_range" in res.output, res.output
+    flat = " ".join(res.output.split())
+    assert "adc.full_scale = 41.6667 A, is over twice i_test = 1 A" in flat
+    assert "= 14.9 V) holds so small a current; a larger --i-test" in flat

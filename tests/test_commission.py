@@ -1001,3 +1001,24 @@ def test_an_inductance_the_noise_moved_beyond_5_percent_is_not_ok(seed):
         if x.ok:
             assert abs(x.L / s.motor.L_s - 1.0) <= 0.05, (x.axis, x.L)
     assert any(x.outcome == "levels_disagree" for x in results)
+
+
+def test_the_spin_current_stays_within_the_sensors_share():
+    """Step 3 spins at K_SPIN (2) times step 1's largest level, which the
+    search takes to up to 1.2 i_test: with i_test at its sensor-bound limit,
+    0.45 of 5 A sensors, that was 5.35 A on 5 A sensors (an invented 48 V
+    hub motor), beyond the 0.9 of their range i_test_max promises. It is now
+    at most 0.9 x 5 = 4.5 A; with 50 A sensors the same levels spin at 2 x
+    their largest, 5.35 A."""
+    from smodrive.commission import RsResult, i_test_max, spin_current
+
+    s = scenario_from_dict({"motor": {"R_s": 0.2, "L_s": 0.4e-3, "psi_r": 0.03, "n_p": 23,
+                                      "J": 0.08, "P_N": 350.0, "w_M_N_rpm": 350.0},
+                            "inverter": {"u_dc": 48.0}, "adc": {"full_scale": 5.0}})
+    lim, why = i_test_max(s)
+    assert lim == pytest.approx(2.25) and "0.45 adc.full_scale" in why
+    rs = RsResult(R_s=0.2, u_0=0.5, r2=1.0, resid=0.0, outcome="ok", t=1.0,
+                  i_levels=(0.5, 1.5, 2.675), u_levels=(0.6, 0.8, 1.0))
+    assert spin_current(s, rs) == pytest.approx(4.5)
+    wide = s.replace(adc=dataclasses.replace(s.adc, full_scale=50.0))
+    assert spin_current(wide, rs) == pytest.approx(5.35)

@@ -20,7 +20,7 @@ import tomli_w
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from . import fromlog
-from .commission import commission
+from .commission import commission, rs_config
 from .commission_outcomes import OUTCOME_TEXT
 from .engine import export
 from .model import ParameterError
@@ -180,6 +180,15 @@ def identify(scenario: str | None, out: Path | None, i_test: float | None,
     # of a missing motor, an open phase or a high R_s, not of its DC link)
     lim = (f"; its limit was {s.inverter.u_dc / 3 ** 0.5:.3g} V, inverter.u_dc / sqrt 3 with "
            f"inverter.u_dc = {s.inverter.u_dc:g} V" if r.outcome == "no_current" else "")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # (said above)
+        fs, i_t = s.adc.full_scale, rs_config(s, i_test).i_test
+    if r.outcome == "sensor_range" and fs is not None and fs >= 2.0 * i_t:
+        # (a 560 V servo's 1 A test in its 15 V dead-time drop was blamed on its 41 A sensors)
+        lim = (f"; here the sensors' range, adc.full_scale = {fs:g} A, is over twice i_test = "
+               f"{i_t:.4g} A: more likely the inverter's drop (dead time: about 4/3 t_dead / "
+               f"T_sp u_dc = {4 / 3 * s.inverter.t_dead / s.T_sp * s.inverter.u_dc:.3g} V) "
+               "holds so small a current; a larger --i-test")
     click.echo(f"  fit  R^2 {r.r2:.6f}, residual {r.resid:.3g} V RMS: {r.outcome} "
                f"({OUTCOME_TEXT.get(r.outcome, '')}{lim})")
     for x in (c.ld, c.lq):
