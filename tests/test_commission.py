@@ -1022,3 +1022,22 @@ def test_the_spin_current_stays_within_the_sensors_share():
     assert spin_current(s, rs) == pytest.approx(4.5)
     wide = s.replace(adc=dataclasses.replace(s.adc, full_scale=50.0))
     assert spin_current(wide, rs) == pytest.approx(5.35)
+
+
+def test_step_4_keeps_its_speeds_within_the_dc_link():
+    """An invented 12 V gimbal motor (7 pole pairs, 10 mWb, 600 r/min) on a
+    5 V DC link: step 4's 80 % of rated speed needs 3.5 V of back EMF, the
+    inverter makes 2.89 V; its drive faulted (speed_tracking), blamed on
+    the inertia, and --slow 10 did not help. Its top speed is now where the
+    EMF takes 0.8 of u_dc / sqrt 3 (2.31 V: 315 r/min), the ramp from 40 %
+    of rated below it, and J and B are measured (J within its 10 %)."""
+    from smodrive.commission import V_MECH
+
+    s = scenario_from_dict({"motor": {"R_s": 5.0, "L_s": 2e-3, "psi_r": 0.010, "n_p": 7,
+                                      "J": 1e-4, "P_N": 2.0, "w_M_N_rpm": 600.0},
+                            "inverter": {"u_dc": 5.0, "t_dead": 1e-6}})
+    w_top = V_MECH * 5.0 / math.sqrt(3.0) / (7 * 0.010)
+    assert abs(w_top * 30.0 / math.pi - 315.0) < 0.5
+    c = commission(s)
+    assert c.mech is not None and c.mech.outcome == "ok", c.mech
+    assert c.mech.J == pytest.approx(1e-4, rel=0.10)

@@ -344,9 +344,9 @@ K_SPIN = 2.0
 
 def spin_current(s: Scenario, rs: RsResult) -> float:
     """Step 3's current, A: K_SPIN times step 1's largest level, at most
-    I_MAX_ADC of the current sensors' range and IF_VOLTAGE u_dc / sqrt 3 across the measured R_s, the share the drive's
-    own I/f start takes (the rest is for the EMF and w L_s i at the spin's
-    speeds). (An invented 12 V gimbal motor, 6 ohm: twice its largest level
+    I_MAX_ADC of the current sensors' range and IF_VOLTAGE u_dc / sqrt 3
+    across the measured R_s, the share the drive's own I/f start takes (the
+    rest is for the EMF and w L_s i at the spin's speeds). (An invented 12 V gimbal motor, 6 ohm: twice its largest level
     needed 7.7 V of the 6.9 V the modulator has; the current fell short, the
     governor held the ramp at 1 % of its rate; "running" after 30 s.)"""
     i = K_SPIN * max(rs.i_levels)
@@ -459,7 +459,7 @@ class MechResult:
     """J and B as step 4 measured them."""
     J: float            # kg m^2
     B: float            # N m s/rad
-    outcome: str        # "ok", "poor_fit", "not_settled", "no_sensorless_range" or
+    outcome: str        # "ok", "poor_fit", "not_settled", "no_sensorless_range", "voltage_limit" or
                         # "fault: <names>"
     t: float            # s
     K: float = 0.0      # N m s^2/rad^2: a fan load's K w_M |w_M| (fitted with one)
@@ -474,6 +474,9 @@ class MechResult:
 #: step 4's ramp spans at least this share of rated speed (assumed), else the test is not
 #: run ("no_sensorless_range": the drive's handover is too close to rated speed)
 MIN_RAMP_MECH = 0.2
+#: the share of the inverter's voltage, u_dc / sqrt 3, step 4's back EMF may take at its top
+#: speed (mech_voltage_speed)
+V_MECH = 0.8
 
 
 def mech_room(sd: Scenario) -> bool:
@@ -483,15 +486,29 @@ def mech_room(sd: Scenario) -> bool:
     return w2 - w1 >= MIN_RAMP_MECH * sd.motor.w_M_N
 
 
+def mech_voltage_speed(sd: Scenario) -> float:
+    """The fastest speed of step 4, mechanical rad/s, whose back EMF (with
+    the measured flux, psi_r_hat) takes at most V_MECH of the voltage the
+    inverter makes, u_dc / sqrt 3 (the rest for R_s i and w L_s i); inf
+    without a flux."""
+    psi = sd.controller.psi_r_hat
+    if not psi or psi <= 0.0:
+        return math.inf
+    return V_MECH * sd.inverter.u_dc / math.sqrt(3.0) / (sd.motor.n_p * psi)
+
+
 def mech_speeds(sd: Scenario) -> tuple[float, float]:
     """Step 4's two speeds, mechanical rad/s: 40 % and 80 % of rated speed,
     the first at least 1.25 times the drive's handover speed (below it the
     drive stays on its forced start, whose torque is not k_t i_q: the hub
     motor's handover is at half its rated speed), the second 40 % of rated
-    above it, at most rated."""
-    w_n = sd.motor.w_M_N
-    w1 = max(0.4 * w_n, 1.25 * sd.controller.w_M_handover)
-    return w1, min(w_n, w1 + 0.4 * w_n)
+    above it, at most rated and mech_voltage_speed (a 12 V gimbal motor on
+    5 V: 80 % of rated needed 3.5 V of EMF of the 2.9 V its inverter makes,
+    and its drive faulted, blamed on the inertia), the first then lower, to
+    40 % of rated below the second when the handover allows."""
+    w_n, w_h = sd.motor.w_M_N, 1.25 * sd.controller.w_M_handover
+    w2 = min(w_n, max(0.4 * w_n, w_h) + 0.4 * w_n, mech_voltage_speed(sd))
+    return max(w_h, min(0.4 * w_n, w2 - 0.4 * w_n)), w2
 
 
 def mech_scenario(s: Scenario, R_s: float, L_s: float, psi_r: float,
@@ -593,7 +610,9 @@ def identify_mech(s: Scenario, R_s: float, L_s: float, psi_r: float,
     drive that never leaves its forced start is "not_settled"."""
     sd = mech_scenario(s, R_s, L_s, psi_r, t_dead_comp, u_0, slow, J_spin)
     if not mech_room(sd):
-        return MechResult(math.nan, math.nan, "no_sensorless_range", 0.0)
+        short = mech_voltage_speed(sd) < s.motor.w_M_N
+        return MechResult(math.nan, math.nan,
+                          "voltage_limit" if short else "no_sensorless_range", 0.0)
     w1, w2 = mech_speeds(sd)
     # (with a fan the coast's deceleration is mostly the fan's, where B and K lean on each
     # other: yao2022's K came out -41 % from a 0.4 s coast, -3 % from the ramp alone)

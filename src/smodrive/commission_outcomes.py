@@ -43,6 +43,9 @@ OUTCOME_TEXT = {
                      "of the ramp's torque: the torque the drive reports is not the rotor's (a "
                      "sensorless angle that lags the rotor), or a load on the shaft; J and B are "
                      "not to be trusted",
+    "voltage_limit_mech": "the DC link leaves step 4 no room: its speeds (a ramp of a fifth of "
+                          "rated speed at least, above the handover) need more back EMF than "
+                          "0.8 of inverter.u_dc / sqrt 3; check inverter.u_dc and motor.w_M_N",
     "fault_mech": "the drive designed from steps 1-3 (its R_s, L_s, psi_r and the guessed "
                   "inertia of step 3's spin) stopped in this fault while it ran step 4; a "
                   "step-3 inertia far from the rotor's is the usual cause: --slow 10 runs the "
