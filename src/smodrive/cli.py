@@ -494,6 +494,9 @@ def write_signals(path: Path, r, progress: Callable[[float], None] | None = None
 
 def _run_pil(s, out: Path, seconds: float, math: str, cycles: bool = False) -> list[str]:
     """The PIL run: pil.json and the comparison figure; returns their names."""
+    if seconds < 2.0 * s.T_sp:  # (1e-5 s at 100 us had ended in a raw numpy ValueError)
+        _fail(f"--seconds {seconds:g} is below two samples of the scenario, 2 T_sp = "
+              f"{2.0 * s.T_sp:g} s", 2)
     with _progress() as prog:
         task = _task(prog, f"{s.name} (PIL, {math}" + (", then its cycles)" if cycles else ")"))
         try:
@@ -501,23 +504,15 @@ def _run_pil(s, out: Path, seconds: float, math: str, cycles: bool = False) -> l
                              progress=lambda f: prog.update(task, completed=f))
         except firmware.TargetError as exc:
             _fail(str(exc), 1)
-    summary = {
-        "name": s.name, "samples": r.samples, "math": math, "reference": r.reference,
-        "identical": r.identical, "max_duty_diff": r.max_duty_diff,
-        "max_theta_hat_diff_rad": r.max_theta_diff_rad,
-        "max_w_hat_diff_rad_s": r.max_w_diff, "max_word_diff_ulp": r.max_view_ulp,
-    }
+    summary, said = firmware.pil_report(s, r)
     if r.cycles is not None:
-        c = r.cycles
-        budget = firmware.BUDGET[c.paper]
-        summary["cycles"] = {
-            "steps": c.calls, "mean": c.nominal, "p99": c.p99, "worst": c.worst,
-            "range_mean": [c.low, c.high], "flash": c.flash, "budget": budget,
-            "worst_share_flash_stm32f4": c.worst_flash("stm32f4") / budget}
+        c, budget = r.cycles, summary["cycles"]["budget"]
         _say(f"cycles per step on the Cortex-M4F over {c.calls:,} steps: mean {c.nominal:,.0f}, "
              f"99th percentile {c.p99:,.0f}, worst {c.worst:,}; in STM32F4 flash worst "
              f"{c.worst_flash('stm32f4'):,.0f} ({c.worst_flash('stm32f4') / budget:.0%} of the "
-             f"{budget:,.0f} of its period)")
+             f"{budget:,.0f} of its period, {summary['cycles']['budget_is']})")
+    for text in said:
+        _warn(text)
     export.write_text(out / "pil.json", _json(summary))
     fig = _save_figure(plots.pil_panels(r), out, _file_stem(s.name) + "_pil")
     click.echo(_json(summary), nl=False)

@@ -21,6 +21,7 @@ from .cycles import (
     trace_windows,
 )
 from .pil import PilResult, pil
+from .pil import report as pil_report
 from .run import compare, drive_case, record, run_both, run_host, run_m4, ulp_distance
 from .vectors import (
                       BlockCase,
@@ -34,6 +35,6 @@ from .vectors import (
 
 __all__ = ["FAST_DEFINES", "FIXED", "fixed_flags", "FMATH_DEFINES", "MATH_DEFINES", "MATH_FUNCS", "TargetError", "build",
            "c_root", "BUDGET", "FLASH", "Flash", "TABLE6_PAPER", "CycleRow", "cycle_table", "sizes", "table6_cycles", "trace_windows",
-           "PilResult", "pil", "compare", "drive_case", "record", "run_both", "run_host", "run_m4",
+           "PilResult", "pil", "pil_report", "compare", "drive_case", "record", "run_both", "run_host", "run_m4",
            "ulp_distance", "BlockCase", "DriveCase", "TablesCase", "drive_outputs",
            "read_outputs", "variants", "write_vectors"]

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..engine import CHANNELS, Engine, _ffi
+from ..engine import CHANNELS, Engine, _ffi, fault_names
 from ..engine.run import _wrap_pi
 from .build import (
     CASE_DRIVE,
@@ -29,7 +29,7 @@ from .build import (
     _cache_dir,
     build,
 )
-from .cycles import CycleRow, step_cycles
+from .cycles import F_CPU, CycleRow, step_cycles
 from .run import qemu_command, ulp_distance
 from .vectors import DriveCase
 
@@ -207,3 +207,50 @@ def _paper_of(s) -> str:
     return "yao2022" if s.lcl is not None else "yang2018"
 
 
+
+
+#: the drive's start-up phases as the log's "phase" channel holds them
+_PHASES = {0: "forced", 1: "encoder", 2: "source"}
+
+
+def report(s, r: PilResult) -> tuple[dict, list[str]]:
+    """pil.json of PIL run `r` of scenario `s`, and the warnings to print:
+    the comparison; the drive's own account of the run (its fault word at
+    the end, the start-up phases it ran in); with the cycles, their budget
+    is the scenario's period, T_sp at F_CPU (an invented fan at 10 us had
+    been judged against yang2018's 100 us: 17 % of the period for a step
+    that takes 172 %), and a cycle count of a run that ends in a fault (the
+    safe state's steps) or never leaves its forced start (the start's) is
+    said to be one."""
+    log = r.log_pil
+    final = int(log[-1, CHANNELS.index("fault")]) if len(log) else 0
+    seen = sorted({int(p) for p in log[:, CHANNELS.index("phase")]}) if len(log) else []
+    out = {"name": s.name, "samples": r.samples, "math": r.math, "reference": r.reference,
+           "identical": r.identical, "max_duty_diff": r.max_duty_diff,
+           "max_theta_hat_diff_rad": r.max_theta_diff_rad,
+           "max_w_hat_diff_rad_s": r.max_w_diff, "max_word_diff_ulp": r.max_view_ulp,
+           "final_fault": fault_names(final), "phases": [_PHASES.get(p, str(p)) for p in seen]}
+    said: list[str] = []
+    if r.cycles is None:
+        return out, said
+    c = r.cycles
+    budget = s.T_sp * F_CPU
+    worst_f4 = c.worst_flash("stm32f4")
+    out["cycles"] = {
+        "steps": c.calls, "mean": c.nominal, "p99": c.p99, "worst": c.worst,
+        "range_mean": [c.low, c.high], "flash": c.flash,
+        "budget": budget, "budget_is": f"T_sp = {s.T_sp:g} s at {F_CPU / 1e6:g} MHz, cycles",
+        "worst_share_flash_stm32f4": worst_f4 / budget}
+    if worst_f4 > budget:
+        said.append(f"the step's worst call in STM32F4 flash, {worst_f4:,.0f} cycles, is "
+                    f"{worst_f4 / budget:.0%} of its period (T_sp = {s.T_sp:g} s at "
+                    f"{F_CPU / 1e6:g} MHz: {budget:,.0f} cycles): it cannot run at this T_sp "
+                    "on such a part; a longer T_sp, the fixed composition (smodrive.firmware."
+                    "FIXED), or code in RAM (docs/firmware.md)")
+    if final:
+        said.append(f"the PIL run ends in a fault ({', '.join(fault_names(final))}): its cycles "
+                    "include the safe state's steps, not the control law's")
+    elif seen and max(seen) == 0 and s.controller.position != "encoder":
+        said.append("the PIL run never left its forced start (I/f) within --seconds: its cycles "
+                    "are the start's, not the sensorless drive's; a longer --seconds covers it")
+    return out, said
