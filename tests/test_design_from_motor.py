@@ -505,3 +505,24 @@ def test_a_motor_rated_beyond_the_lcl_observers_tables_is_said_before_the_run():
         w = said(rpm)
         assert len(w) == 1 and f"motor.w_M_N = {rpm:g} r/min is beyond 0.95" in w[0], w
     assert said(100e3) == []
+
+
+def test_an_lcl_header_holds_every_field_of_the_observers_config():
+    """The header of an LCL drive wrote five of smd_lcl_smo_config's fields:
+    a drive on ref. [17]'s law refreshed every 8 samples got the paper's
+    law's header, word for word. Every field but the table's pointer is now
+    a #define (the law's enum value, the decimation, the tables' speed
+    grid: 221 speeds at 1,000 r/min, electrical rad/s)."""
+    from smodrive.engine import _ffi
+    from smodrive.firmware import header as fw_header
+    from smodrive.scenarios.catalogue import catalogue
+
+    s = catalogue()["yao2022.base"]().with_controller(law="tde17", smo_decimation=8)
+    text = fw_header.drive_header(s)
+    for field, _ in _ffi.SmoConfig._fields_:
+        if field != "table":
+            assert f"#define SMD_SMO_{field.upper()} " in text, field
+    assert "#define SMD_SMO_LAW 1\n" in text and "#define SMD_SMO_DECIMATION 8\n" in text
+    assert "#define SMD_SMO_N 221\n" in text
+    w_min = float(re.search(r"#define SMD_SMO_W_MIN (\S+)f\n", text).group(1))
+    assert w_min == pytest.approx(-110e3 * RPM * s.motor.n_p, rel=1e-6)

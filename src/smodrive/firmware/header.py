@@ -14,7 +14,7 @@ from typing import Any
 
 from ..design import cheader
 from ..design import yao2022 as dz
-from ..engine import TABLE_RPM, design_over_table, drive_config, lcl_observer_tables
+from ..engine import LAWS, TABLE_RPM, design_over_table, drive_config, lcl_observer_tables
 from ..engine.marshal import placement_warning
 from ..model import ControllerCfg, LclFilterPars, ParameterError
 from ..model.derive import DERIVED_FIELDS
@@ -168,9 +168,16 @@ def drive_header(s: Any, name: str = "SMD") -> str:
         tables, n_short = design_over_table(plant, dz.ObserverDesignPars(Q=tuple(c.Q)))
         if n_short:  # one warning naming the field, not scipy's one a placement
             warnings.warn(placement_warning(s, n_short), UserWarning, stacklevel=2)
-        for k, v in (("Q1", c.Q[0]), ("Q2", c.Q[1]), ("BW_REL2", c.bw_rel[0]),
-                     ("BW_REL3", c.bw_rel[1]), ("W_BP_MIN", c.w_M_bp_min * s.motor.n_p)):
-            out.append(f"#define {name}_SMO_{k} {_c_num(v)}")
+        # every field of smd_lcl_smo_config but its table pointer (the law and the
+        # decimation had been left out: a tde17 drive refreshed every 8 samples and the
+        # paper's got the same header), and the tables' speed grid (electrical rad/s)
+        w = tables.w
+        for k, v in (("LAW", LAWS[c.law]), ("N", int(w.size)), ("W_MIN", float(w[0])),
+                     ("DW", float(w[1] - w[0])), ("Q1", c.Q[0]), ("Q2", c.Q[1]),
+                     ("BW_REL2", c.bw_rel[0]), ("BW_REL3", c.bw_rel[1]),
+                     ("W_BP_MIN", c.w_M_bp_min * s.motor.n_p),
+                     ("DECIMATION", int(c.smo_decimation))):
+            out.append(f"#define {name}_SMO_{k} {v if isinstance(v, int) else _c_num(v)}")
         out += ["", f"#endif /* {name.upper()}_DRIVE_CONFIG_H */", ""]
         return "\n".join(out) + cheader.format_c_header(tables, f"{name}_LCL")
     out += ["", f"#endif /* {name.upper()}_DRIVE_CONFIG_H */", ""]
