@@ -526,3 +526,24 @@ def test_an_lcl_header_holds_every_field_of_the_observers_config():
     assert "#define SMD_SMO_N 221\n" in text
     w_min = float(re.search(r"#define SMD_SMO_W_MIN (\S+)f\n", text).group(1))
     assert w_min == pytest.approx(-110e3 * RPM * s.motor.n_p, rel=1e-6)
+
+
+def test_a_header_of_a_low_margin_speed_loop_says_so():
+    """An invented 300 V servo (4 pole pairs, 1.2 ohm, 6 mH, 0.1 Wb, J 3e-4)
+    designs a sensorless speed loop of 9.0 deg of phase margin against
+    Table I's 24.9: its header said nothing beside the gains; it now notes
+    the margin. Table I's own header does not."""
+    from smodrive.firmware import header as fw_header
+    from smodrive.model.margins import sensorless_margin
+
+    s = scenario_from_dict({"motor": {"R_s": 1.2, "L_s": 6e-3, "psi_r": 0.1, "n_p": 4,
+                                      "J": 3e-4, "P_N": 1500.0, "w_M_N_rpm": 3000.0},
+                            "inverter": {"u_dc": 300.0},
+                            "controller": {"current": "robust_dbpc", "position": "smdo_emf",
+                                           "start": "if"}})
+    pm, low = sensorless_margin(s)
+    assert low and pm < 12.0
+    assert f"phase margin is {pm:.1f} deg, below yang2018 Table I's" in fw_header.drive_header(s)
+    table1 = scenario_from_dict({"controller": {"current": "robust_dbpc",
+                                                "position": "smdo_emf"}})
+    assert "phase margin is" not in fw_header.drive_header(table1)

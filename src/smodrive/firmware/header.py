@@ -153,6 +153,12 @@ def drive_header(s: Any, name: str = "SMD") -> str:
            " *   " + " ".join(fixed_flags(cfg)),
            " */", f"#ifndef {name.upper()}_DRIVE_CONFIG_H", f"#define {name.upper()}_DRIVE_CONFIG_H",
            ""]
+    pm = sensorless_margin(s)
+    if pm is not None and pm[1]:
+        # (a servo's 9 deg were in design's table only, not beside the gains it judges)
+        out[-4:-4] = [f" * Note: the sensorless speed loop's phase margin is {pm[0]:.1f} deg, below "
+                      f"yang2018 Table I's design's {TABLE1_SPEED_PM:.1f} deg: its speed rings on",
+                      " * the ADC's noise (SMD_K_P_W, SMD_K_I_W; docs/design_from_motor.md)."]
     for field, _ in cfg._fields_:
         v = getattr(cfg, field)
         if field in ("smo", "lin"):
