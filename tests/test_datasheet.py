@@ -46,3 +46,25 @@ def test_the_constants_conversions_agree_with_the_textbook_identity():
     assert math.isclose(k_t_rms, math.sqrt(3.0) * k_e / w1000, rel_tol=1e-12)
     m = MotorPars(R_s=1.0, L_s=1e-3, psi_r=psi, n_p=n_p, J=1e-3, P_N=100.0, w_M_N=300.0)
     assert math.isclose(m.k_t, k_t_rms / math.sqrt(2.0), rel_tol=1e-12)
+
+
+def test_a_motor_without_its_dc_link_is_told_which_it_runs_on():
+    """A 12 V gimbal motor's file without [inverter] ran on yang2018 Table
+    I's 540 V without a word; its own motor without u_dc is now warned,
+    naming the 540 V; with u_dc, or Table I's own motor, it is not."""
+    import warnings
+
+    from smodrive.scenario_io import scenario_from_dict
+
+    gimbal = {"R_s": 5.0, "L_s": 2e-3, "psi_r": 0.010, "n_p": 7, "J": 1e-4, "P_N": 2.0,
+              "w_M_N_rpm": 600.0}
+    for data, want in (({"motor": gimbal}, True),
+                       ({"motor": gimbal, "inverter": {"t_dead": 1e-6}}, True),
+                       ({"motor": gimbal, "inverter": {"u_dc": 12.0}}, False),
+                       ({"inverter": {"t_dead": 1e-6}}, False)):
+        with warnings.catch_warnings(record=True) as w:
+            warnings.simplefilter("always")
+            scenario_from_dict(data)
+        said = [str(x.message) for x in w if "inverter.u_dc is not given" in str(x.message)]
+        assert bool(said) == want, data
+        assert not said or "Table I's 540 V is assumed" in said[0]

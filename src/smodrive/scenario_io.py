@@ -357,6 +357,13 @@ def apply(base: Scenario | None, data: dict[str, Any], *, rederive: bool = True)
             # what the base derived
             kw["derived"] = tuple(t for t in current.derived if t[0] not in kw)
         built[key] = dataclasses.replace(current, **kw)
+    if base is None and "motor" in built and built["motor"] != MotorPars() and \
+            "u_dc" not in sections.get("inverter", {}):
+        # (a 12 V gimbal motor's file without it ran on Table I's 540 V: identify ended in
+        # an overcurrent naming neither, design said nothing)
+        warnings.warn(f"inverter.u_dc is not given: yang2018 Table I's {InverterCfg().u_dc:g} V "
+                      "is assumed for this motor; give its inverter's DC link (V)", UserWarning,
+                      stacklevel=3)
     base_ctrl = scenario.controller
     if rederive and "motor" in built and built["motor"] != scenario.motor:
         # another machine than the base's: the base's motor-specific
