@@ -101,7 +101,8 @@ def test_a_start_against_its_load_is_told_the_start_current_that_carries_it(tmp_
             "[load]\nT_ext = 3.3\n[controller]\ncurrent = \"robust_dbpc\"\n"
             "position = \"smdo_emf\"\nstart = \"if\"\n")
     runs = {}
-    for name, extra in (("derived", ""), ("told", "i_start = 6.548\n"), ("less", "i_start = 6.0\n")):
+    for name, extra in (("derived", ""), ("told", "i_start = 6.548\n"),
+                        ("less", "i_start = 6.0\n")):
         src = tmp_path / f"{name}.toml"
         src.write_text(base + extra)
         runs[name] = CliRunner().invoke(main, ["run", str(src), "--out", str(tmp_path / name)])
@@ -151,3 +152,21 @@ current = "robust_dbpc"
 position = "smdo_emf"
 start = "if"
 """
+
+
+def test_an_overcurrent_names_its_trip_and_where_it_comes_from(tmp_path):
+    """The 560 V servo's P_N written in kW (3.0): its rated current is
+    P_N / w_M_N / (1.5 n_p psi_r) = 3 / 314.16 / 0.9 = 10.61 mA, its derived
+    i_max 25 mA and trip 2.5 i_max = 62.5 mA; the start trips at once. The
+    error named no threshold; it now gives the trip, i_max and I_N."""
+    src = tmp_path / "kw.toml"
+    src.write_text(LOW_DC_560.replace("P_N = 3000.0", "P_N = 3.0")
+                   .replace("u_dc = 280.0", "u_dc = 560.0")
+                   .replace("duration = 2.5", "duration = 0.05")
+                   .replace("w_M_ref_rpm = 3000.0", "w_M_ref_rpm = 1500.0"))
+    res = CliRunner().invoke(main, ["run", str(src), "--out", str(tmp_path / "o")])
+    ctx = json.loads((tmp_path / "o" / "summary.json").read_text())["fault_context"]
+    assert res.exit_code == 1 and "overcurrent" in res.output, res.output
+    assert ctx == ("a phase current passed the overcurrent trip, 0.0625 A: 2.5 controller.i_max "
+                   "(i_max = 0.025 A, derived from the rated current I_N = 0.01061 A: "
+                   "motor.P_N / motor.w_M_N over 1.5 n_p psi_r)")

@@ -132,11 +132,21 @@ def fault_context(s, r) -> str | None:
     t1 = r.faults.t_first
     if t1 is None:
         return None
+    c, mot = s.controller, s.motor
+    if int(r.faults.first) & FAULT_BITS["overcurrent"]:
+        # the trip and where it comes from (a 3 kW motor's P_N written in kW, I_N 10.6 mA,
+        # tripped at 0.3 ms naming no threshold)
+        trip = c.i_trip if c.i_trip is not None else 2.5 * c.i_max
+        how = ("controller.i_trip" if c.i_trip is not None else
+               f"2.5 controller.i_max (i_max = {c.i_max:.4g} A"
+               + (f", derived from the rated current I_N = {mot.T_N / mot.k_t:.4g} A: motor.P_N "
+                  "/ motor.w_M_N over 1.5 n_p psi_r)" if "i_max" in {d[0] for d in c.derived}
+                  else ")"))
+        return f"a phase current passed the overcurrent trip, {trip:.4g} A: {how}"
     t0 = max(float(r.t[0]), t1 - FAULT_WINDOW)
     m = window_slice(r, t0, t1)
     if m.stop - m.start < 2:
         return None
-    c, mot = s.controller, s.motor
     w = r["w_M"][m] / RPM
     fell = f"; the speed went from {w[0]:.5g} to {w[-1]:.5g} r/min"
     t_max = 1.5 * mot.n_p * mot.psi_r * c.i_max  # (the drive's torque at i_max)
