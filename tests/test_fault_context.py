@@ -170,3 +170,19 @@ def test_an_overcurrent_names_its_trip_and_where_it_comes_from(tmp_path):
     assert ctx == ("a phase current passed the overcurrent trip, 0.0625 A: 2.5 controller.i_max "
                    "(i_max = 0.025 A, derived from the rated current I_N = 0.01061 A: "
                    "motor.P_N / motor.w_M_N over 1.5 n_p psi_r)")
+
+
+def test_an_overload_on_an_i_max_the_sensors_limit_names_them(tmp_path):
+    """The servo on 6 A current sensors, an opposing torque of 6 Nm from 2 s
+    (load.T_ext: it does not taper at standstill as the brake does): its
+    i_max is limited to 0.9 x 6 = 5.4 A, 3.888 Nm. The overload names i_max
+    and that the sensors' range limited it (it named the derived 5.4 A only,
+    not the setting the user changed)."""
+    src = tmp_path / "fs6.toml"
+    src.write_text(BRAKED.replace("BRAKE", "6.0").replace("T_brake", "T_ext")
+                   + "[adc]\nfull_scale = 6.0\n")
+    res = CliRunner().invoke(main, ["run", str(src), "--out", str(tmp_path / "o")])
+    ctx = json.loads((tmp_path / "o" / "summary.json").read_text())["fault_context"]
+    assert res.exit_code == 1, res.output
+    assert "controller.i_max = 5.4 A (scaled by I_N = T_N / k_t, limited to 0.9 " \
+           "adc.full_scale), 1.5 n_p psi_r i_max = 3.888 Nm (an overload)" in ctx

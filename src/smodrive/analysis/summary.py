@@ -150,12 +150,19 @@ def fault_context(s, r) -> str | None:
     w = r["w_M"][m] / RPM
     fell = f"; the speed went from {w[0]:.5g} to {w[-1]:.5g} r/min"
     t_max = 1.5 * mot.n_p * mot.psi_r * c.i_max  # (the drive's torque at i_max)
-    lim = f"the drive's torque at controller.i_max = {c.i_max:.4g} A, 1.5 n_p psi_r i_max = " \
-          f"{t_max:.4g} Nm (an overload)"
+    # (i_max derived and limited by the sensors: the setting the user changed is named)
+    why = next((d[2] for d in c.derived if d[0] == "i_max" and "full_scale" in d[2]), None)
+    lim = f"the drive's torque at controller.i_max = {c.i_max:.4g} A" \
+          + (f" ({why})" if why else "") + \
+          f", 1.5 n_p psi_r i_max = {t_max:.4g} Nm (an overload)"
     # the plant's load torque, which the simulation knows (a 3 T_N brake stalled a direct
     # drive in 45 ms, 18 % of the window on i_max, then failed its I/f restart against it)
     T_L = r["T_L"][m]
     k = int(np.argmax(np.abs(T_L)))
+    if abs(T_L[k]) > t_max:
+        return (f"in the {t1 - t0:.3g} s before the first fault the load's torque reached "
+                f"{abs(T_L[k]):.4g} Nm (the plant's T_L at t = {r.t[m][k]:.4g} s), beyond "
+                + lim + fell)
     t_start = 1.5 * mot.n_p * mot.psi_r * (c.i_start or 0.0)  # (the forced start's at most)
     forced = np.mean(r["phase"][m] == 0) > 0.5
     if forced and c.start == "if" and abs(T_L[k]) > 0.5 * t_start:
@@ -172,10 +179,6 @@ def fault_context(s, r) -> str | None:
                    if need > c.i_max else
                    f"controller.i_start of {need:.4g} A or more (at most i_max = "
                    f"{c.i_max:.4g} A) starts it") + fell)
-    if abs(T_L[k]) > t_max:
-        return (f"in the {t1 - t0:.3g} s before the first fault the load's torque reached "
-                f"{abs(T_L[k]):.4g} Nm (the plant's T_L at t = {r.t[m][k]:.4g} s), beyond "
-                + lim + fell)
     i_share = _limit_share(r["i_d_ref"][m], r["i_q_ref"][m], (1.0 - LIMIT_TOL) * c.i_max)
     u_share = _voltage_share(r["u_cmd_alpha"][m], r["u_cmd_beta"][m], s.inverter.u_dc,
                              s.inverter.svm_limit == "hexagon")
