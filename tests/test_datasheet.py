@@ -68,3 +68,16 @@ def test_a_motor_without_its_dc_link_is_told_which_it_runs_on():
         said = [str(x.message) for x in w if "inverter.u_dc is not given" in str(x.message)]
         assert bool(said) == want, data
         assert not said or "Table I's 540 V is assumed" in said[0]
+
+
+@pytest.mark.parametrize("key, want", [("f_sw", "the top-level T_sp = 1 / f_sw"),
+                                       ("Vdc", "did you mean u_dc"),
+                                       ("deadtime", "did you mean t_dead")])
+def test_an_inverter_key_of_another_tool_is_told_where_it_goes(tmp_path, key, want):
+    """[inverter] f_sw (the switching frequency is the scenario's T_sp) and
+    other tools' names got the list of known keys only."""
+    f = tmp_path / "m.toml"
+    f.write_text(f"[inverter]\n{key} = 1.0\n")
+    res = CliRunner().invoke(main, ["run", str(f), "--out", str(tmp_path / "o")])
+    assert res.exit_code == 2 and f"inverter.{key}: unknown parameter" in res.output
+    assert want in " ".join(res.output.split())

@@ -171,7 +171,7 @@ def _kwargs(cls: type, section: str, data: dict[str, Any]) -> dict[str, Any]:
                     f"[{key}]: unknown table (tables: {', '.join(sorted(SECTIONS))}){where}")
             raise ParameterError(
                 f"{section}.{key}: unknown parameter (known: {', '.join(known)})"
-                + (datasheet.hint(key) if section == "motor" else ""))
+                + (datasheet.hint(key, section) if section in ("motor", "inverter") else ""))
         else:
             once(key, key)
             if key in profiles:

@@ -51,15 +51,27 @@ HINTS = {
 }
 
 
+_FSW = ("the switching frequency is the top-level T_sp = 1 / f_sw (before any table): one "
+        "sample a carrier period, regular sampling")
+#: [inverter] keys a data sheet or another tool uses -> the hint
+INVERTER_HINTS = {"fsw": _FSW, "fpwm": _FSW, "fs": _FSW, "pwmfrequency": _FSW,
+                  "switchingfrequency": _FSW, "tsw": _FSW, "tpwm": _FSW,
+                  "vdc": "did you mean u_dc (the DC link, V)?", "udc": "did you mean u_dc?",
+                  "deadtime": "did you mean t_dead (s)?", "td": "did you mean t_dead (s)?"}
+
 #: [motor]'s keys (a hint that is one of them, or begins with one and a colon, renames)
 _KEYS = ("R_s", "L_s", "psi_r", "n_p", "J", "B", "P_N", "w_M_N_rpm")
 
 
-def hint(key: str) -> str:
-    """The data-sheet hint for [motor] key `key` ("" if none): "did you mean"
-    for another name of one of its keys, the conversion for a data sheet's
-    quantity."""
-    h = HINTS.get("".join(c for c in key.lower() if c not in "_- "), "")
+def hint(key: str, section: str = "motor") -> str:
+    """The data-sheet hint for key `key` of [motor] or [inverter] ("" if
+    none): "did you mean" for another name of one of its keys, the
+    conversion for a data sheet's quantity."""
+    norm = "".join(c for c in key.lower() if c not in "_- ")
+    if section == "inverter":
+        h = INVERTER_HINTS.get(norm, "")
+        return f"; {h}" if h.startswith("did") else (f"; {key}: {h}" if h else "")
+    h = HINTS.get(norm, "")
     name, _, what = h.partition(": ")
     if name in _KEYS:
         return f"; did you mean {name}" + (f" ({what})" if what else "") + "?"
