@@ -416,6 +416,16 @@ def test_options_that_do_nothing_where_given_are_refused(tmp_path):
     assert res.exit_code == 2 and "a folder, not a file" in res.output
     res = CliRunner().invoke(main, ["design", motor, "--header", str(tmp_path / "no" / "x.h")])
     assert res.exit_code == 2 and "does not exist" in res.output and ".tmp" not in res.output
+    # --name, not a C identifier: refused before the design table (it came after it); one
+    # that is has its include guard in its own case, as its macros are
+    res = CliRunner().invoke(main, ["design", motor, "--header", str(tmp_path / "x.h"),
+                                    "--name", "9bad"])
+    assert res.exit_code == 2 and "is not a C identifier" in res.output
+    assert "speed PI" not in res.output
+    res = CliRunner().invoke(main, ["design", motor, "--header", str(tmp_path / "d.h"),
+                                    "--name", "drv"])
+    text = (tmp_path / "d.h").read_text()
+    assert "#ifndef drv_DRIVE_CONFIG_H" in text and "#define drv_T_SP " in text
 
 
 def test_design_shows_progress_while_it_designs_the_lcl_observers():

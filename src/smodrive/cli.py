@@ -547,6 +547,8 @@ def design(scenario: str, header: Path | None, name: str) -> None:
     if header is not None and (header.is_dir() or not header.parent.is_dir()):  # (before it)
         _fail(f"--header {header}: " + ("a folder, not a file" if header.is_dir() else
                                         f"the folder {header.parent} does not exist"), 2)
+    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):  # (it was, after the design)
+        _fail(f"--name {name!r} is not a C identifier", 2)
     s = _load(scenario)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

@@ -151,7 +151,7 @@ def drive_header(s: Any, name: str = "SMD") -> str:
            " * A firmware that runs only this composition may compile the core's smd_drive.c",
            " * with it fixed (smd_drive.h, \"A composition fixed at compile time\"):",
            " *   " + " ".join(fixed_flags(cfg)),
-           " */", f"#ifndef {name.upper()}_DRIVE_CONFIG_H", f"#define {name.upper()}_DRIVE_CONFIG_H",
+           " */", f"#ifndef {name}_DRIVE_CONFIG_H", f"#define {name}_DRIVE_CONFIG_H",
            ""]
     pm = sensorless_margin(s)
     if pm is not None and pm[1]:
@@ -184,7 +184,7 @@ def drive_header(s: Any, name: str = "SMD") -> str:
                      ("W_BP_MIN", c.w_M_bp_min * s.motor.n_p),
                      ("DECIMATION", int(c.smo_decimation))):
             out.append(f"#define {name}_SMO_{k} {v if isinstance(v, int) else _c_num(v)}")
-        out += ["", f"#endif /* {name.upper()}_DRIVE_CONFIG_H */", ""]
+        out += ["", f"#endif /* {name}_DRIVE_CONFIG_H */", ""]
         return "\n".join(out) + cheader.format_c_header(tables, f"{name}_LCL")
-    out += ["", f"#endif /* {name.upper()}_DRIVE_CONFIG_H */", ""]
+    out += ["", f"#endif /* {name}_DRIVE_CONFIG_H */", ""]
     return "\n".join(out)
