@@ -10,21 +10,26 @@ from click.testing import CliRunner
 
 from smodrive.cli import main
 
-from test_cli import SERVO_320
+from test_cli import SERVO_320, SERVO_560
 
+#: the sensorless drive with an I/f start
+SENSORLESS = '[controller]\ncurrent = "robust_dbpc"\nposition = "smdo_emf"\nstart = "if"\n'
 #: the invented 320 V servo sensorless at 1,500 r/min, braked from 2 s on; its derived
 #: i_max is 7.813 A, a torque of 1.5 n_p psi_r i_max = 1.5 x 4 x 0.12 x 7.813 = 5.625 Nm
 BRAKED = ("warm_start = false\nduration = 4.0\nw_M_ref_rpm = 1500.0\n" + SERVO_320 +
-          "[load]\nT_brake = { t = [0, 2.0, 2.0], y = [0, 0, BRAKE] }\n"
-          "[controller]\ncurrent = \"robust_dbpc\"\nposition = \"smdo_emf\"\nstart = \"if\"\n")
+          "[load]\nT_brake = { t = [0, 2.0, 2.0], y = [0, 0, BRAKE] }\n" + SENSORLESS)
+
+
+def _run_toml(tmp_path, name: str, text: str):
+    """`smodrive run` of scenario `text`: the CLI's result and summary.json."""
+    src, out = tmp_path / f"{name}.toml", tmp_path / f"o_{name}"
+    src.write_text(text)
+    res = CliRunner().invoke(main, ["run", str(src), "--out", str(out)])
+    return res, json.loads((out / "summary.json").read_text())
 
 
 def _run(tmp_path, brake: float):
-    src = tmp_path / f"braked_{brake:g}.toml"
-    src.write_text(BRAKED.replace("BRAKE", repr(brake)))
-    out = tmp_path / f"o_{brake:g}"
-    res = CliRunner().invoke(main, ["run", str(src), "--out", str(out)])
-    return res, json.loads((out / "summary.json").read_text())
+    return _run_toml(tmp_path, f"braked_{brake:g}", BRAKED.replace("BRAKE", repr(brake)))
 
 
 def test_an_overload_is_named_as_one(tmp_path):
@@ -65,11 +70,7 @@ u_dc = 700.0
 t_dead = 2e-6
 [load]
 T_brake = { t = [0, 1.1105, 1.1105], y = [0, 0, 477.465] }
-[controller]
-current = "robust_dbpc"
-position = "smdo_emf"
-start = "if"
-"""
+""" + SENSORLESS
 
 
 def test_a_stall_too_short_to_hold_the_current_limit_is_named_an_overload(tmp_path):
@@ -78,10 +79,7 @@ def test_a_stall_too_short_to_hold_the_current_limit_is_named_an_overload(tmp_pa
     drive returns to I/f and fails its start against the brake
     (start_failed). The load torque the simulation applied, 477.5 Nm against
     the drive's 375 Nm, names the overload."""
-    src = tmp_path / "dd.toml"
-    src.write_text(DIRECT_DRIVE)
-    res = CliRunner().invoke(main, ["run", str(src), "--out", str(tmp_path / "o")])
-    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    res, summary = _run_toml(tmp_path, "dd", DIRECT_DRIVE)
     assert res.exit_code == 1 and "start_failed" in summary["final_fault"], res.output
     ctx = summary["fault_context"]
     assert ctx and "the load's torque reached 477.5 Nm" in ctx and "= 375 Nm (an overload)" in ctx
@@ -98,20 +96,22 @@ def test_a_start_against_its_load_is_told_the_start_current_that_carries_it(tmp_
 
     assert START_CARRY == 0.7
     base = ("warm_start = false\nduration = 1.5\nw_M_ref_rpm = 1500.0\n" + SERVO_320 +
-            "[load]\nT_ext = 3.3\n[controller]\ncurrent = \"robust_dbpc\"\n"
-            "position = \"smdo_emf\"\nstart = \"if\"\n")
-    runs = {}
-    for name, extra in (("derived", ""), ("told", "i_start = 6.548\n"),
-                        ("less", "i_start = 6.0\n")):
-        src = tmp_path / f"{name}.toml"
-        src.write_text(base + extra)
-        runs[name] = CliRunner().invoke(main, ["run", str(src), "--out", str(tmp_path / name)])
+            "[load]\nT_ext = 3.3\n" + SENSORLESS)
+    runs = {name: _run_toml(tmp_path, name, base + extra)[0]
+            for name, extra in (("derived", ""), ("told", "i_start = 6.548\n"),
+                                ("less", "i_start = 6.0\n"))}
     out = runs["derived"].output
     assert runs["derived"].exit_code == 1 and "start_failed" in out
     assert "0.88 of the 3.75 Nm its current controller.i_start = 5.208 A gives" in out
     assert "controller.i_start of 6.548 A or more (at most i_max = 7.813 A) starts it" in out
     assert runs["told"].exit_code == 0, runs["told"].output
     assert runs["less"].exit_code == 1 and "start_failed" in runs["less"].output
+
+
+#: test_cli's invented 560 V servo on 280 V at rated speed, the rated brake from 1 s
+LOW_DC_560 = ("warm_start = false\nduration = 2.5\nw_M_ref_rpm = 3000.0\n"
+              + SERVO_560.replace("u_dc = 560.0", "u_dc = 280.0")
+              + "[load]\nT_brake = { t = [0, 1.0, 1.0], y = [0, 0, 9.549] }\n" + SENSORLESS)
 
 
 def test_a_drive_on_its_voltage_limit_is_not_called_overloaded(tmp_path):
@@ -121,37 +121,12 @@ def test_a_drive_on_its_voltage_limit_is_not_called_overloaded(tmp_path):
     current does not follow the 25 A its speed PI asks, and it ends in
     speed_tracking. Its error had called it an overload (the reference on
     i_max) at rated load; it now names the voltage limit and the DC link."""
-    src = tmp_path / "lowdc.toml"
-    src.write_text(LOW_DC_560)
-    res = CliRunner().invoke(main, ["run", str(src), "--out", str(tmp_path / "o")])
-    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    res, summary = _run_toml(tmp_path, "lowdc", LOW_DC_560)
     assert res.exit_code == 1 and summary["final_fault"] == ["speed_tracking"], res.output
     ctx = summary["fault_context"]
     assert "its current did not follow its reference" in ctx and "inverter.u_dc = 280 V" in ctx
     assert "overload" not in ctx
 
-
-LOW_DC_560 = """warm_start = false
-duration = 2.5
-w_M_ref_rpm = 3000.0
-[motor]
-R_s = 0.6
-L_s = 5e-3
-psi_r = 0.12
-n_p = 5
-J = 6e-4
-P_N = 3000.0
-w_M_N_rpm = 3000.0
-[inverter]
-u_dc = 280.0
-t_dead = 2.0e-6
-[load]
-T_brake = { t = [0, 1.0, 1.0], y = [0, 0, 9.549] }
-[controller]
-current = "robust_dbpc"
-position = "smdo_emf"
-start = "if"
-"""
 
 
 def test_an_overcurrent_names_its_trip_and_where_it_comes_from(tmp_path):
@@ -159,13 +134,11 @@ def test_an_overcurrent_names_its_trip_and_where_it_comes_from(tmp_path):
     P_N / w_M_N / (1.5 n_p psi_r) = 3 / 314.16 / 0.9 = 10.61 mA, its derived
     i_max 25 mA and trip 2.5 i_max = 62.5 mA; the start trips at once. The
     error named no threshold; it now gives the trip, i_max and I_N."""
-    src = tmp_path / "kw.toml"
-    src.write_text(LOW_DC_560.replace("P_N = 3000.0", "P_N = 3.0")
-                   .replace("u_dc = 280.0", "u_dc = 560.0")
-                   .replace("duration = 2.5", "duration = 0.05")
-                   .replace("w_M_ref_rpm = 3000.0", "w_M_ref_rpm = 1500.0"))
-    res = CliRunner().invoke(main, ["run", str(src), "--out", str(tmp_path / "o")])
-    ctx = json.loads((tmp_path / "o" / "summary.json").read_text())["fault_context"]
+    res, summary = _run_toml(tmp_path, "kw", LOW_DC_560.replace("P_N = 3000.0", "P_N = 3.0")
+                             .replace("u_dc = 280.0", "u_dc = 560.0")
+                             .replace("duration = 2.5", "duration = 0.05")
+                             .replace("w_M_ref_rpm = 3000.0", "w_M_ref_rpm = 1500.0"))
+    ctx = summary["fault_context"]
     assert res.exit_code == 1 and "overcurrent" in res.output, res.output
     assert ctx == ("a phase current passed the overcurrent trip, 0.0625 A: 2.5 controller.i_max "
                    "(i_max = 0.025 A, derived from the rated current I_N = 0.01061 A: "
@@ -178,11 +151,9 @@ def test_an_overload_on_an_i_max_the_sensors_limit_names_them(tmp_path):
     i_max is limited to 0.9 x 6 = 5.4 A, 3.888 Nm. The overload names i_max
     and that the sensors' range limited it (it named the derived 5.4 A only,
     not the setting the user changed)."""
-    src = tmp_path / "fs6.toml"
-    src.write_text(BRAKED.replace("BRAKE", "6.0").replace("T_brake", "T_ext")
-                   + "[adc]\nfull_scale = 6.0\n")
-    res = CliRunner().invoke(main, ["run", str(src), "--out", str(tmp_path / "o")])
-    ctx = json.loads((tmp_path / "o" / "summary.json").read_text())["fault_context"]
+    res, summary = _run_toml(tmp_path, "fs6", BRAKED.replace("BRAKE", "6.0")
+                             .replace("T_brake", "T_ext") + "[adc]\nfull_scale = 6.0\n")
+    ctx = summary["fault_context"]
     assert res.exit_code == 1, res.output
     assert "controller.i_max = 5.4 A (scaled by I_N = T_N / k_t, limited to 0.9 " \
            "adc.full_scale), 1.5 n_p psi_r i_max = 3.888 Nm (an overload)" in ctx
